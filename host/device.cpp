@@ -1,0 +1,257 @@
+#include "clfractal/device.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+
+#include "kernel_sources.hpp"
+
+namespace clfractal {
+
+const char* cl_error_name(int code) {
+    switch (code) {
+#define CLF_ERR(x) case x: return #x;
+        CLF_ERR(CL_SUCCESS) CLF_ERR(CL_DEVICE_NOT_FOUND) CLF_ERR(CL_DEVICE_NOT_AVAILABLE)
+        CLF_ERR(CL_COMPILER_NOT_AVAILABLE) CLF_ERR(CL_MEM_OBJECT_ALLOCATION_FAILURE)
+        CLF_ERR(CL_OUT_OF_RESOURCES) CLF_ERR(CL_OUT_OF_HOST_MEMORY)
+        CLF_ERR(CL_PROFILING_INFO_NOT_AVAILABLE) CLF_ERR(CL_MEM_COPY_OVERLAP)
+        CLF_ERR(CL_IMAGE_FORMAT_MISMATCH) CLF_ERR(CL_IMAGE_FORMAT_NOT_SUPPORTED)
+        CLF_ERR(CL_BUILD_PROGRAM_FAILURE) CLF_ERR(CL_MAP_FAILURE)
+        CLF_ERR(CL_MISALIGNED_SUB_BUFFER_OFFSET) CLF_ERR(CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+        CLF_ERR(CL_COMPILE_PROGRAM_FAILURE) CLF_ERR(CL_LINKER_NOT_AVAILABLE)
+        CLF_ERR(CL_LINK_PROGRAM_FAILURE) CLF_ERR(CL_DEVICE_PARTITION_FAILED)
+        CLF_ERR(CL_KERNEL_ARG_INFO_NOT_AVAILABLE) CLF_ERR(CL_INVALID_VALUE)
+        CLF_ERR(CL_INVALID_DEVICE_TYPE) CLF_ERR(CL_INVALID_PLATFORM) CLF_ERR(CL_INVALID_DEVICE)
+        CLF_ERR(CL_INVALID_CONTEXT) CLF_ERR(CL_INVALID_QUEUE_PROPERTIES)
+        CLF_ERR(CL_INVALID_COMMAND_QUEUE) CLF_ERR(CL_INVALID_HOST_PTR) CLF_ERR(CL_INVALID_MEM_OBJECT)
+        CLF_ERR(CL_INVALID_IMAGE_FORMAT_DESCRIPTOR) CLF_ERR(CL_INVALID_IMAGE_SIZE)
+        CLF_ERR(CL_INVALID_SAMPLER) CLF_ERR(CL_INVALID_BINARY) CLF_ERR(CL_INVALID_BUILD_OPTIONS)
+        CLF_ERR(CL_INVALID_PROGRAM) CLF_ERR(CL_INVALID_PROGRAM_EXECUTABLE)
+        CLF_ERR(CL_INVALID_KERNEL_NAME) CLF_ERR(CL_INVALID_KERNEL_DEFINITION) CLF_ERR(CL_INVALID_KERNEL)
+        CLF_ERR(CL_INVALID_ARG_INDEX) CLF_ERR(CL_INVALID_ARG_VALUE) CLF_ERR(CL_INVALID_ARG_SIZE)
+        CLF_ERR(CL_INVALID_KERNEL_ARGS) CLF_ERR(CL_INVALID_WORK_DIMENSION)
+        CLF_ERR(CL_INVALID_WORK_GROUP_SIZE) CLF_ERR(CL_INVALID_WORK_ITEM_SIZE)
+        CLF_ERR(CL_INVALID_GLOBAL_OFFSET) CLF_ERR(CL_INVALID_EVENT_WAIT_LIST) CLF_ERR(CL_INVALID_EVENT)
+        CLF_ERR(CL_INVALID_OPERATION) CLF_ERR(CL_INVALID_GL_OBJECT) CLF_ERR(CL_INVALID_BUFFER_SIZE)
+        CLF_ERR(CL_INVALID_MIP_LEVEL) CLF_ERR(CL_INVALID_GLOBAL_WORK_SIZE) CLF_ERR(CL_INVALID_PROPERTY)
+        CLF_ERR(CL_INVALID_IMAGE_DESCRIPTOR) CLF_ERR(CL_INVALID_COMPILER_OPTIONS)
+        CLF_ERR(CL_INVALID_LINKER_OPTIONS) CLF_ERR(CL_INVALID_DEVICE_PARTITION_COUNT)
+#undef CLF_ERR
+    case -1001: return "CL_PLATFORM_NOT_FOUND_KHR";
+    default: return "unknown OpenCL error";
+    }
+}
+
+void check_cl(int code, const char* call) {
+    if (code == CL_SUCCESS) return;
+    std::ostringstream s;
+    s << call << ": " << cl_error_name(code) << " (" << code << ")";
+    throw DeviceError(s.str(), code);
+}
+
+namespace {
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+std::string type_name(cl_device_type t) {
+    if (t & CL_DEVICE_TYPE_GPU) return "gpu";
+    if (t & CL_DEVICE_TYPE_CPU) return "cpu";
+    if (t & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+    return "other";
+}
+
+std::vector<DeviceEntry> enumerate() {
+    std::vector<cl::Platform> platforms;
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error& e) {
+        if (e.err() != -1001) throw;  // CL_PLATFORM_NOT_FOUND_KHR: no ICD, an empty list
+    }
+    std::vector<DeviceEntry> out;
+    for (auto& p : platforms) {
+        std::vector<cl::Device> devices;
+        try {
+            p.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+        } catch (const cl::Error&) {
+            continue;  // a platform without devices
+        }
+        for (auto& d : devices) {
+            DeviceEntry e;
+            e.platform = p.getInfo<CL_PLATFORM_NAME>();
+            e.name = d.getInfo<CL_DEVICE_NAME>();
+            e.type = type_name(d.getInfo<CL_DEVICE_TYPE>());
+            e.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+            e.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            e.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+            e.device = d;
+            out.push_back(std::move(e));
+        }
+    }
+    return out;
+}
+
+// Index of the device chosen by the environment, or -1 with `why` set.
+long pick(const std::vector<DeviceEntry>& all, std::string& why) {
+    const char* want_name = std::getenv("CLFRACTAL_DEVICE");
+    const char* want_type = std::getenv("CLFRACTAL_DEVICE_TYPE");
+    std::string name = want_name ? lower(want_name) : "";
+    std::string type = want_type ? lower(want_type) : "";
+    if (!type.empty() && type != "cpu" && type != "gpu" && type != "accelerator") {
+        why = "CLFRACTAL_DEVICE_TYPE=" + type + " is not one of cpu, gpu, accelerator";
+        return -1;
+    }
+    auto matches = [&](const DeviceEntry& e) {
+        if (!type.empty() && e.type != type) return false;
+        if (!name.empty() && lower(e.platform).find(name) == std::string::npos &&
+            lower(e.name).find(name) == std::string::npos)
+            return false;
+        return true;
+    };
+    if (name.empty() && type.empty())
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if (all[i].type == "gpu") return long(i);
+    for (std::size_t i = 0; i < all.size(); ++i)
+        if (matches(all[i])) return long(i);
+    if (all.empty())
+        why = "no OpenCL platform or device found (is an ICD such as pocl-opencl-icd installed?)";
+    else
+        why = "no OpenCL device matches CLFRACTAL_DEVICE='" + name + "' CLFRACTAL_DEVICE_TYPE='" + type + "'";
+    return -1;
+}
+
+}  // namespace
+
+std::vector<DeviceEntry> list_devices() {
+    return with_cl_errors([] {
+        auto all = enumerate();
+        std::string why;
+        long i = pick(all, why);
+        if (i >= 0) all[std::size_t(i)].chosen = true;
+        return all;
+    });
+}
+
+cl::Device choose_device() {
+    return with_cl_errors([] {
+        auto all = enumerate();
+        std::string why;
+        long i = pick(all, why);
+        if (i < 0) throw DeviceError(why, CL_DEVICE_NOT_FOUND);
+        return all[std::size_t(i)].device;
+    });
+}
+
+Context::Context(cl::Device device) : device_(std::move(device)) {
+    with_cl_errors([&] {
+        context_ = cl::Context(device_);
+        queue_ = cl::CommandQueue(context_, device_);
+        max_alloc_ = device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+        global_mem_ = device_.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+        max_work_group_ = device_.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+        local_mem_ = device_.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+        compute_units_ = device_.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+        fp64_ = device_.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;
+    });
+    tuning.span_variant = is_cpu() ? "private" : "atomic";
+    tuning.local_hist_bytes = local_mem_ / 2;
+    tuning.work_group = std::min<std::size_t>(256, max_work_group_);
+}
+
+Context& Context::shared() {
+    static Context ctx(choose_device());
+    return ctx;
+}
+
+std::string Context::description() const {
+    return with_cl_errors([&] {
+        cl::Platform p(device_.getInfo<CL_DEVICE_PLATFORM>());
+        return p.getInfo<CL_PLATFORM_NAME>() + " / " + device_.getInfo<CL_DEVICE_NAME>();
+    });
+}
+
+bool Context::is_cpu() const { return (device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0; }
+
+std::string defines(const std::vector<std::pair<std::string, std::string>>& kv) {
+    std::string s;
+    for (auto& [k, v] : kv) s += " -D" + k + "=" + v;
+    return s;
+}
+
+const cl::Program& Context::program(const std::string& family, const std::string& options) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto key = std::make_pair(family, options);
+    auto it = programs_.find(key);
+    if (it != programs_.end()) return it->second;
+
+    const char* common = nullptr;
+    const char* body = nullptr;
+    for (auto* k = detail::kernel_sources; k->family; ++k) {
+        if (std::strcmp(k->family, "common") == 0) common = k->source;
+        if (family == k->family) body = k->source;
+    }
+    if (!body) throw DeviceError("no kernel family '" + family + "' is embedded", CL_INVALID_KERNEL_NAME);
+    std::string source = std::string(common ? common : "") + "\n#line 1\n" + body;
+
+    auto t0 = std::chrono::steady_clock::now();
+    cl::Program program(context_, source);
+    std::string all_options = "-cl-std=CL1.2" + options;
+    cl_int err = CL_SUCCESS;
+    try {
+        program.build(std::vector<cl::Device>{device_}, all_options.c_str());
+    } catch (const cl::Error& e) {
+        err = e.err();
+    }
+    if (err != CL_SUCCESS) {
+        std::string log;
+        program.getBuildInfo(device_, CL_PROGRAM_BUILD_LOG, &log);
+        throw DeviceError("building kernels/" + family + ".cl with '" + all_options + "': " +
+                              cl_error_name(err) + "\n" + log,
+                          err);
+    }
+    compile_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return programs_.emplace(key, std::move(program)).first->second;
+}
+
+cl::Kernel Context::kernel(const std::string& family, const std::string& name, const std::string& options) {
+    const cl::Program& p = program(family, options);
+    try {
+        return cl::Kernel(p, name.c_str());
+    } catch (const cl::Error& e) {
+        throw DeviceError("kernel " + name + " in kernels/" + family + ".cl: " + cl_error_name(e.err()), e.err());
+    }
+}
+
+void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
+    std::string name = kernel.getInfo<CL_KERNEL_FUNCTION_NAME>();
+    if (local.dimensions() != 0) {
+        std::size_t kernel_max = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device_);
+        std::size_t total = 1;
+        for (cl_uint d = 0; d < local.dimensions(); ++d) {
+            total *= local[d];
+            if (local[d] == 0 || global[d] % local[d] != 0)
+                throw DeviceError("launch of " + name + ": global size " + std::to_string(global[d]) +
+                                      " is not a multiple of local size " + std::to_string(local[d]),
+                                  CL_INVALID_WORK_GROUP_SIZE);
+        }
+        if (total > kernel_max)
+            throw DeviceError("launch of " + name + ": work-group of " + std::to_string(total) +
+                                  " exceeds CL_KERNEL_WORK_GROUP_SIZE " + std::to_string(kernel_max),
+                              CL_INVALID_WORK_GROUP_SIZE);
+    }
+    for (cl_uint d = 0; d < global.dimensions(); ++d)
+        if (global[d] == 0) return;  // nothing to do
+    try {
+        queue_.enqueueNDRangeKernel(kernel, cl::NullRange, global, local);
+    } catch (const cl::Error& e) {
+        check_cl(e.err(), ("clEnqueueNDRangeKernel " + name).c_str());
+    }
+}
+
+}  // namespace clfractal

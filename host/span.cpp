@@ -1,0 +1,320 @@
+#include "clfractal/span.hpp"
+
+#include "clfractal/pyramid.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace clfractal {
+
+// ---------------------------------------------------------------- isovalue sets
+
+IsovalueSet IsovalueSet::integers(std::int64_t vmin, std::int64_t vmax) {
+    if (vmax < vmin) throw InputError("isovalues: empty integer range");
+    IsovalueSet s;
+    s.integer_ = true;
+    s.first_ = vmin;
+    s.count_ = vmax - vmin + 1;
+    return s;
+}
+
+IsovalueSet IsovalueSet::floats(std::vector<float> values) {
+    if (values.empty()) throw InputError("isovalues: the list is empty");
+    for (std::size_t j = 0; j < values.size(); ++j) {
+        if (!std::isfinite(values[j])) throw InputError("isovalues: value " + std::to_string(j) + " is not finite");
+        if (j && !(values[j - 1] < values[j]))
+            throw InputError("isovalues: the list must be strictly increasing (at index " + std::to_string(j) + ")");
+    }
+    IsovalueSet s;
+    s.integer_ = false;
+    s.values_ = std::move(values);
+    return s;
+}
+
+IsovalueSet IsovalueSet::uniform(double vmin, double vmax, std::size_t k) {
+    if (k == 0) throw InputError("isovalues: --bins must be at least 1");
+    if (k > (std::size_t(1) << 24)) throw InputError("isovalues: --bins is larger than 2^24");
+    std::vector<float> v;
+    v.reserve(k);
+    for (std::size_t j = 0; j < k; ++j) {
+        float s = float(vmin + double(j + 1) * (vmax - vmin) / double(k));
+        if (v.empty() || v.back() < s) v.push_back(s);
+    }
+    return floats(std::move(v));
+}
+
+IsovalueSet IsovalueSet::for_volume(const Volume& v, std::size_t bins) {
+    ValueRange r = value_range(v);
+    if (is_integer(v.type())) return integers(std::int64_t(r.min), std::int64_t(r.max));
+    return uniform(r.min, r.max, bins);
+}
+
+IsovalueSet IsovalueSet::parse_range(const std::string& spec, ValueType type) {
+    double a, b, step;
+    char c1, c2;
+    std::istringstream in(spec);
+    if (!(in >> a >> c1 >> b >> c2 >> step) || c1 != ':' || c2 != ':' || !(in >> std::ws).eof())
+        throw InputError("--isovalues '" + spec + "': expected A:B:STEP");
+    if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(step) || step <= 0 || b < a)
+        throw InputError("--isovalues '" + spec + "': need A <= B and STEP > 0");
+    double n = std::floor((b - a) / step * (1 + 1e-12)) + 1;
+    if (n > double(1 << 24)) throw InputError("--isovalues '" + spec + "': more than 2^24 isovalues");
+    if (is_integer(type)) {
+        if (a != std::floor(a) || b != std::floor(b) || step != 1)
+            throw InputError("--isovalues '" + spec + "': integer data takes integer A:B:1");
+        return integers(std::int64_t(a), std::int64_t(b));
+    }
+    std::vector<float> v;
+    for (double j = 0; j < n; ++j) {
+        float s = float(a + j * step);
+        if (v.empty() || v.back() < s) v.push_back(s);
+    }
+    return floats(std::move(v));
+}
+
+const SpanCurves& SpanResult::get(SpanKind k) const {
+    for (auto& c : curves)
+        if (c.kind == k) return c;
+    throw std::logic_error("SpanResult::get: kind was not counted");
+}
+
+// ---------------------------------------------------------------- the counter
+
+namespace {
+
+const char* cl_type(ValueType t) {
+    switch (t) {
+    case ValueType::uint8: return "uchar";
+    case ValueType::uint16: return "ushort";
+    case ValueType::int16: return "short";
+    default: return "float";
+    }
+}
+
+// Partial histograms are 32-bit: a slab never holds more vertices than this.
+constexpr std::size_t max_slab_vertices = std::size_t(1) << 29;
+
+}  // namespace
+
+struct SpanCounter::Impl {
+    Context& ctx;
+    IsovalueSet iso;
+    ValueType type;
+    Dims dims;
+    SpanOptions opt;
+    std::size_t nbins = 0;       // isovalues + 1
+    std::size_t align = 1;       // slabs start at multiples of 2^(levels-1)
+    std::size_t max_slices = 0;  // slab depth including the shared last slice
+    std::string variant;
+    bool global_hist = false;
+    std::size_t wg = 1, partial_rows = 1;
+
+    Buffer<float> iso_buf;
+    std::vector<Buffer<unsigned char>> level_buf;    // slab of each level
+    Buffer<int> partial;
+    std::vector<std::vector<Buffer<long long>>> hist;  // [kind][level]
+    cl::Kernel subsample, accumulate;
+    std::vector<cl::Kernel> count;                   // per kind
+    std::size_t next_z = 0, slabs = 0;
+    double seconds = 0;
+
+    Impl(Context& c, const IsovalueSet& i, ValueType t, const Dims& d, const SpanOptions& o)
+        : ctx(c), iso(i), type(t), dims(d), opt(o) {
+        if (opt.levels < 1 || opt.levels > 16) throw InputError("--levels must be between 1 and 16");
+        if (opt.kinds.empty()) throw std::logic_error("SpanCounter: no kind requested");
+        if (iso.integer() != is_integer(type))
+            throw std::logic_error("SpanCounter: isovalue set does not match the value type");
+        check_dims(dims, "volume");
+        nbins = iso.size() + 1;
+        if (iso.integer() && (iso.first() < -32768 || iso.first() + std::int64_t(iso.size()) > 65536))
+            throw InputError("isovalues: integer range outside the 16-bit types");
+        align = std::size_t(1) << (opt.levels - 1);
+
+        // Slab depth: whole volume if it fits, else a multiple of `align` plus one slice.
+        const std::size_t slice_bytes = dims.nx * dims.ny * value_size(type);
+        std::size_t budget = ctx.tuning.slab_bytes ? ctx.tuning.slab_bytes
+                                                   : std::min(ctx.max_alloc(), ctx.global_mem() / 4);
+        std::size_t fit = std::max<std::size_t>(1, budget / std::max<std::size_t>(1, slice_bytes));
+        fit = std::min(fit, std::max<std::size_t>(1, max_slab_vertices / (dims.nx * dims.ny)));
+        if (opt.slab_slices) fit = opt.slab_slices;
+        if (fit >= dims.nz) {
+            max_slices = dims.nz;
+        } else {
+            std::size_t steps = (fit - 1) / align;
+            if (steps == 0)
+                throw InputError("volume: a slab of " + std::to_string(align + 1) + " slices of " +
+                                 std::to_string(dims.nx) + "x" + std::to_string(dims.ny) +
+                                 " does not fit the device's memory");
+            max_slices = steps * align + 1;
+        }
+
+        variant = ctx.tuning.span_variant;
+        if (variant != "private" && variant != "atomic")
+            throw std::logic_error("unknown span variant '" + variant + "'");
+        global_hist = variant == "atomic" && nbins * sizeof(int) > ctx.tuning.local_hist_bytes;
+        std::string options = defines({{"T", cl_type(type)}});
+        if (iso.integer()) options += " -DINTEGER_VALUES";
+        if (global_hist) options += " -DGLOBAL_HIST";
+
+        with_cl_errors([&] {
+            subsample = ctx.kernel("pyramid", "subsample", defines({{"T", cl_type(type)}}));
+            accumulate = ctx.kernel("span", "accumulate_partials", options);
+            for (SpanKind k : opt.kinds) {
+                std::string name = std::string(k == SpanKind::cubes ? "count_cubes_" : "count_edges_") + variant;
+                count.push_back(ctx.kernel("span", name, options));
+            }
+            if (variant == "private") {
+                partial_rows = ctx.tuning.private_items ? ctx.tuning.private_items : 4 * ctx.compute_units();
+                wg = 1;
+            } else {
+                std::size_t kmax = count[0].getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx.device());
+                wg = std::max<std::size_t>(1, std::min(ctx.tuning.work_group, kmax));
+                partial_rows = ctx.tuning.private_items ? ctx.tuning.private_items : 8 * ctx.compute_units();
+            }
+
+            std::vector<float> isov = iso.integer() ? std::vector<float>{0.f} : iso.float_values();
+            iso_buf = Buffer<float>(ctx, isov.size(), CL_MEM_READ_ONLY);
+            iso_buf.write(ctx.queue(), isov.data(), isov.size());
+            for (int l = 0; l < opt.levels; ++l) {
+                Dims ld = level_dims(Dims{dims.nx, dims.ny, max_slices}, l);
+                level_buf.emplace_back(ctx, ld.vertices() * value_size(type));
+            }
+            partial = Buffer<int>(ctx, partial_rows * nbins);
+            hist.resize(opt.kinds.size());
+            for (auto& h : hist)
+                for (int l = 0; l < opt.levels; ++l) {
+                    h.emplace_back(ctx, nbins);
+                    h.back().fill(ctx.queue(), 0);
+                }
+            ctx.queue().finish();
+        });
+    }
+
+    void count_level(std::size_t kind, int l, const Dims& ld, bool last) {
+        cl::Kernel& k = count[kind];
+        const bool cubes = opt.kinds[kind] == SpanKind::cubes;
+        if (cubes && (ld.nx < 2 || ld.ny < 2 || ld.nz < 2)) return;
+        int a = 0;
+        k.setArg(a++, level_buf[l].get());
+        k.setArg(a++, int(ld.nx));
+        k.setArg(a++, int(ld.ny));
+        k.setArg(a++, int(ld.nz));
+        if (!cubes) k.setArg(a++, int(last));
+        k.setArg(a++, int(iso.integer() ? iso.first() : 0));
+        k.setArg(a++, iso_buf.get());
+        k.setArg(a++, int(iso.size()));
+        k.setArg(a++, int(nbins));
+        k.setArg(a++, partial.get());
+        if (variant == "private") {
+            partial.fill(ctx.queue(), 0);
+            ctx.launch(k, cl::NDRange(partial_rows), cl::NDRange(1));
+        } else {
+            std::size_t work = cubes ? ld.cubes() : ld.vertices();
+            std::size_t groups = std::min(partial_rows, (work + wg - 1) / wg);
+            k.setArg(a++, cl::Local(global_hist ? sizeof(int) : nbins * sizeof(int)));
+            if (global_hist) partial.fill(ctx.queue(), 0);
+            ctx.launch(k, cl::NDRange(groups * wg), cl::NDRange(wg));
+            accumulate_rows(groups, kind, l);
+            return;
+        }
+        accumulate_rows(partial_rows, kind, l);
+    }
+
+    void accumulate_rows(std::size_t rows, std::size_t kind, int l) {
+        accumulate.setArg(0, partial.get());
+        accumulate.setArg(1, int(rows));
+        accumulate.setArg(2, int(nbins));
+        accumulate.setArg(3, hist[kind][l].get());
+        std::size_t g = (nbins + 63) / 64 * 64;
+        ctx.launch(accumulate, cl::NDRange(g), cl::NDRange(std::min<std::size_t>(64, ctx.max_work_group())));
+    }
+
+    void add_slab(const void* data, std::size_t z0, std::size_t nzs) {
+        if (z0 != next_z || nzs == 0 || nzs > max_slices || z0 + nzs > dims.nz || z0 % align != 0)
+            throw std::logic_error("SpanCounter::add_slab: slabs out of order or of the wrong size");
+        const bool last = z0 + nzs == dims.nz;
+        if (!last && (nzs - 1) % align != 0)
+            throw std::logic_error("SpanCounter::add_slab: inner slab depth must be a multiple of 2^(levels-1) plus 1");
+        auto t0 = std::chrono::steady_clock::now();
+        with_cl_errors([&] {
+            const std::size_t slice = dims.nx * dims.ny;
+            level_buf[0].write(ctx.queue(), static_cast<const unsigned char*>(data), nzs * slice * value_size(type));
+            Dims prev{dims.nx, dims.ny, nzs};
+            for (int l = 0; l < opt.levels; ++l) {
+                // Level-l slices of this slab: z0 / 2^l .. (z0 + nzs - 1) / 2^l.
+                std::size_t zl0 = z0 >> l, zl1 = (z0 + nzs - 1) >> l;
+                Dims ld = level_dims(Dims{dims.nx, dims.ny, 1}, l);
+                ld.nz = zl1 - zl0 + 1;
+                if (l > 0) {
+                    subsample.setArg(0, level_buf[l - 1].get());
+                    subsample.setArg(1, int(prev.nx));
+                    subsample.setArg(2, int(prev.ny));
+                    subsample.setArg(3, level_buf[l].get());
+                    subsample.setArg(4, int(ld.nx));
+                    subsample.setArg(5, int(ld.ny));
+                    ctx.launch(subsample, cl::NDRange(ld.nx, ld.ny, ld.nz));
+                }
+                for (std::size_t k = 0; k < opt.kinds.size(); ++k) count_level(k, l, ld, last);
+                prev = ld;
+            }
+            // The next write reuses the slab buffers: blocking writes keep the order.
+        });
+        next_z = z0 + nzs - 1;
+        if (last) next_z = dims.nz;
+        ++slabs;
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+
+    SpanResult finish() {
+        if (next_z != dims.nz) throw std::logic_error("SpanCounter::finish: not every slab was added");
+        auto t0 = std::chrono::steady_clock::now();
+        SpanResult r;
+        r.isovalues = iso;
+        with_cl_errors([&] {
+            for (std::size_t k = 0; k < opt.kinds.size(); ++k) {
+                SpanCurves c;
+                c.kind = opt.kinds[k];
+                for (int l = 0; l < opt.levels; ++l) {
+                    c.level_dims.push_back(level_dims(dims, l));
+                    std::vector<long long> h = hist[k][l].to_host(ctx.queue());
+                    std::vector<std::uint64_t> counts(iso.size());
+                    long long run = 0;
+                    for (std::size_t j = 0; j < iso.size(); ++j) counts[j] = std::uint64_t(run += h[j]);
+                    c.counts.push_back(std::move(counts));
+                }
+                r.curves.push_back(std::move(c));
+            }
+        });
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        r.seconds = seconds;
+        r.slabs = slabs;
+        return r;
+    }
+};
+
+SpanCounter::SpanCounter(Context& ctx, const IsovalueSet& iso, ValueType type, const Dims& dims,
+                         const SpanOptions& opt)
+    : impl_(new Impl(ctx, iso, type, dims, opt)) {}
+SpanCounter::~SpanCounter() { delete impl_; }
+void SpanCounter::add_slab(const void* data, std::size_t z0, std::size_t nzs) { impl_->add_slab(data, z0, nzs); }
+SpanResult SpanCounter::finish() { return impl_->finish(); }
+std::size_t SpanCounter::slab_slices() const { return impl_->max_slices; }
+
+SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, const SpanOptions& opt) {
+    SpanCounter counter(ctx, iso, v.type(), v.dims(), opt);
+    const std::size_t step = counter.slab_slices() - 1;
+    const std::size_t slice_bytes = v.dims().nx * v.dims().ny * value_size(v.type());
+    const auto* bytes = static_cast<const unsigned char*>(v.data());
+    std::size_t z0 = 0;
+    while (true) {
+        std::size_t nzs = std::min(counter.slab_slices(), v.dims().nz - z0);
+        counter.add_slab(bytes + z0 * slice_bytes, z0, nzs);
+        if (z0 + nzs == v.dims().nz) break;
+        z0 += step;
+    }
+    return counter.finish();
+}
+
+}  // namespace clfractal

@@ -1,0 +1,50 @@
+// Benchmarks (DESIGN §5): span-curve throughput on the device against the device's own
+// copy bandwidth and against the OpenMP baseline, in the same run. Compilation is timed
+// apart; every figure is the best of `repeats` runs after a warm-up.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "clfractal/span.hpp"
+
+namespace clfractal {
+
+struct BenchCase {
+    std::string label;   ///< e.g. "uint8 512^3"
+    Volume volume;
+};
+
+struct BenchRow {
+    std::string label;
+    std::size_t isovalues = 0;
+    double cubes = 0;          ///< cubes counted (levels 0 and 1)
+    double bytes = 0;          ///< bytes read: one read of each level
+    double device_seconds = 0, openmp_seconds = 0;
+    double device_gcubes() const { return cubes / device_seconds / 1e9; }
+    double openmp_gcubes() const { return cubes / openmp_seconds / 1e9; }
+    double device_gbs() const { return bytes / device_seconds / 1e9; }
+    double speedup() const { return openmp_seconds / device_seconds; }  ///< > 1: device faster
+    bool counts_equal = false;  ///< device and OpenMP counts identical
+};
+
+struct BenchReport {
+    std::string device;
+    int openmp_threads = 0;
+    double copy_gbs = 0;         ///< device copy bandwidth (read + write bytes / s)
+    double compile_seconds = 0;  ///< kernel compilation during the run (PoCL caches on disk)
+    std::vector<BenchRow> rows;
+};
+
+/// The default cases: noisy spheres, uint8 256^3 and 512^3 (of `size` and 2*size when
+/// size != 256) and uint16 256^3 with a full 16-bit value range.
+std::vector<BenchCase> default_bench_cases(std::size_t size = 256);
+
+/// Measures every case (levels 0 and 1, cubes). `progress` receives a line per step.
+BenchReport run_span_bench(Context& ctx, std::vector<BenchCase>& cases, int repeats = 3,
+                           const std::function<void(const std::string&)>& progress = {});
+
+/// Copy bandwidth of the device in GB/s (bytes read + written per second), best of 5.
+double measure_copy_bandwidth(Context& ctx, std::size_t bytes = std::size_t(128) << 20);
+
+}  // namespace clfractal

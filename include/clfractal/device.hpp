@@ -1,0 +1,174 @@
+// The device layer (DESIGN §2 layer 1): device choice, context and queue, the
+// program cache, typed RAII buffers and checked kernel launches, all on the
+// Khronos C++ bindings.
+#pragma once
+// The library targets OpenCL 1.2 and uses the bindings with exceptions enabled; the
+// host code converts cl::Error into DeviceError at its boundaries.
+#ifndef CL_HPP_TARGET_OPENCL_VERSION
+#define CL_HPP_TARGET_OPENCL_VERSION 120
+#endif
+#ifndef CL_HPP_MINIMUM_OPENCL_VERSION
+#define CL_HPP_MINIMUM_OPENCL_VERSION 120
+#endif
+#ifndef CL_TARGET_OPENCL_VERSION
+#define CL_TARGET_OPENCL_VERSION 120
+#endif
+#ifndef CL_HPP_ENABLE_EXCEPTIONS
+#define CL_HPP_ENABLE_EXCEPTIONS
+#endif
+#include <CL/opencl.hpp>
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "clfractal/error.hpp"
+
+namespace clfractal {
+
+/// Name of an OpenCL error code ("CL_OUT_OF_RESOURCES").
+const char* cl_error_name(int code);
+
+/// Throws DeviceError "<call>: <CL error name> (<code>)" when code != CL_SUCCESS.
+void check_cl(int code, const char* call);
+
+/// One OpenCL device as listed by `clfractal devices`.
+struct DeviceEntry {
+    std::string platform, name, type;
+    std::size_t global_mem = 0, max_alloc = 0;
+    unsigned compute_units = 0;
+    bool chosen = false;
+    cl::Device device;
+};
+
+/// Every device of every platform; the one choose_device() picks is marked chosen.
+std::vector<DeviceEntry> list_devices();
+
+/// The device selected by CLFRACTAL_DEVICE (substring of platform or device name,
+/// case-insensitive) and CLFRACTAL_DEVICE_TYPE (cpu|gpu|accelerator); without either,
+/// the first GPU, else the first device. Throws DeviceError when nothing matches.
+cl::Device choose_device();
+
+/// Tuning values per device (STYLE §10): defaults by device type, overridable by tests.
+struct Tuning {
+    /// Span counting variant: "private" (one histogram per work-item, for CPUs) or
+    /// "atomic" (work-group histograms with atomics, for GPUs).
+    std::string span_variant;
+    std::size_t work_group = 64;     ///< work-group size of the "local" variant
+    std::size_t private_items = 0;   ///< work-items of the "private" variant (0 = 4 x CUs)
+    /// Largest slab in bytes of input volume; 0 = derived from the device's memory.
+    std::size_t slab_bytes = 0;
+    /// Largest histogram the "atomic" variant keeps in local memory (bytes); larger ones
+    /// use global atomics. Set from the device (half its local memory).
+    std::size_t local_hist_bytes = 0;
+};
+
+/// A context on one device with one in-order queue and a thread-safe program cache.
+/// Create once and reuse: every analysis of every volume shares its compiled programs.
+class Context {
+public:
+    explicit Context(cl::Device device);
+    /// The process-wide context on choose_device(), created on first use.
+    static Context& shared();
+
+    const cl::Device& device() const { return device_; }
+    const cl::Context& context() const { return context_; }
+    cl::CommandQueue& queue() { return queue_; }
+    /// "platform / device" for reports.
+    std::string description() const;
+    bool is_cpu() const;
+    std::size_t max_alloc() const { return max_alloc_; }
+    std::size_t global_mem() const { return global_mem_; }
+    std::size_t max_work_group() const { return max_work_group_; }
+    std::size_t local_mem() const { return local_mem_; }
+    unsigned compute_units() const { return compute_units_; }
+    bool has_fp64() const { return fp64_; }
+
+    Tuning tuning;
+
+    /// Program of `family` (kernels/<family>.cl, after kernels/common.cl) built with
+    /// `options` (-D defines), compiled once per (family, options) and cached. Build
+    /// failures throw DeviceError with the options and the build log.
+    const cl::Program& program(const std::string& family, const std::string& options);
+    /// A fresh kernel object (kernels carry their arguments, so each caller gets its own).
+    cl::Kernel kernel(const std::string& family, const std::string& name, const std::string& options);
+
+    /// Seconds spent compiling programs so far (reported apart from compute time).
+    double compile_seconds() const { return compile_seconds_; }
+
+    /// Enqueues `kernel` after checking the sizes against the device and kernel limits
+    /// (global a multiple of local, local <= CL_KERNEL_WORK_GROUP_SIZE).
+    void launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local = cl::NullRange);
+
+private:
+    cl::Device device_;
+    cl::Context context_;
+    cl::CommandQueue queue_;
+    std::size_t max_alloc_ = 0, global_mem_ = 0, max_work_group_ = 0, local_mem_ = 0;
+    unsigned compute_units_ = 0;
+    bool fp64_ = false;
+    std::mutex mutex_;
+    std::map<std::pair<std::string, std::string>, cl::Program> programs_;
+    double compile_seconds_ = 0;
+};
+
+/// Builds a -D options string: defines({{"T", "uchar"}, {"WG", "64"}}).
+std::string defines(const std::vector<std::pair<std::string, std::string>>& kv);
+
+/// A move-only typed device buffer that knows its element count.
+template <class T> class Buffer {
+public:
+    Buffer() = default;
+    Buffer(Context& ctx, std::size_t count, cl_mem_flags flags = CL_MEM_READ_WRITE) : count_(count) {
+        if (count == 0) return;
+        try {
+            buffer_ = cl::Buffer(ctx.context(), flags, count * sizeof(T));
+        } catch (const cl::Error& e) {
+            check_cl(e.err(), ("clCreateBuffer of " + std::to_string(count * sizeof(T)) + " bytes").c_str());
+        }
+    }
+    Buffer(Buffer&&) noexcept = default;
+    Buffer& operator=(Buffer&&) noexcept = default;
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+
+    std::size_t size() const { return count_; }
+    std::size_t bytes() const { return count_ * sizeof(T); }
+    const cl::Buffer& get() const { return buffer_; }
+    cl::Buffer& get() { return buffer_; }
+
+    void write(cl::CommandQueue& q, const T* src, std::size_t count, std::size_t offset = 0) {
+        if (count) q.enqueueWriteBuffer(buffer_, CL_TRUE, offset * sizeof(T), count * sizeof(T), src);
+    }
+    void read(cl::CommandQueue& q, T* dst, std::size_t count, std::size_t offset = 0) const {
+        if (count) q.enqueueReadBuffer(buffer_, CL_TRUE, offset * sizeof(T), count * sizeof(T), dst);
+    }
+    std::vector<T> to_host(cl::CommandQueue& q) const {
+        std::vector<T> v(count_);
+        read(q, v.data(), count_);
+        return v;
+    }
+    void fill(cl::CommandQueue& q, T value) {
+        if (count_) q.enqueueFillBuffer(buffer_, value, 0, bytes());
+    }
+
+private:
+    cl::Buffer buffer_;
+    std::size_t count_ = 0;
+};
+
+/// Runs f() and converts cl::Error into DeviceError with the error's name.
+template <class F> decltype(auto) with_cl_errors(F&& f) {
+    try {
+        return f();
+    } catch (const cl::Error& e) {
+        check_cl(e.err(), e.what());
+        throw;  // unreachable: check_cl throws for every error code
+    }
+}
+
+}  // namespace clfractal

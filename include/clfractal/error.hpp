@@ -1,0 +1,30 @@
+// Errors thrown by clfractal. Front ends map InputError to exit code 2 and
+// everything else to exit code 1.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace clfractal {
+
+/// Bad input: a malformed or truncated file, wrong dimensions, NaN in float data,
+/// an unknown type, an absurd size or an invalid argument. The message names the
+/// file (or argument) and the problem in one line.
+class InputError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// A failure of the OpenCL runtime: the message carries the OpenCL error name,
+/// the call that failed and, for build failures, the build log.
+class DeviceError : public std::runtime_error {
+public:
+    DeviceError(const std::string& what, int code) : std::runtime_error(what), code_(code) {}
+    int code() const { return code_; }
+    /// True for CL_MEM_OBJECT_ALLOCATION_FAILURE / CL_OUT_OF_RESOURCES / CL_OUT_OF_HOST_MEMORY.
+    bool out_of_memory() const { return code_ == -4 || code_ == -5 || code_ == -6 || code_ == -61; }
+
+private:
+    int code_;
+};
+
+}  // namespace clfractal

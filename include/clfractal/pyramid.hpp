@@ -1,0 +1,14 @@
+// Grid subsampling (DESIGN §1 "Subsampling"): level l keeps the vertices whose
+// coordinates are multiples of 2^l; per axis n_l = (n_{l-1} - 1) / 2 + 1. G' is level 1.
+#pragma once
+#include "clfractal/volume.hpp"
+
+namespace clfractal {
+
+/// Dims of pyramid level l.
+Dims level_dims(const Dims& d, int level);
+
+/// The next pyramid level of v on the host (the device does the same in kernels/pyramid.cl).
+Volume subsample(const Volume& v);
+
+}  // namespace clfractal

@@ -1,0 +1,107 @@
+// Span counts for every isovalue at once (DESIGN §1 "Span and intersection",
+// "Isovalue set", "Counts", "Subsampling"; thesis chapter 1 and §2.3).
+//
+// A cube (8 vertices) or grid edge (2 vertices) with span [a, b] = [min, max] is
+// intersected by isovalue s iff a < s <= b. I_l(s) counts the intersected cubes and
+// E_l(s) the intersected edges of pyramid level l, whose vertices are those of level 0
+// with coordinates that are multiples of 2^l (n_l = (n_{l-1} - 1) / 2 + 1 per axis).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "clfractal/device.hpp"
+#include "clfractal/pyramid.hpp"
+#include "clfractal/volume.hpp"
+
+namespace clfractal {
+
+/// The isovalues a curve is computed for. Integer data: every integer in
+/// [first, first + count). Float data: a strictly increasing list of float32 values.
+class IsovalueSet {
+public:
+    /// Every integer isovalue vmin..vmax (integer data).
+    static IsovalueSet integers(std::int64_t vmin, std::int64_t vmax);
+    /// A sorted float list (float data); throws InputError if empty, unsorted or not finite.
+    static IsovalueSet floats(std::vector<float> values);
+    /// K uniform values vmin + (j + 1)(vmax - vmin) / K, j = 0..K-1 (duplicates after
+    /// rounding to float32 are dropped).
+    static IsovalueSet uniform(double vmin, double vmax, std::size_t k);
+    /// The default set of a volume: integers over its value range, or 256 uniform floats.
+    static IsovalueSet for_volume(const Volume& v, std::size_t bins = 256);
+    /// "A:B:STEP": A, A+STEP, ... <= B. Integer data takes integers only.
+    static IsovalueSet parse_range(const std::string& spec, ValueType type);
+
+    bool integer() const { return integer_; }
+    std::size_t size() const { return integer_ ? std::size_t(count_) : values_.size(); }
+    double value(std::size_t j) const { return integer_ ? double(first_ + std::int64_t(j)) : double(values_[j]); }
+    std::int64_t first() const { return first_; }
+    const std::vector<float>& float_values() const { return values_; }
+
+private:
+    bool integer_ = true;
+    std::int64_t first_ = 0, count_ = 0;
+    std::vector<float> values_;
+};
+
+enum class SpanKind { cubes, edges };
+
+/// Counts of one kind at every level: counts[l][j] for isovalue j at level l.
+struct SpanCurves {
+    SpanKind kind = SpanKind::cubes;
+    std::vector<Dims> level_dims;
+    std::vector<std::vector<std::uint64_t>> counts;
+};
+
+/// Everything one counting pass produced.
+struct SpanResult {
+    IsovalueSet isovalues;
+    std::vector<SpanCurves> curves;  ///< one per requested kind, in request order
+    double seconds = 0;              ///< device time: uploads, kernels, downloads (no compilation)
+    std::size_t slabs = 0;           ///< z-slabs the volume was processed in
+    const SpanCurves& get(SpanKind k) const;
+};
+
+struct SpanOptions {
+    std::vector<SpanKind> kinds{SpanKind::cubes};
+    int levels = 2;            ///< pyramid levels 0..levels-1 (>= 1)
+    /// Largest slab in slices (0: from the device's memory and Tuning::slab_bytes). Tests
+    /// force tiny slabs; results are identical for every slab size.
+    std::size_t slab_slices = 0;
+};
+
+/// Incremental span counter over z-slabs of a volume (the engine behind count_spans and
+/// slice streaming). Slabs are fed in z order; each starts on the last slice of the
+/// previous one, at a z that is a multiple of 2^(levels-1).
+class SpanCounter {
+public:
+    SpanCounter(Context& ctx, const IsovalueSet& iso, ValueType type, const Dims& dims,
+                const SpanOptions& opt);
+    ~SpanCounter();
+    SpanCounter(const SpanCounter&) = delete;
+    SpanCounter& operator=(const SpanCounter&) = delete;
+
+    /// Counts the slab of `nzs` full-resolution slices starting at slice z0. `data`
+    /// holds those slices (nx * ny * nzs values of the counter's type).
+    void add_slab(const void* data, std::size_t z0, std::size_t nzs);
+    /// Downloads the histograms and forms the prefix sums. Call after the last slab.
+    SpanResult finish();
+
+    /// The slab depth (in slices, including the shared last slice) this counter uses.
+    std::size_t slab_slices() const;
+
+private:
+    struct Impl;
+    Impl* impl_;
+};
+
+/// Counts the spans of `v` for every isovalue of `iso` at every level, on the device,
+/// in one pass per slab.
+SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, const SpanOptions& opt = {});
+
+/// The same counts on the host with OpenMP threads (per-thread histograms, x-rows with
+/// reused column min/max): the CPU baseline of the benchmarks, and a fallback where no
+/// OpenCL device exists. SpanResult::seconds is its wall time; slab_slices is ignored.
+SpanResult count_spans_openmp(const Volume& v, const IsovalueSet& iso, const SpanOptions& opt = {});
+
+}  // namespace clfractal

@@ -1,0 +1,91 @@
+// The device layer: listing, errors with names and build logs, buffers, launch checks.
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+
+#include "clfractal/device.hpp"
+#include "test_util.hpp"
+
+using namespace clfractal;
+using testutil::ctx;
+
+TEST_SUITE("device") {
+
+TEST_CASE("devices are listed and exactly one is chosen") {
+    auto all = list_devices();
+    REQUIRE(!all.empty());
+    int chosen = 0;
+    for (auto& d : all) chosen += d.chosen;
+    CHECK(chosen == 1);
+    MESSAGE("running on " << ctx().description());
+}
+
+TEST_CASE("CLFRACTAL_DEVICE that matches nothing is a clear error") {
+    const char* old = std::getenv("CLFRACTAL_DEVICE");
+    std::string saved = old ? old : "";
+    setenv("CLFRACTAL_DEVICE", "no-such-device-xyz", 1);
+    CHECK_THROWS_WITH_AS(choose_device(), doctest::Contains("no-such-device-xyz"), DeviceError);
+    if (old) setenv("CLFRACTAL_DEVICE", saved.c_str(), 1);
+    else unsetenv("CLFRACTAL_DEVICE");
+    setenv("CLFRACTAL_DEVICE_TYPE", "quantum", 1);
+    CHECK_THROWS_AS(choose_device(), DeviceError);
+    setenv("CLFRACTAL_DEVICE_TYPE", "cpu", 1);
+}
+
+TEST_CASE("error names and build logs") {
+    CHECK(std::string(cl_error_name(CL_OUT_OF_RESOURCES)) == "CL_OUT_OF_RESOURCES");
+    CHECK_THROWS_WITH_AS(check_cl(CL_INVALID_KERNEL_ARGS, "clEnqueueNDRangeKernel"),
+                         "clEnqueueNDRangeKernel: CL_INVALID_KERNEL_ARGS (-52)", DeviceError);
+    CHECK_NOTHROW(check_cl(CL_SUCCESS, "anything"));
+    // A type that does not exist makes the build fail: the message carries the options
+    // and the compiler's log.
+    try {
+        ctx().program("span", " -DT=no_such_type");
+        FAIL("the build should have failed");
+    } catch (const DeviceError& e) {
+        std::string m = e.what();
+        CHECK(m.find("kernels/span.cl") != std::string::npos);
+        CHECK(m.find("-DT=no_such_type") != std::string::npos);
+        CHECK(m.find("CL_BUILD_PROGRAM_FAILURE") != std::string::npos);
+        CHECK(m.find("no_such_type") != m.rfind("no_such_type"));  // also named in the log
+    }
+    CHECK_THROWS_AS(ctx().program("no_such_family", ""), DeviceError);
+    CHECK_THROWS_AS(ctx().kernel("copy", "no_such_kernel", ""), DeviceError);
+}
+
+TEST_CASE("programs are cached per (family, options)") {
+    const cl::Program& a = ctx().program("copy", "");
+    const cl::Program& b = ctx().program("copy", "");
+    CHECK(a() == b());
+    const cl::Program& c = ctx().program("copy", " -DUNUSED=1");
+    CHECK(a() != c());
+}
+
+TEST_CASE("typed buffers round trip and the copy kernel copies") {
+    std::vector<cl_uint> host(4 * 1000);
+    for (std::size_t i = 0; i < host.size(); ++i) host[i] = cl_uint(i * 2654435761u);
+    Buffer<cl_uint> src(ctx(), host.size()), dst(ctx(), host.size());
+    CHECK(src.size() == host.size());
+    CHECK(src.bytes() == host.size() * 4);
+    src.write(ctx().queue(), host.data(), host.size());
+    cl::Kernel k = ctx().kernel("copy", "copy_uint4", "");
+    k.setArg(0, src.get());
+    k.setArg(1, dst.get());
+    ctx().launch(k, cl::NDRange(1000));
+    CHECK(dst.to_host(ctx().queue()) == host);
+    Buffer<cl_uint> moved = std::move(dst);
+    CHECK(moved.size() == host.size());
+}
+
+TEST_CASE("launch sizes are checked before enqueueing") {
+    cl::Kernel k = ctx().kernel("copy", "copy_uint4", "");
+    Buffer<cl_uint> b(ctx(), 4 * 64);
+    k.setArg(0, b.get());
+    k.setArg(1, b.get());
+    CHECK_THROWS_WITH_AS(ctx().launch(k, cl::NDRange(60), cl::NDRange(16)), doctest::Contains("not a multiple"),
+                         DeviceError);
+    CHECK_THROWS_WITH_AS(ctx().launch(k, cl::NDRange(1 << 20), cl::NDRange(1 << 20)),
+                         doctest::Contains("CL_KERNEL_WORK_GROUP_SIZE"), DeviceError);
+}
+
+}  // TEST_SUITE("device")

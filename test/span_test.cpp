@@ -1,0 +1,227 @@
+// Span counts on the device against the plain reference (test/reference), exactly.
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "clfractal/span.hpp"
+#include "clfractal/volume_io.hpp"
+#include "reference/span_reference.hpp"
+#include "test_util.hpp"
+
+using namespace clfractal;
+using testutil::ctx;
+
+namespace {
+
+// Compares every level and kind of a device (or OpenMP) result with the brute reference.
+void check_against_reference(const Volume& v, const IsovalueSet& iso, const SpanResult& r, int levels) {
+    REQUIRE(r.curves.size() == 2);
+    for (int l = 0; l < levels; ++l) {
+        Volume lv = ref::level(v, l);
+        CHECK(r.get(SpanKind::cubes).level_dims[l] == lv.dims());
+        CHECK(r.get(SpanKind::cubes).counts[l] == ref::cubes_brute(lv, iso));
+        CHECK(r.get(SpanKind::edges).counts[l] == ref::edges_brute(lv, iso));
+    }
+}
+
+struct Case {
+    Dims d;
+    ValueType t;
+    long lo, hi;
+};
+
+const Case cases[] = {
+    {{2, 2, 2}, ValueType::uint8, 0, 255},     {{1, 1, 1}, ValueType::uint8, 0, 255},
+    {{1, 5, 7}, ValueType::uint8, 0, 3},       {{5, 1, 7}, ValueType::uint16, 0, 9},
+    {{7, 5, 1}, ValueType::int16, -4, 4},      {{2, 3, 2}, ValueType::float32, -6, 6},
+    {{13, 7, 11}, ValueType::uint8, 0, 255},   {{13, 7, 11}, ValueType::uint8, 100, 103},
+    {{17, 9, 5}, ValueType::uint16, 0, 65535}, {{11, 13, 7}, ValueType::int16, -32768, 32767},
+    {{9, 10, 12}, ValueType::int16, -300, 40}, {{19, 6, 9}, ValueType::float32, -20, 20},
+    {{65, 3, 4}, ValueType::uint8, 0, 255},    {{3, 66, 5}, ValueType::float32, 0, 1000},
+    {{31, 17, 23}, ValueType::uint16, 1000, 1100},
+};
+
+}  // namespace
+
+TEST_SUITE("span") {
+
+TEST_CASE("device counts equal the reference for all types, awkward sizes, 3 levels") {
+    std::uint32_t seed = 1;
+    for (const Case& c : cases) {
+        Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
+        IsovalueSet iso = IsovalueSet::for_volume(v, 64);
+        CAPTURE(c.d.nx); CAPTURE(c.d.ny); CAPTURE(c.d.nz); CAPTURE(value_type_name(c.t));
+        SpanOptions opt;
+        opt.kinds = {SpanKind::cubes, SpanKind::edges};
+        opt.levels = 3;
+        check_against_reference(v, iso, count_spans(ctx(), v, iso, opt), 3);
+    }
+}
+
+TEST_CASE("the two reference forms agree (brute force and difference histogram)") {
+    for (const Case& c : cases) {
+        Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, 77);
+        IsovalueSet iso = IsovalueSet::for_volume(v, 40);
+        CHECK(ref::cubes_brute(v, iso) == ref::cubes_histogram(v, iso));
+        CHECK(ref::edges_brute(v, iso) == ref::edges_histogram(v, iso));
+    }
+}
+
+TEST_CASE("float isovalues at exact vertex values follow a < s <= b") {
+    // Values are multiples of 0.5 and so are the isovalues: every isovalue hits vertices.
+    Volume v = testutil::random_volume({9, 8, 7}, ValueType::float32, -8, 8, 5);
+    std::vector<float> s;
+    for (int k = -9; k <= 9; ++k) s.push_back(0.5f * float(k));
+    IsovalueSet iso = IsovalueSet::floats(s);
+    SpanOptions opt;
+    opt.kinds = {SpanKind::cubes, SpanKind::edges};
+    opt.levels = 2;
+    check_against_reference(v, iso, count_spans(ctx(), v, iso, opt), 2);
+
+    // A single cube with span [1, 2]: s = 1 does not intersect it, s = 2 does.
+    Volume one({2, 2, 2}, ValueType::float32);
+    float* p = one.as<float>();
+    for (int i = 0; i < 8; ++i) p[i] = 1.5f;
+    p[0] = 1.0f;
+    p[7] = 2.0f;
+    IsovalueSet three = IsovalueSet::floats({1.0f, 1.5f, 2.0f});
+    auto r = count_spans(ctx(), one, three, SpanOptions{{SpanKind::cubes}, 1, 0});
+    CHECK(r.get(SpanKind::cubes).counts[0] == std::vector<std::uint64_t>{0, 1, 1});
+}
+
+TEST_CASE("integer isovalues cover every integer of the value range") {
+    Volume v = testutil::random_volume({6, 6, 6}, ValueType::int16, -7, 5, 9);
+    IsovalueSet iso = IsovalueSet::for_volume(v);
+    REQUIRE(iso.integer());
+    CHECK(iso.value(0) == -7);
+    CHECK(iso.size() == 13);
+    auto r = count_spans(ctx(), v, iso, SpanOptions{{SpanKind::cubes}, 1, 0});
+    CHECK(r.get(SpanKind::cubes).counts[0][0] == 0);  // nothing lies below the minimum
+}
+
+TEST_CASE("a constant volume has no intersected cube or edge") {
+    Volume v({8, 9, 10}, ValueType::uint8);
+    IsovalueSet iso = IsovalueSet::for_volume(v);
+    auto r = count_spans(ctx(), v, iso, SpanOptions{{SpanKind::cubes, SpanKind::edges}, 2, 0});
+    for (auto& c : r.curves)
+        for (auto& lvl : c.counts)
+            for (auto n : lvl) CHECK(n == 0);
+}
+
+TEST_CASE("tiny slabs give identical counts at every level") {
+    Volume v = testutil::random_volume({23, 19, 37}, ValueType::uint16, 0, 3000, 11);
+    IsovalueSet iso = IsovalueSet::for_volume(v);
+    SpanOptions opt;
+    opt.kinds = {SpanKind::cubes, SpanKind::edges};
+    opt.levels = 3;
+    const SpanResult whole = count_spans(ctx(), v, iso, opt);
+    CHECK(whole.slabs == 1);
+    for (std::size_t slices : {5, 6, 9, 13, 36}) {
+        CAPTURE(slices);
+        opt.slab_slices = slices;
+        SpanResult r = count_spans(ctx(), v, iso, opt);
+        CHECK(r.slabs > 1);
+        for (std::size_t k = 0; k < 2; ++k) CHECK(r.curves[k].counts == whole.curves[k].counts);
+    }
+    // One level: slabs of 2 slices (one cube layer each).
+    opt.levels = 1;
+    opt.slab_slices = 2;
+    SpanResult r = count_spans(ctx(), v, iso, opt);
+    CHECK(r.slabs == 36);
+    for (std::size_t k = 0; k < 2; ++k) CHECK(r.curves[k].counts[0] == whole.curves[k].counts[0]);
+    // A slab budget in bytes (Tuning::slab_bytes) splits the volume the same way.
+    testutil::TuningGuard guard;
+    ctx().tuning.slab_bytes = 23 * 19 * 2 * 7;
+    opt.slab_slices = 0;
+    r = count_spans(ctx(), v, iso, opt);
+    CHECK(r.slabs == 6);
+    for (std::size_t k = 0; k < 2; ++k) CHECK(r.curves[k].counts[0] == whole.curves[k].counts[0]);
+}
+
+TEST_CASE("every kernel variant gives the reference counts") {
+    testutil::TuningGuard guard;
+    struct Variant {
+        const char* name;
+        std::size_t work_group, items, local_hist_bytes;
+    };
+    const Variant variants[] = {
+        {"private", 1, 1, 0},        {"private", 1, 3, 0},          {"private", 1, 64, 0},
+        {"atomic", 1, 1, 1 << 20},   {"atomic", 7, 5, 1 << 20},     {"atomic", 64, 16, 1 << 20},
+        {"atomic", 32, 4, 0 /* global-memory histograms */},
+    };
+    std::uint32_t seed = 100;
+    for (const Variant& var : variants) {
+        ctx().tuning.span_variant = var.name;
+        ctx().tuning.work_group = var.work_group;
+        ctx().tuning.private_items = var.items;
+        ctx().tuning.local_hist_bytes = var.local_hist_bytes;
+        for (const Case& c : {cases[6], cases[8], cases[9], cases[11], cases[1], cases[4]}) {
+            CAPTURE(var.name); CAPTURE(var.work_group); CAPTURE(var.items); CAPTURE(var.local_hist_bytes);
+            Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
+            IsovalueSet iso = IsovalueSet::for_volume(v, 50);
+            SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 2, 0};
+            check_against_reference(v, iso, count_spans(ctx(), v, iso, opt), 2);
+        }
+    }
+}
+
+TEST_CASE("the OpenMP baseline gives the reference counts") {
+    for (const Case& c : cases) {
+        Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, 500);
+        IsovalueSet iso = IsovalueSet::for_volume(v, 33);
+        SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 3, 0};
+        check_against_reference(v, iso, count_spans_openmp(v, iso, opt), 3);
+    }
+}
+
+TEST_CASE("isovalue sets: parsing and validation") {
+    IsovalueSet r = IsovalueSet::parse_range("0.5:2:0.5", ValueType::float32);
+    CHECK(r.size() == 4);
+    CHECK(r.value(3) == 2.0);
+    CHECK(IsovalueSet::parse_range("3:10:1", ValueType::uint8).size() == 8);
+    CHECK_THROWS_AS(IsovalueSet::parse_range("3:1:1", ValueType::float32), InputError);
+    CHECK_THROWS_AS(IsovalueSet::parse_range("1:3", ValueType::float32), InputError);
+    CHECK_THROWS_AS(IsovalueSet::parse_range("1:3:0", ValueType::float32), InputError);
+    CHECK_THROWS_AS(IsovalueSet::parse_range("1.5:3:1", ValueType::uint8), InputError);
+    CHECK_THROWS_AS(IsovalueSet::floats({1.0f, 1.0f}), InputError);
+    CHECK_THROWS_AS(IsovalueSet::floats({}), InputError);
+    IsovalueSet u = IsovalueSet::uniform(0, 1, 4);
+    CHECK(u.size() == 4);
+    CHECK(u.value(0) == doctest::Approx(0.25));
+    CHECK(u.value(3) == 1.0);
+}
+
+}  // TEST_SUITE("span")
+
+TEST_SUITE("realdata") {
+
+TEST_CASE("device counts equal the reference on every volume in shared/data") {
+    const std::string dir = testutil::shared_data();
+    if (dir.empty()) {
+        MESSAGE("../shared/data is absent: real-volume checks skipped");
+        return;
+    }
+    std::ifstream manifest(dir + "/MANIFEST.tsv");
+    std::string line;
+    std::getline(manifest, line);  // header
+    int checked = 0;
+    while (std::getline(manifest, line)) {
+        std::string file = line.substr(0, line.find('\t'));
+        if (file.empty()) continue;
+        Volume v = read_volume(dir + "/" + file);
+        IsovalueSet iso = IsovalueSet::for_volume(v);
+        SpanResult r = count_spans(ctx(), v, iso, SpanOptions{{SpanKind::cubes, SpanKind::edges}, 2, 0});
+        CAPTURE(file);
+        for (int l = 0; l < 2; ++l) {
+            Volume lv = ref::level(v, l);
+            CHECK(r.get(SpanKind::cubes).counts[l] == ref::cubes_histogram(lv, iso));
+            CHECK(r.get(SpanKind::edges).counts[l] == ref::edges_histogram(lv, iso));
+        }
+        ++checked;
+    }
+    MESSAGE("real volumes checked: " << checked);
+    CHECK(checked >= 16);
+}
+
+}  // TEST_SUITE("realdata")

@@ -1,0 +1,712 @@
+// Volume layer: value types, dims checks, raw and NRRD I/O, synthetic volumes, bad inputs.
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "clfractal/synthetic.hpp"
+#include "clfractal/volume.hpp"
+#include "clfractal/volume_io.hpp"
+
+namespace fs = std::filesystem;
+using namespace clfractal;
+
+namespace {
+
+const ValueType all_types[] = {ValueType::uint8, ValueType::uint16, ValueType::int16,
+                               ValueType::float32};
+
+/// A fresh directory under the system temp directory, removed with its contents.
+class TempDir {
+public:
+    TempDir() {
+        static int counter = 0;
+        path_ = fs::temp_directory_path() / ("clfractal_volume_test_" + std::to_string(::getpid()) +
+                                             "_" + std::to_string(counter++));
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path_, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    std::string path() const { return path_.string(); }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+    std::vector<std::string> entries() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    }
+
+private:
+    fs::path path_;
+};
+
+void write_file(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    REQUIRE(out.good());
+}
+
+std::string bytes_of(const void* data, std::size_t n) {
+    return std::string(static_cast<const char*>(data), n);
+}
+
+/// Reverses the bytes of every element of `size` bytes (host little endian → big endian).
+std::string swap_elements(std::string bytes, std::size_t size) {
+    for (std::size_t i = 0; i + size <= bytes.size(); i += size)
+        std::reverse(bytes.begin() + static_cast<std::ptrdiff_t>(i),
+                     bytes.begin() + static_cast<std::ptrdiff_t>(i + size));
+    return bytes;
+}
+
+/// The message of the InputError thrown by f; fails the test when none is thrown.
+template <class F> std::string input_error(F&& f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        const std::string message = e.what();
+        CHECK_MESSAGE(message.find('\n') == std::string::npos, "not one line: ", message);
+        return message;
+    }
+    FAIL_CHECK("no InputError thrown");
+    return {};
+}
+
+SyntheticOptions sized(std::size_t n) {
+    SyntheticOptions opt;
+    opt.size = n;
+    return opt;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
+
+/// A volume whose values cover each type's extremes and negative values.
+Volume pattern(Dims d, ValueType t) {
+    Volume v(d, t, "pattern");
+    visit(v, [n = v.vertices()](auto* p) {
+        using T = std::remove_pointer_t<decltype(p)>;
+        for (std::size_t i = 0; i < n; ++i) {
+            if constexpr (std::is_same_v<T, float>)
+                p[i] = static_cast<float>(i) * 0.37f - 5.5f;
+            else if (i == 0)
+                p[i] = std::numeric_limits<T>::min();
+            else if (i == 1)
+                p[i] = std::numeric_limits<T>::max();
+            else
+                p[i] = static_cast<T>(i * 2654435761u);
+        }
+    });
+    return v;
+}
+
+void check_same(const Volume& a, const Volume& b) {
+    REQUIRE(a.dims() == b.dims());
+    REQUIRE(a.type() == b.type());
+    REQUIRE(a.size_bytes() == b.size_bytes());
+    CHECK(std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
+}
+
+const char* nrrd_type_name(ValueType t) {
+    switch (t) {
+    case ValueType::uint8: return "uchar";
+    case ValueType::uint16: return "ushort";
+    case ValueType::int16: return "short";
+    default: return "float";
+    }
+}
+
+std::string nrrd_header(const std::string& type, const std::string& sizes,
+                        const std::string& extra = "encoding: raw\n") {
+    return "NRRD0004\ntype: " + type + "\ndimension: 3\nsizes: " + sizes + "\n" + extra + "\n";
+}
+
+// gzip (python: gzip.compress(struct.pack('<12H', *values), mtime=0)) of the uint16 values:
+const std::uint16_t gzip_values[12] = {0, 1, 2, 300, 65535, 7, 8, 9, 1000, 11, 12, 13};
+const unsigned char gzip_payload[44] = {
+    0x1f, 0x8b, 0x08, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x03, 0x63, 0x60, 0x60, 0x64, 0x60,
+    0x62, 0xd0, 0x61, 0xfc, 0xff, 0x9f, 0x9d, 0x81, 0x83, 0x81, 0x93, 0xe1, 0x05, 0x33, 0x37,
+    0x03, 0x0f, 0x03, 0x2f, 0x03, 0x00, 0xc3, 0xe0, 0xaa, 0xc2, 0x18, 0x00, 0x00, 0x00};
+const std::string gzip_header =
+    nrrd_header("ushort", "3 2 2", "endian: little\nencoding: gzip\n");
+
+}  // namespace
+
+TEST_SUITE("volume") {
+
+TEST_CASE("value types: sizes, names, parsing") {
+    CHECK(value_size(ValueType::uint8) == 1);
+    CHECK(value_size(ValueType::uint16) == 2);
+    CHECK(value_size(ValueType::int16) == 2);
+    CHECK(value_size(ValueType::float32) == 4);
+    for (ValueType t : all_types) CHECK(parse_value_type(value_type_name(t)) == t);
+    CHECK(parse_value_type("uchar") == ValueType::uint8);
+    CHECK(parse_value_type("ushort") == ValueType::uint16);
+    CHECK(parse_value_type("short") == ValueType::int16);
+    CHECK(parse_value_type("float") == ValueType::float32);
+    CHECK(contains(input_error([] { parse_value_type("int32"); }), "int32"));
+    CHECK(is_integer(ValueType::int16));
+    CHECK_FALSE(is_integer(ValueType::float32));
+}
+
+TEST_CASE("dims: cubes and check_dims") {
+    CHECK(Dims{4, 5, 6}.cubes() == 3 * 4 * 5);
+    CHECK(Dims{1, 5, 6}.cubes() == 0);
+    CHECK(dims_string(Dims{4, 5, 6}) == "4x5x6");
+    CHECK_NOTHROW(check_dims(Dims{1, 1, 1}, "v"));
+    CHECK_NOTHROW(check_dims(Dims{std::size_t(1) << 20, std::size_t(1) << 20, 1}, "v"));
+    CHECK(input_error([] { check_dims(Dims{100000, 100000, 100000}, "VOLUME"); }) ==
+          "VOLUME: dims 100000x100000x100000 exceed the maximum of 2^40 vertices");
+    CHECK(contains(input_error([] { check_dims(Dims{0, 4, 4}, "VOLUME"); }), "VOLUME: dims 0x4x4"));
+    // Products that wrap around 2^64 must not slip through.
+    const std::size_t big = std::size_t(1) << 32;
+    CHECK(contains(input_error([&] { check_dims(Dims{big, big, big}, "V"); }), "exceed"));
+    CHECK(contains(input_error([&] { check_dims(Dims{big, big, 1}, "V"); }), "exceed"));
+    CHECK(contains(input_error([&] { check_dims(Dims{SIZE_MAX, SIZE_MAX, 2}, "V"); }), "exceed"));
+    CHECK(contains(input_error([&] { Volume(Dims{big, big, big}, ValueType::uint8, "huge"); }), "huge"));
+}
+
+TEST_CASE("Volume: zero-filled, typed access, values, range") {
+    Volume v(Dims{3, 4, 5}, ValueType::int16, "v");
+    CHECK(v.vertices() == 60);
+    CHECK(v.size_bytes() == 120);
+    CHECK(v.name == "v");
+    CHECK(v.spacing == std::array<double, 3>{1.0, 1.0, 1.0});
+    const std::int16_t* p = v.as<std::int16_t>();
+    CHECK(std::all_of(p, p + 60, [](std::int16_t x) { return x == 0; }));
+    CHECK_THROWS_AS(v.as<float>(), std::logic_error);
+    v.as<std::int16_t>()[v.index(2, 3, 4)] = -7;
+    v.as<std::int16_t>()[v.index(1, 0, 0)] = 300;
+    CHECK(v.value(59) == -7);
+    CHECK(v.value(1) == 300);
+    const ValueRange r = value_range(v);
+    CHECK(r.min == -7);
+    CHECK(r.max == 300);
+    CHECK(value_range(Volume{}).min == 0);
+}
+
+TEST_CASE("raw names: NAME_XxYxZ_TYPE.raw") {
+    Dims d;
+    ValueType t;
+    REQUIRE(parse_raw_name("bonsai_256x256x256_uint8.raw", d, t));
+    CHECK(d == Dims{256, 256, 256});
+    CHECK(t == ValueType::uint8);
+    REQUIRE(parse_raw_name("/some/dir_1x1x1_uint8/neghip_slc_66x65x64_uint16.raw", d, t));
+    CHECK(d == Dims{66, 65, 64});
+    CHECK(t == ValueType::uint16);
+    REQUIRE(parse_raw_name("stent_128x128x256_int16.raw", d, t));
+    CHECK(t == ValueType::int16);
+    REQUIRE(parse_raw_name("m4_31x22x25_float32.raw", d, t));
+    CHECK(d == Dims{31, 22, 25});
+    CHECK(t == ValueType::float32);
+
+    for (const char* bad : {"bonsai.raw", "bonsai_256x256_uint8.raw", "bonsai_256x256x256x2_uint8.raw",
+                            "bonsai_256x256x256_int32.raw", "bonsai_256x256x256_uchar.raw",
+                            "bonsai_256x256x256_uint8.dat", "bonsai_256x256x256_uint8.raw.gz",
+                            "_256x256x256_uint8.raw", "b_256xx256x256_uint8.raw",
+                            "b_256x256x256x_uint8.raw", "b_+2x2x2_uint8.raw", "b_2x2x2z_uint8.raw",
+                            "b_-2x2x2_uint8.raw", "b_2x2x2_.raw", "256x256x256_uint8.raw"}) {
+        CAPTURE(bad);
+        CHECK_FALSE(parse_raw_name(bad, d, t));
+    }
+}
+
+TEST_CASE("raw round trip: every type, both endiannesses") {
+    TempDir dir;
+    for (ValueType t : all_types) {
+        for (bool big : {false, true}) {
+            CAPTURE(value_type_name(t));
+            CAPTURE(big);
+            const Volume v = pattern(Dims{5, 4, 3}, t);
+            std::string bytes = bytes_of(v.data(), v.size_bytes());
+            if (big) bytes = swap_elements(bytes, value_size(t));
+
+            // Dims and type from the name.
+            const std::string named = dir.file(std::string("p_5x4x3_") + value_type_name(t) + ".raw");
+            write_file(named, bytes);
+            RawOptions opt;
+            opt.big_endian = big;
+            const Volume a = read_raw(named, opt);
+            check_same(a, v);
+            CHECK(a.name == named);
+            check_same(read_volume(named, opt), v);
+
+            // Dims and type from the options.
+            const std::string plain = dir.file("data.bin");
+            write_file(plain, bytes);
+            opt.dims = Dims{5, 4, 3};
+            opt.type = t;
+            check_same(read_raw(plain, opt), v);
+        }
+    }
+}
+
+TEST_CASE("raw options override the name") {
+    TempDir dir;
+    const Volume v = pattern(Dims{6, 2, 2}, ValueType::uint8);
+    const std::string path = dir.file("x_2x2x6_uint16.raw");  // same byte count as 6x2x2 uint8 x2
+    write_file(path, bytes_of(v.data(), v.size_bytes()) + bytes_of(v.data(), v.size_bytes()));
+    RawOptions opt;
+    opt.type = ValueType::uint8;
+    opt.dims = Dims{12, 2, 2};
+    const Volume a = read_raw(path, opt);
+    CHECK(a.dims() == Dims{12, 2, 2});
+    CHECK(a.type() == ValueType::uint8);
+    RawOptions only_type;
+    only_type.type = ValueType::int16;
+    CHECK(read_raw(path, only_type).dims() == Dims{2, 2, 6});
+}
+
+TEST_CASE("NRRD round trip: every type, raw and gzip, spacing kept") {
+    for (ValueType t : all_types) {
+        for (bool gzip : {false, true}) {
+            CAPTURE(value_type_name(t));
+            CAPTURE(gzip);
+            TempDir dir;
+            Volume v = pattern(Dims{7, 5, 3}, t);
+            v.spacing = {0.1, 1.0 / 3, 2.0};  // written with full precision by teem
+            const std::string path = dir.file("v.nrrd");
+            write_nrrd(v, path, gzip);
+            CHECK(dir.entries() == std::vector<std::string>{"v.nrrd"});  // no temporary left
+
+            std::ifstream in(path, std::ios::binary);
+            const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            CHECK(text.compare(0, 4, "NRRD") == 0);  // attached header
+            CHECK(contains(text, gzip ? "encoding: gzip" : "encoding: raw"));
+
+            const Volume r = read_nrrd(path);
+            check_same(r, v);
+            CHECK(r.spacing == v.spacing);
+            CHECK(r.name == path);
+            check_same(read_volume(path), v);
+
+            write_nrrd(r, path, gzip);  // overwriting an existing file
+            check_same(read_nrrd(path), v);
+        }
+    }
+}
+
+TEST_CASE("NRRD: detached header, both endiannesses") {
+    TempDir dir;
+    const std::uint16_t u16[12] = {0, 1, 258, 300, 65535, 7, 8, 9, 1000, 11, 12, 40000};
+    const float f32[12] = {-1.5f, 0, 1, 2.25f, 1e30f, -1e-30f, 6, 7, 8, 9, 10, 11};
+    for (bool big : {false, true}) {
+        CAPTURE(big);
+        for (ValueType t : {ValueType::uint16, ValueType::float32}) {
+            const bool is16 = t == ValueType::uint16;
+            std::string bytes = is16 ? bytes_of(u16, sizeof u16) : bytes_of(f32, sizeof f32);
+            if (big) bytes = swap_elements(bytes, value_size(t));
+            write_file(dir.file("data.raw"), bytes);
+            const std::string header = dir.file("d.nhdr");
+            write_file(header, nrrd_header(nrrd_type_name(t), "3 2 2",
+                                           std::string("spacings: 1 2 3\nendian: ") +
+                                               (big ? "big" : "little") +
+                                               "\nencoding: raw\ndata file: data.raw\n"));
+            const Volume v = read_volume(header);
+            REQUIRE(v.dims() == Dims{3, 2, 2});
+            REQUIRE(v.type() == t);
+            for (std::size_t i = 0; i < 12; ++i) CHECK(v.value(i) == (is16 ? u16[i] : f32[i]));
+            CHECK(v.spacing == std::array<double, 3>{1.0, 2.0, 3.0});
+        }
+    }
+}
+
+TEST_CASE("NRRD: hand-written gzip, space directions, float64") {
+    TempDir dir;
+    const std::string gz = dir.file("g.nrrd");
+    write_file(gz, gzip_header + bytes_of(gzip_payload, sizeof gzip_payload));
+    const Volume g = read_volume(gz);
+    REQUIRE(g.dims() == Dims{3, 2, 2});
+    REQUIRE(g.type() == ValueType::uint16);
+    for (std::size_t i = 0; i < 12; ++i) CHECK(g.value(i) == gzip_values[i]);
+
+    const std::string sd = dir.file("sd.nrrd");
+    write_file(sd, nrrd_header("uchar", "2 2 2",
+                               "space: right-anterior-superior\n"
+                               "space directions: (0.5,0,0) (0,0,-2) (0,3,4)\nencoding: raw\n") +
+                       "abcdefgh");
+    const Volume s = read_nrrd(sd);
+    CHECK(s.spacing[0] == doctest::Approx(0.5));
+    CHECK(s.spacing[1] == doctest::Approx(2.0));
+    CHECK(s.spacing[2] == doctest::Approx(5.0));
+    CHECK(s.value(7) == 'h');
+
+    const double d64[8] = {-1.25, 0, 1, 2, 3, 4, 5, 1e10};
+    const std::string f64 = dir.file("f64.nrrd");
+    write_file(f64, nrrd_header("double", "2 2 2", "endian: little\nencoding: raw\n") +
+                        bytes_of(d64, sizeof d64));
+    const Volume d = read_volume(f64);
+    REQUIRE(d.type() == ValueType::float32);
+    for (std::size_t i = 0; i < 8; ++i) CHECK(d.value(i) == static_cast<float>(d64[i]));
+}
+
+TEST_CASE("bad raw files name the file and the problem") {
+    TempDir dir;
+    const std::string truncated = dir.file("t_4x4x4_uint16.raw");
+    write_file(truncated, std::string(100, 'a'));
+    std::string m = input_error([&] { read_volume(truncated); });
+    CHECK(m == truncated + ": truncated: expected 128 bytes (4x4x4 uint16), found 100");
+
+    const std::string too_long = dir.file("t_4x4x4_uint8.raw");
+    write_file(too_long, std::string(65, 'a'));
+    m = input_error([&] { read_volume(too_long); });
+    CHECK(m == too_long + ": too long: expected 64 bytes (4x4x4 uint8), found 65");
+
+    const std::string unnamed = dir.file("volume.bin");
+    write_file(unnamed, std::string(64, 'a'));
+    m = input_error([&] { read_volume(unnamed); });
+    CHECK(contains(m, unnamed));
+    CHECK(contains(m, "needs --dims and --type"));
+
+    const std::string unknown_type = dir.file("t_4x4x4_int32.raw");
+    write_file(unknown_type, std::string(256, 'a'));
+    m = input_error([&] { read_volume(unknown_type); });
+    CHECK(contains(m, unknown_type));
+    CHECK(contains(m, "unknown value type 'int32'"));
+
+    const std::string zero = dir.file("t_0x4x4_uint8.raw");
+    write_file(zero, "");
+    CHECK(contains(input_error([&] { read_volume(zero); }), zero + ": dims 0x4x4"));
+
+    const std::string overflow = dir.file("t_4294967296x4294967296x4294967296_uint8.raw");
+    write_file(overflow, "abc");
+    m = input_error([&] { read_volume(overflow); });
+    CHECK(contains(m, overflow));
+    CHECK(contains(m, "exceed the maximum of 2^40 vertices"));
+    RawOptions opt;
+    opt.dims = Dims{100000, 100000, 100000};
+    opt.type = ValueType::uint8;
+    CHECK(contains(input_error([&] { read_volume(unnamed, opt); }),
+                   unnamed + ": dims 100000x100000x100000 exceed"));
+
+    const std::string missing = dir.file("missing_4x4x4_uint8.raw");
+    CHECK(input_error([&] { read_volume(missing); }) == missing + ": no such file");
+    CHECK(contains(input_error([&] { read_volume(dir.path()); }), "not a regular file"));
+}
+
+TEST_CASE("NaN and Inf in float data are rejected with the vertex") {
+    TempDir dir;
+    const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
+                              std::numeric_limits<float>::infinity(),
+                              -std::numeric_limits<float>::infinity()};
+    const char* kinds[] = {"NaN", "Inf", "-Inf"};
+    for (int k = 0; k < 3; ++k) {
+        CAPTURE(kinds[k]);
+        std::vector<float> values(4 * 3 * 2, 1.0f);
+        values[1 + 4 * (2 + 3 * 1)] = specials[k];  // vertex (1,2,1)
+        values.back() = specials[(k + 1) % 3];      // a later bad vertex is not the one reported
+        const std::string path = dir.file("f_4x3x2_float32.raw");
+        write_file(path, bytes_of(values.data(), values.size() * sizeof(float)));
+        CHECK(input_error([&] { read_volume(path); }) ==
+              path + ": float data contains " + kinds[k] + " at vertex (1,2,1)");
+        const Volume raw = read_raw(path);  // read_raw alone does not check
+        CHECK(contains(input_error([&] { check_finite(raw, "X"); }), "X: float data contains"));
+    }
+    std::vector<float> values(8, 0.0f);
+    values[0] = std::numeric_limits<float>::quiet_NaN();
+    const std::string nrrd = dir.file("nan.nrrd");
+    write_file(nrrd, nrrd_header("float", "2 2 2", "endian: little\nencoding: raw\n") +
+                         bytes_of(values.data(), 32));
+    CHECK(input_error([&] { read_volume(nrrd); }) == nrrd + ": float data contains NaN at vertex (0,0,0)");
+}
+
+TEST_CASE("bad NRRD files name the file and teem's reason") {
+    TempDir dir;
+    const auto check_bad = [&](const std::string& name, const std::string& content,
+                               const std::string& reason) {
+        CAPTURE(name);
+        const std::string path = dir.file(name);
+        write_file(path, content);
+        const std::string m = input_error([&] { read_volume(path); });
+        CHECK(contains(m, path + ": "));
+        CHECK_MESSAGE(contains(m, reason), m);
+    };
+    check_bad("short_data.nrrd", nrrd_header("uchar", "4 4 4") + "abcdefgh", "cannot read NRRD");
+    check_bad("short_data.nrrd", nrrd_header("ushort", "4 4 4") + std::string(127, 'a'),
+              "cannot read NRRD");
+    check_bad("unknown_type.nrrd", nrrd_header("foo", "2 2 2") + "abcdefgh", "foo");
+    check_bad("int.nrrd", nrrd_header("int", "2 2 2", "endian: little\nencoding: raw\n") + std::string(32, 'a'),
+              "unsupported NRRD type 'int'");
+    check_bad("char.nrrd", nrrd_header("signed char", "2 2 2") + std::string(8, 'a'),
+              "unsupported NRRD type");
+    check_bad("huge.nrrd", nrrd_header("uchar", "100000 100000 100000") + "abcdefgh",
+              "dims 100000x100000x100000 exceed the maximum of 2^40 vertices");
+    check_bad("two_d.nrrd",
+              "NRRD0004\ntype: uchar\ndimension: 2\nsizes: 2 2\nencoding: raw\n\nabcd",
+              "only 3D scalar volumes");
+    check_bad("not_nrrd.nrrd", "hello\n", "cannot read NRRD");
+    check_bad("missing_data.nhdr", nrrd_header("uchar", "2 2 2", "encoding: raw\ndata file: nope.raw\n"),
+              "cannot read NRRD");
+
+    std::string crc(reinterpret_cast<const char*>(gzip_payload), sizeof gzip_payload);
+    crc[crc.size() - 8] ^= 0x5a;  // CRC-32 of the payload
+    check_bad("bad_crc.nrrd", gzip_header + crc, "cannot read NRRD");
+    const std::string cut(reinterpret_cast<const char*>(gzip_payload), 30);
+    check_bad("cut_gzip.nrrd", gzip_header + cut, "cannot read NRRD");
+    std::string deflate(reinterpret_cast<const char*>(gzip_payload), sizeof gzip_payload);
+    std::fill(deflate.begin() + 12, deflate.begin() + 20, '\0');
+    check_bad("bad_deflate.nrrd", gzip_header + deflate, "cannot read NRRD");
+}
+
+TEST_CASE("write_nrrd: failures name the path and leave no temporary") {
+    TempDir dir;
+    const Volume v = pattern(Dims{2, 2, 2}, ValueType::uint8);
+    const std::string no_dir = dir.file("no/such/dir/out.nrrd");
+    CHECK(contains(input_error([&] { write_nrrd(v, no_dir); }), no_dir));
+
+    // A non-empty directory where the file should go: the rename fails.
+    const std::string blocked = dir.file("blocked.nrrd");
+    fs::create_directories(fs::path(blocked) / "inside");
+    CHECK(contains(input_error([&] { write_nrrd(v, blocked, true); }), blocked));
+    CHECK(dir.entries() == std::vector<std::string>{"blocked.nrrd"});
+}
+
+TEST_CASE("synthetic specs in read_volume") {
+    const Volume v = read_volume("synthetic:sphere:9");
+    CHECK(v.dims() == Dims{9, 9, 9});
+    CHECK(v.name == "synthetic:sphere:9");
+    CHECK(read_volume("synthetic:torus").dims() == Dims{128, 128, 128});
+
+    std::string m = input_error([] { read_volume("synthetic:blob:8"); });
+    CHECK(contains(m, "synthetic:blob"));
+    CHECK(contains(m, "sphere, noisy-sphere, torus, points, marschner-lobb"));
+    CHECK(contains(input_error([] { read_volume("synthetic:"); }), "unknown synthetic volume"));
+    for (const std::string bad : {"synthetic:sphere:1", "synthetic:sphere:2049", "synthetic:sphere:",
+                                  "synthetic:sphere:abc", "synthetic:sphere:-4", "synthetic:sphere:12x",
+                                  "synthetic:sphere:+8", "synthetic:sphere: 8", "synthetic:sphere:8:8",
+                                  "synthetic:sphere:99999999999999999999999"}) {
+        CAPTURE(bad);
+        m = input_error([&] { read_volume(bad); });
+        CHECK(contains(m, bad + ": size"));
+        CHECK(contains(m, "from 2 to 2048"));
+    }
+    CHECK(read_volume("synthetic:sphere:2").dims() == Dims{2, 2, 2});
+}
+
+TEST_CASE("synthetic catalog: dims, types, names, options") {
+    const auto catalog = synthetic_catalog();
+    REQUIRE(catalog.size() == 5);
+    for (const SyntheticInfo& s : catalog) {
+        CAPTURE(s.name);
+        CHECK_FALSE(s.description.empty());
+        SyntheticOptions opt;
+        opt.size = 9;
+        const Volume v = make_synthetic(s.name, opt);
+        CHECK(v.dims() == Dims{9, 9, 9});
+        const bool sphere = s.name == "sphere" || s.name == "noisy-sphere";
+        CHECK(v.type() == (sphere ? ValueType::uint8 : ValueType::float32));
+        CHECK(v.name == "synthetic:" + s.name + ":9");
+        CHECK(v.spacing == std::array<double, 3>{1.0, 1.0, 1.0});
+        CHECK_NOTHROW(check_finite(v, s.name));
+        opt.type = ValueType::int16;
+        CHECK(make_synthetic(s.name, opt).type() == ValueType::int16);
+    }
+    SyntheticOptions opt;
+    opt.size = 1;
+    CHECK(contains(input_error([&] { make_synthetic("sphere", opt); }), "at least 2"));
+    opt.size = 8;
+    opt.noise = -1;
+    CHECK(contains(input_error([&] { make_synthetic("sphere", opt); }), "noise"));
+    opt.noise = 0;
+    opt.points = 0;
+    CHECK(contains(input_error([&] { make_synthetic("points", opt); }), "points"));
+}
+
+TEST_CASE("sphere: the formula, radially monotone") {
+    SyntheticOptions opt;
+    opt.size = 17;
+    const Volume v = make_synthetic("sphere", opt);
+    const double c = 8;
+    std::vector<std::pair<double, double>> by_distance;
+    for (std::size_t z = 0; z < 17; ++z)
+        for (std::size_t y = 0; y < 17; ++y)
+            for (std::size_t x = 0; x < 17; ++x) {
+                const double d = std::sqrt((x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c));
+                const double value = v.value(v.index(x, y, z));
+                CHECK(value == std::round(255 * std::clamp(1 - d / 8.5, 0.0, 1.0)));
+                by_distance.emplace_back(d, value);
+            }
+    std::sort(by_distance.begin(), by_distance.end());
+    for (std::size_t i = 1; i < by_distance.size(); ++i)
+        CHECK(by_distance[i].second <= by_distance[i - 1].second);
+    CHECK(v.value(v.index(8, 8, 8)) == 255);
+    CHECK(v.value(0) == 0);
+}
+
+TEST_CASE("noisy-sphere: clean at x = 0, noisy towards x = N-1") {
+    for (double mu : {0.0, 10.0}) {
+        CAPTURE(mu);
+        SyntheticOptions opt;
+        opt.size = 32;
+        opt.noise = mu;
+        const double amplitude = mu > 0 ? mu : 24;
+        const Volume noisy = make_synthetic("noisy-sphere", opt);
+        opt.noise = 0;
+        const Volume clean = make_synthetic("sphere", opt);
+        std::size_t differ_far = 0;
+        double largest = 0;
+        for (std::size_t z = 0; z < 32; ++z)
+            for (std::size_t y = 0; y < 32; ++y) {
+                CHECK(noisy.value(noisy.index(0, y, z)) == clean.value(clean.index(0, y, z)));
+                differ_far += noisy.value(noisy.index(31, y, z)) != clean.value(clean.index(31, y, z));
+                for (std::size_t x = 0; x < 32; ++x) {
+                    const std::size_t i = noisy.index(x, y, z);
+                    const double diff = std::fabs(noisy.value(i) - clean.value(i));
+                    CHECK(diff <= amplitude * x / 31.0 + 1);
+                    largest = std::max(largest, diff);
+                }
+            }
+        CHECK(differ_far > 32 * 32 / 4);  // outside the sphere half the noise clamps to 0
+        CHECK(largest >= amplitude * 0.8);
+    }
+}
+
+TEST_CASE("torus, points, marschner-lobb: values") {
+    SyntheticOptions opt;
+    opt.size = 33;
+    const Volume torus = make_synthetic("torus", opt);
+    CHECK(torus.value(torus.index(16, 16, 16)) == doctest::Approx(33 / 4.0));
+    CHECK(torus.value(torus.index(24, 16, 16)) == doctest::Approx(0.25));
+    CHECK(torus.value(torus.index(16, 8, 18)) == doctest::Approx(std::hypot(0.25, 2.0)));
+
+    const Volume ml = make_synthetic("marschner-lobb", sized(3));
+    CHECK(ml.value(ml.index(1, 1, 1)) == doctest::Approx(0.6));  // rho(0) = cos(12 pi) = 1
+    CHECK(ml.value(ml.index(1, 1, 2)) == doctest::Approx(0.2));  // sin(pi/2) = 1
+    const ValueRange r = value_range(make_synthetic("marschner-lobb", sized(40)));
+    CHECK(r.min >= 0);
+    CHECK(r.max <= 1);
+
+    opt.size = 24;
+    opt.points = 3;
+    const Volume points = make_synthetic("points", opt);
+    const ValueRange pr = value_range(points);
+    CHECK(pr.min >= 0);
+    CHECK(pr.min <= std::sqrt(3.0) / 2);  // every point lies inside the grid
+    for (std::size_t i = 0; i + 1 < points.vertices(); ++i)  // gradient magnitude at most 1
+        if ((i + 1) % 24 != 0) CHECK(std::fabs(points.value(i + 1) - points.value(i)) <= 1 + 1e-5);
+    check_same(make_synthetic("points", opt), points);
+    opt.seed = 2;
+    const Volume other = make_synthetic("points", opt);
+    CHECK(std::memcmp(other.data(), points.data(), points.size_bytes()) != 0);
+}
+
+TEST_CASE("synthetic noise and type conversion") {
+    SyntheticOptions opt;
+    opt.size = 12;
+    const Volume clean = make_synthetic("torus", opt);
+    opt.noise = 2;
+    opt.seed = 7;
+    const Volume noisy = make_synthetic("torus", opt);
+    for (std::size_t i = 0; i < clean.vertices(); ++i)
+        CHECK(noisy.value(i) == doctest::Approx(clean.value(i) + 2 * uniform_noise(7, i)).epsilon(1e-6));
+
+    opt.noise = 0;
+    opt.type = ValueType::uint8;
+    const Volume rounded = make_synthetic("torus", opt);
+    for (std::size_t i = 0; i < clean.vertices(); ++i)
+        CHECK(rounded.value(i) == std::round(clean.value(i)));
+
+    // Clamping: a sphere with large noise saturates at both ends of uint8 and int16 keeps it.
+    opt.size = 16;
+    opt.type.reset();
+    opt.noise = 1000;
+    const ValueRange u8 = value_range(make_synthetic("sphere", opt));
+    CHECK(u8.min == 0);
+    CHECK(u8.max == 255);
+    opt.type = ValueType::int16;
+    const ValueRange i16 = value_range(make_synthetic("sphere", opt));
+    CHECK(i16.min < -500);
+    CHECK(i16.max > 500);
+}
+
+TEST_CASE("uniform_noise: the documented formula, deterministic, uniform on [-1, 1)") {
+    // Reference values computed in Python from the formula in synthetic.cpp.
+    CHECK(uniform_noise(1, 0) == 0.4994964827160602);
+    CHECK(uniform_noise(1, 1) == -0.25521315424166846);
+    CHECK(uniform_noise(42, 123456789) == -0.09004530672211808);
+    CHECK(uniform_noise(0, ~std::uint64_t(0)) == -1.0);
+
+    const std::size_t n = 1000000;
+    double sum = 0, sum_squares = 0, lo = 1, hi = -1, cross = 0;
+    bool deterministic = true;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double u = uniform_noise(1, i);
+        deterministic = deterministic && u == uniform_noise(1, i);
+        sum += u;
+        sum_squares += u * u;
+        cross += u * uniform_noise(2, i);
+        lo = std::min(lo, u);
+        hi = std::max(hi, u);
+    }
+    CHECK(deterministic);
+    CHECK(lo >= -1);
+    CHECK(hi < 1);
+    CHECK(lo < -0.999);
+    CHECK(hi > 0.999);
+    CHECK(std::fabs(sum / n) < 0.005);
+    CHECK(sum_squares / n == doctest::Approx(1.0 / 3).epsilon(0.01));
+    CHECK(std::fabs(cross / n) < 0.005);  // seeds 1 and 2 are uncorrelated
+}
+
+TEST_CASE("shared real data: names, sizes and dims of MANIFEST.tsv") {
+    const fs::path dir = CLFRACTAL_SHARED_DATA;
+    if (!fs::exists(dir / "MANIFEST.tsv")) {
+        MESSAGE("skipped: no real data at " << dir.string());
+        return;
+    }
+    std::ifstream manifest(dir / "MANIFEST.tsv");
+    std::string line;
+    REQUIRE(std::getline(manifest, line));
+    const auto split = [](const std::string& text) {
+        std::vector<std::string> cells;
+        std::stringstream ss(text);
+        for (std::string cell; std::getline(ss, cell, '\t');) cells.push_back(cell);
+        return cells;
+    };
+    const std::vector<std::string> columns = split(line);
+    const auto column = [&](const std::string& name) {
+        const auto it = std::find(columns.begin(), columns.end(), name);
+        REQUIRE(it != columns.end());
+        return static_cast<std::size_t>(it - columns.begin());
+    };
+    const std::size_t file_col = column("file"), dims_col = column("dims"), type_col = column("dtype");
+    int checked = 0;
+    while (std::getline(manifest, line)) {
+        const std::vector<std::string> row = split(line);
+        if (row.size() <= std::max({file_col, dims_col, type_col})) continue;
+        const std::string path = (dir / row[file_col]).string();
+        CAPTURE(path);
+        Dims d;
+        ValueType t;
+        REQUIRE(parse_raw_name(path, d, t));
+        CHECK(dims_string(d) == row[dims_col]);
+        CHECK(value_type_name(t) == row[type_col]);
+        CHECK(fs::file_size(path) == d.vertices() * value_size(t));
+        const Volume v = read_volume(path);
+        CHECK(v.dims() == d);
+        CHECK(v.type() == t);
+        ++checked;
+    }
+    MESSAGE("read " << checked << " real volumes from " << dir.string());
+    CHECK(checked > 0);
+}
+
+}  // TEST_SUITE("volume")

@@ -1,0 +1,411 @@
+// clfractal: the command-line tool (DESIGN §3). Exit 0 on success, 2 on bad input or
+// arguments (one line "clfractal: error: ..."), 1 on a runtime failure.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "clfractal/bench.hpp"
+#include "clfractal/fd.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/synthetic.hpp"
+#include "clfractal/volume_io.hpp"
+#include "output.hpp"
+
+using namespace clfractal;
+using json = nlohmann::json;
+
+namespace {
+
+bool quiet = false;
+void progress(const std::string& s) {
+    if (!quiet) std::cerr << "clfractal: " << s << "\n";
+}
+
+// Options that say how to read a headerless raw file.
+struct RawArgs {
+    std::string dims, type, endian = "little";
+    void add(CLI::App* app) {
+        app->add_option("--dims", dims, "raw file dimensions X,Y,Z");
+        app->add_option("--type", type, "raw file value type: uint8|uint16|int16|float32");
+        app->add_option("--endian", endian, "raw file byte order")->check(CLI::IsMember({"little", "big"}));
+    }
+    RawOptions options() const {
+        RawOptions o;
+        if (!dims.empty()) {
+            Dims d;
+            char c1 = 0, c2 = 0;
+            std::istringstream in(dims);
+            long long x = 0, y = 0, z = 0;
+            if (!(in >> x >> c1 >> y >> c2 >> z) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof() || x < 1 ||
+                y < 1 || z < 1)
+                throw InputError("--dims '" + dims + "': expected three positive integers X,Y,Z");
+            d = Dims{std::size_t(x), std::size_t(y), std::size_t(z)};
+            check_dims(d, "--dims " + dims);
+            o.dims = d;
+        }
+        if (!type.empty()) o.type = parse_value_type(type);
+        o.big_endian = endian == "big";
+        return o;
+    }
+};
+
+// An isovalue written so that it reads back to the same float32 / integer.
+std::string iso_string(const IsovalueSet& iso, std::size_t j) {
+    char buf[64];
+    if (iso.integer()) std::snprintf(buf, sizeof buf, "%lld", (long long)(iso.first() + std::int64_t(j)));
+    else std::snprintf(buf, sizeof buf, "%.9g", double(iso.float_values()[j]));
+    return buf;
+}
+
+std::string fd_string(double d) {
+    if (std::isnan(d)) return "";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.10g", d);
+    return buf;
+}
+
+json fd_json(double d) { return std::isnan(d) ? json(nullptr) : json(d); }
+
+// ------------------------------------------------------------------ devices
+
+int cmd_devices() {
+    auto all = list_devices();
+    if (all.empty()) {
+        std::cout << "no OpenCL devices (install an ICD, e.g. pocl-opencl-icd)\n";
+        return 1;
+    }
+    for (auto& d : all)
+        std::cout << (d.chosen ? "* " : "  ") << d.platform << " / " << d.name << "  [" << d.type << ", "
+                  << d.compute_units << " CUs, " << (d.global_mem >> 20) << " MiB, max alloc "
+                  << (d.max_alloc >> 20) << " MiB]\n";
+    std::cout << "(* = chosen; set CLFRACTAL_DEVICE=<name substring> or CLFRACTAL_DEVICE_TYPE=cpu|gpu)\n";
+    return 0;
+}
+
+// ------------------------------------------------------------------ info
+
+int cmd_info(const std::string& spec, const RawArgs& raw) {
+    Volume v = read_volume(spec, raw.options());
+    ValueRange r = value_range(v);
+    double sum = 0, sum2 = 0;
+    visit(v, [&](const auto* p) {
+        for (long long i = 0; i < (long long)v.vertices(); ++i) {
+            double x = double(p[i]);
+            sum += x;
+            sum2 += x * x;
+        }
+    });
+    const double n = double(v.vertices());
+    const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+    std::cout << "volume    " << spec << "\n"
+              << "dims      " << dims_string(v.dims()) << " (" << v.vertices() << " vertices, " << v.dims().cubes()
+              << " cubes)\n"
+              << "type      " << value_type_name(v.type()) << "\n"
+              << "spacing   " << v.spacing[0] << " " << v.spacing[1] << " " << v.spacing[2] << "\n"
+              << "range     " << r.min << " .. " << r.max << "\n"
+              << "mean      " << mean << "  (std " << sd << ")\n";
+    // A 16-bin histogram of the value range, as shares of the vertices.
+    const int bins = 16;
+    std::vector<std::size_t> h(bins, 0);
+    const double w = (r.max - r.min) / bins;
+    visit(v, [&](const auto* p) {
+        for (std::size_t i = 0; i < v.vertices(); ++i) {
+            int b = w > 0 ? int((double(p[i]) - r.min) / w) : 0;
+            ++h[std::min(b, bins - 1)];
+        }
+    });
+    std::cout << "histogram (16 bins over the range, % of vertices):\n";
+    for (int b = 0; b < bins; ++b) {
+        double share = 100.0 * double(h[b]) / n;
+        std::cout << "  " << std::setw(12) << r.min + b * w << "  " << std::setw(6) << std::fixed
+                  << std::setprecision(2) << share << std::defaultfloat << std::setprecision(6) << "  "
+                  << std::string(std::size_t(std::ceil(share / 2)), '#') << "\n";
+    }
+    IsovalueSet iso = IsovalueSet::for_volume(v);
+    std::cout << "isovalues " << iso.size() << (iso.integer() ? " (every integer of the range)" : " (uniform float list)")
+              << "\n";
+    return 0;
+}
+
+// ------------------------------------------------------------------ fd
+
+struct FdArgs {
+    std::string volume, csv, json_path, plot, isovalues;
+    bool edge = false;
+    int levels = 2;
+    std::size_t bins = 0;
+    std::uint64_t min_count = 0;
+    std::size_t slab = 0;
+    RawArgs raw;
+};
+
+void write_fd_plot(const FdCurve& f, const std::string& title, const std::string& path) {
+    std::ostringstream data;
+    for (std::size_t j = 0; j < f.fd.size(); ++j)
+        if (!std::isnan(f.fd[j])) data << iso_string(f.isovalues, j) << " " << f.fd[j] << "\n";
+    std::ostringstream script;
+    script << "set terminal pngcairo size 900,540 font 'sans,11'\n"
+           << "set xlabel 'isovalue'\nset ylabel 'fractal " << (f.kind == SpanKind::cubes ? "box" : "edge")
+           << " span dimension'\n"
+           << "set yrange [1.8:3.05]\nset grid\nset key off\n"
+           << "set title " << std::quoted(title) << "\n"
+           << "plot '$DATA' using 1:2 with lines lw 2 lc rgb '#1f5fa8'\n";
+    plot_png(script.str(), data.str(), path);
+}
+
+int cmd_fd(const FdArgs& a) {
+    Volume v = read_volume(a.volume, a.raw.options());
+    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
+    if (a.bins && is_integer(v.type()))
+        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    IsovalueSet iso = !a.isovalues.empty() ? IsovalueSet::parse_range(a.isovalues, v.type())
+                                           : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
+    Context& ctx = Context::shared();
+    progress("counting " + std::to_string(iso.size()) + " isovalues of " + dims_string(v.dims()) + " " +
+             value_type_name(v.type()) + " on " + ctx.description());
+    const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
+    SpanOptions opt{{kind}, a.levels, a.slab};
+    SpanResult spans = count_spans(ctx, v, iso, opt);
+    FdCurve f = fd_curve(ctx, spans, kind);
+    FdSummary s = summarize(f.fd, f.counts[0], f.counts[1], a.min_count);
+
+    // The smoothest and the noisiest isovalue among those with enough cubes to matter.
+    std::uint64_t floor_count = std::max<std::uint64_t>(a.min_count, 1);
+    std::size_t lo = SIZE_MAX, hi = SIZE_MAX;
+    for (std::size_t j = 0; j < f.fd.size(); ++j) {
+        if (std::isnan(f.fd[j]) || f.counts[1][j] < floor_count) continue;
+        if (lo == SIZE_MAX || f.fd[j] < f.fd[lo]) lo = j;
+        if (hi == SIZE_MAX || f.fd[j] > f.fd[hi]) hi = j;
+    }
+
+    const char* kind_name = a.edge ? "edge" : "box";
+    std::cout << std::fixed << std::setprecision(4);
+    std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
+              << "device      " << ctx.description() << "\n"
+              << "dimension   fractal " << kind_name << " span dimension, levels 0.." << a.levels - 1 << "\n"
+              << "isovalues   " << iso.size() << " (" << iso_string(iso, 0) << " .. "
+              << iso_string(iso, iso.size() - 1) << "), defined at " << s.defined << "\n";
+    if (s.defined) {
+        std::cout << "mean FD     " << s.mean << "  std " << s.std << "  count-weighted mean " << s.weighted_mean
+                  << "\n"
+                  << "growth      I ~ N^" << s.kappa << "\n";
+        if (lo != SIZE_MAX)
+            std::cout << "smoothest   isovalue " << iso_string(iso, lo) << "  FD " << f.fd[lo] << "\n"
+                      << "noisiest    isovalue " << iso_string(iso, hi) << "  FD " << f.fd[hi] << "\n";
+    } else {
+        std::cout << "mean FD     n/a (no isovalue intersects both grids)\n";
+    }
+    std::cout << std::defaultfloat << std::setprecision(4) << "time        " << spans.seconds << " s counting ("
+              << spans.slabs << " slab" << (spans.slabs > 1 ? "s" : "") << "), kernels compiled in "
+              << ctx.compile_seconds() << " s\n";
+
+    if (!a.csv.empty()) {
+        std::ostringstream out;
+        out << "isovalue,count,count_sub,fd";
+        for (int l = 2; l < a.levels; ++l) out << ",count_l" << l;
+        if (a.levels > 2) out << ",fd_fit";
+        out << "\n";
+        for (std::size_t j = 0; j < iso.size(); ++j) {
+            out << iso_string(iso, j) << "," << f.counts[0][j] << "," << f.counts[1][j] << "," << fd_string(f.fd[j]);
+            for (int l = 2; l < a.levels; ++l) out << "," << f.counts[l][j];
+            if (a.levels > 2) out << "," << fd_string(f.fd_fit[j]);
+            out << "\n";
+        }
+        write_file_atomic(a.csv, out.str());
+    }
+    if (!a.json_path.empty()) {
+        json j;
+        j["volume"] = a.volume;
+        j["dims"] = {v.dims().nx, v.dims().ny, v.dims().nz};
+        j["type"] = value_type_name(v.type());
+        j["kind"] = kind_name;
+        j["levels"] = a.levels;
+        j["min_count"] = a.min_count;
+        j["isovalues_total"] = iso.size();
+        j["isovalues_defined"] = s.defined;
+        j["mean_fd"] = fd_json(s.mean);
+        j["std_fd"] = fd_json(s.std);
+        j["weighted_mean_fd"] = fd_json(s.weighted_mean);
+        j["kappa"] = fd_json(s.kappa);
+        j["device"] = ctx.description();
+        j["seconds_compute"] = spans.seconds;
+        j["seconds_compile"] = ctx.compile_seconds();
+        j["slabs"] = spans.slabs;
+        json curve = json::array();
+        for (std::size_t k = 0; k < iso.size(); ++k) {
+            json row;
+            row["isovalue"] = iso.value(k);
+            json counts = json::array();
+            for (int l = 0; l < a.levels; ++l) counts.push_back(f.counts[l][k]);
+            row["counts"] = counts;
+            row["fd"] = fd_json(f.fd[k]);
+            if (a.levels > 2) row["fd_fit"] = fd_json(f.fd_fit[k]);
+            curve.push_back(row);
+        }
+        j["curve"] = curve;
+        write_file_atomic(a.json_path, j.dump(1) + "\n");
+    }
+    if (!a.plot.empty()) write_fd_plot(f, a.volume + ": mean FD " + fd_string(s.mean).substr(0, 5), a.plot);
+    return 0;
+}
+
+// ------------------------------------------------------------------ gen
+
+int cmd_gen(const std::string& name, const SyntheticOptions& o, const std::string& type, const std::string& out) {
+    SyntheticOptions opt = o;
+    if (!type.empty()) opt.type = parse_value_type(type);
+    if (opt.size < 2 || opt.size > 2048) throw InputError("--size " + std::to_string(opt.size) + ": must be 2..2048");
+    Volume v = make_synthetic(name, opt);
+    write_nrrd(v, out);
+    progress("wrote " + out + " (" + dims_string(v.dims()) + " " + value_type_name(v.type()) + ")");
+    return 0;
+}
+
+// ------------------------------------------------------------------ bench
+
+int cmd_bench(std::size_t size, int repeats, const std::string& json_path) {
+    Context& ctx = Context::shared();
+    progress("building inputs");
+    auto cases = default_bench_cases(size);
+    BenchReport r = run_span_bench(ctx, cases, repeats, [](const std::string& s) { progress("bench: " + s); });
+    std::cout << "device          " << r.device << "\n"
+              << "copy bandwidth  " << std::fixed << std::setprecision(2) << r.copy_gbs << " GB/s (read + write)\n"
+              << "OpenMP threads  " << r.openmp_threads << "\n"
+              << "kernel compile  " << r.compile_seconds << " s (apart from the figures below)\n\n"
+              << "span curve, levels 0 and 1, best of " << repeats << ":\n"
+              << "  volume        isovalues  device s  Gcubes/s  GB/s  roofline   OpenMP s  Gcubes/s  device/OpenMP  counts\n";
+    json rows = json::array();
+    for (auto& row : r.rows) {
+        std::cout << "  " << std::left << std::setw(13) << row.label << std::right << std::setw(10) << row.isovalues
+                  << std::setw(10) << std::setprecision(4) << row.device_seconds << std::setw(10)
+                  << std::setprecision(3) << row.device_gcubes() << std::setw(6) << std::setprecision(2)
+                  << row.device_gbs() << std::setw(9) << std::setprecision(1)
+                  << 100 * row.device_gbs() / r.copy_gbs << "%" << std::setw(11) << std::setprecision(4)
+                  << row.openmp_seconds << std::setw(10) << std::setprecision(3) << row.openmp_gcubes()
+                  << std::setw(14) << std::setprecision(2) << row.speedup() << "x  "
+                  << (row.counts_equal ? "equal" : "DIFFER") << "\n";
+        rows.push_back({{"volume", row.label},
+                        {"isovalues", row.isovalues},
+                        {"cubes", row.cubes},
+                        {"bytes", row.bytes},
+                        {"device_seconds", row.device_seconds},
+                        {"device_gcubes_per_s", row.device_gcubes()},
+                        {"device_gb_per_s", row.device_gbs()},
+                        {"roofline_fraction", row.device_gbs() / r.copy_gbs},
+                        {"openmp_seconds", row.openmp_seconds},
+                        {"openmp_gcubes_per_s", row.openmp_gcubes()},
+                        {"speedup_vs_openmp", row.speedup()},
+                        {"counts_equal", row.counts_equal}});
+    }
+    std::cout << "(roofline: effective read bandwidth against the copy bandwidth; device/OpenMP > 1: device faster)\n";
+    if (!json_path.empty()) {
+        json j{{"device", r.device},
+               {"copy_gb_per_s", r.copy_gbs},
+               {"openmp_threads", r.openmp_threads},
+               {"compile_seconds", r.compile_seconds},
+               {"repeats", repeats},
+               {"span", rows}};
+        write_file_atomic(json_path, j.dump(1) + "\n");
+    }
+    for (auto& row : r.rows)
+        if (!row.counts_equal) return 1;
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"clfractal: isosurface fractal dimension of 3D scalar grids, for every isovalue at once"};
+    app.require_subcommand(1);
+    app.add_flag("-q,--quiet", quiet, "no progress on stderr");
+    app.set_version_flag("--version", "clfractal 0.1.0");
+
+    app.add_subcommand("devices", "list OpenCL platforms and devices, marking the chosen one");
+
+    auto* info = app.add_subcommand("info", "dimensions, type, value range and histogram of a volume");
+    std::string info_volume;
+    RawArgs info_raw;
+    info->add_option("VOLUME", info_volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
+    info_raw.add(info);
+
+    auto* fd = app.add_subcommand("fd", "fractal dimension curve for every isovalue");
+    FdArgs fa;
+    fd->add_option("VOLUME", fa.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
+    fd->add_flag("--edge", fa.edge, "edge span dimension (eq. 3.1) instead of box (eq. 2.5)");
+    fd->add_option("--levels", fa.levels, "pyramid levels for the least-squares estimate (2 = eq. 2.5)");
+    fd->add_option("--isovalues", fa.isovalues, "isovalues A:B:STEP (float data; integer data: A:B:1)");
+    fd->add_option("--bins", fa.bins, "number of uniform isovalues for float data (default 256)");
+    fd->add_option("--min-count", fa.min_count, "summary only where the subsampled count is >= M");
+    fd->add_option("--csv", fa.csv, "write isovalue,count,count_sub,fd");
+    fd->add_option("--json", fa.json_path, "write the summary and curve as JSON");
+    fd->add_option("--plot", fa.plot, "draw the curve to a PNG with gnuplot");
+    fd->add_option("--slab", fa.slab, "process z-slabs of at most this many slices (default: from device memory)");
+    fa.raw.add(fd);
+
+    auto* gen = app.add_subcommand("gen", "write a synthetic volume as NRRD");
+    std::string gen_name, gen_type, gen_out;
+    SyntheticOptions gen_opt;
+    std::string names;
+    for (auto& s : synthetic_catalog()) names += (names.empty() ? "" : ", ") + s.name;
+    gen->add_option("NAME", gen_name, "one of: " + names)->required();
+    gen->add_option("--size", gen_opt.size, "N: the volume is N^3 (default 128)");
+    gen->add_option("--noise", gen_opt.noise, "uniform noise amplitude mu");
+    gen->add_option("--seed", gen_opt.seed, "noise / point seed");
+    gen->add_option("--points", gen_opt.points, "number of points for 'points'");
+    gen->add_option("--type", gen_type, "convert to uint8|uint16|int16|float32");
+    gen->add_option("-o,--output", gen_out, "output .nrrd")->required();
+
+    auto* bench = app.add_subcommand("bench", "span-curve throughput: device vs copy bandwidth vs OpenMP");
+    std::size_t bench_size = 256;
+    int bench_repeats = 3;
+    std::string bench_json;
+    bench->add_option("--size", bench_size, "N for the N^3 cases (2N^3 is run too; default 256)");
+    bench->add_option("--repeats", bench_repeats, "best of this many runs (default 3)");
+    bench->add_option("--json", bench_json, "write the figures as JSON");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::string msg = e.what();
+        std::replace(msg.begin(), msg.end(), '\n', ' ');
+        std::cerr << "clfractal: error: " << msg << " (see clfractal --help)\n";
+        return 2;
+    }
+
+    try {
+        if (app.got_subcommand("devices")) return cmd_devices();
+        if (app.got_subcommand(info)) return cmd_info(info_volume, info_raw);
+        if (app.got_subcommand(fd)) return cmd_fd(fa);
+        if (app.got_subcommand(gen)) return cmd_gen(gen_name, gen_opt, gen_type, gen_out);
+        if (app.got_subcommand(bench)) return cmd_bench(bench_size, bench_repeats, bench_json);
+    } catch (const InputError& e) {
+        std::cerr << "clfractal: error: " << e.what() << "\n";
+        return 2;
+    } catch (const DeviceError& e) {
+        std::cerr << "clfractal: error: " << (e.out_of_memory() ? "the device is out of memory: " : "") << e.what()
+                  << "\n";
+        return e.out_of_memory() ? 2 : 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "clfractal: error: out of host memory\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "clfractal: error: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
