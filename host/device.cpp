@@ -161,6 +161,7 @@ Context::Context(cl::Device device) : device_(std::move(device)) {
     });
     tuning.span_variant = is_cpu() ? "private" : "atomic";
     tuning.local_hist_bytes = local_mem_ / 2;
+    tuning.zero_copy = is_cpu();
     tuning.work_group = std::min<std::size_t>(256, max_work_group_);
 }
 

@@ -109,6 +109,7 @@ struct SpanCounter::Impl {
     std::size_t max_slices = 0;  // slab depth including the shared last slice
     std::string variant;
     bool global_hist = false;
+    bool zero_copy = false;      // level 0 read in place from host memory
     std::size_t wg = 1, partial_rows = 1;
 
     Buffer<float> iso_buf;
@@ -177,9 +178,10 @@ struct SpanCounter::Impl {
             std::vector<float> isov = iso.integer() ? std::vector<float>{0.f} : iso.float_values();
             iso_buf = Buffer<float>(ctx, isov.size(), CL_MEM_READ_ONLY);
             iso_buf.write(ctx.queue(), isov.data(), isov.size());
+            zero_copy = ctx.tuning.zero_copy;
             for (int l = 0; l < opt.levels; ++l) {
                 Dims ld = level_dims(Dims{dims.nx, dims.ny, max_slices}, l);
-                level_buf.emplace_back(ctx, ld.vertices() * value_size(type));
+                level_buf.emplace_back(ctx, l == 0 && zero_copy ? 0 : ld.vertices() * value_size(type));
             }
             partial = Buffer<int>(ctx, partial_rows * nbins);
             hist.resize(opt.kinds.size());
@@ -192,12 +194,12 @@ struct SpanCounter::Impl {
         });
     }
 
-    void count_level(std::size_t kind, int l, const Dims& ld, bool last) {
+    void count_level(std::size_t kind, const cl::Buffer& values, int l, const Dims& ld, bool last) {
         cl::Kernel& k = count[kind];
         const bool cubes = opt.kinds[kind] == SpanKind::cubes;
         if (cubes && (ld.nx < 2 || ld.ny < 2 || ld.nz < 2)) return;
         int a = 0;
-        k.setArg(a++, level_buf[l].get());
+        k.setArg(a++, values);
         k.setArg(a++, int(ld.nx));
         k.setArg(a++, int(ld.ny));
         k.setArg(a++, int(ld.nz));
@@ -239,16 +241,22 @@ struct SpanCounter::Impl {
             throw std::logic_error("SpanCounter::add_slab: inner slab depth must be a multiple of 2^(levels-1) plus 1");
         auto t0 = std::chrono::steady_clock::now();
         with_cl_errors([&] {
-            const std::size_t slice = dims.nx * dims.ny;
-            level_buf[0].write(ctx.queue(), static_cast<const unsigned char*>(data), nzs * slice * value_size(type));
+            const std::size_t bytes = dims.nx * dims.ny * nzs * value_size(type);
+            // Level 0: the caller's slices, wrapped in place or copied to the device.
+            cl::Buffer level0 = level_buf[0].get();
+            if (zero_copy)
+                level0 = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, const_cast<void*>(data));
+            else
+                level_buf[0].write(ctx.queue(), static_cast<const unsigned char*>(data), bytes);
             Dims prev{dims.nx, dims.ny, nzs};
             for (int l = 0; l < opt.levels; ++l) {
                 // Level-l slices of this slab: z0 / 2^l .. (z0 + nzs - 1) / 2^l.
                 std::size_t zl0 = z0 >> l, zl1 = (z0 + nzs - 1) >> l;
                 Dims ld = level_dims(Dims{dims.nx, dims.ny, 1}, l);
                 ld.nz = zl1 - zl0 + 1;
+                const cl::Buffer& values = l == 0 ? level0 : level_buf[l].get();
                 if (l > 0) {
-                    subsample.setArg(0, level_buf[l - 1].get());
+                    subsample.setArg(0, l == 1 ? level0 : level_buf[l - 1].get());
                     subsample.setArg(1, int(prev.nx));
                     subsample.setArg(2, int(prev.ny));
                     subsample.setArg(3, level_buf[l].get());
@@ -256,10 +264,13 @@ struct SpanCounter::Impl {
                     subsample.setArg(5, int(ld.ny));
                     ctx.launch(subsample, cl::NDRange(ld.nx, ld.ny, ld.nz));
                 }
-                for (std::size_t k = 0; k < opt.kinds.size(); ++k) count_level(k, l, ld, last);
+                for (std::size_t k = 0; k < opt.kinds.size(); ++k) count_level(k, values, l, ld, last);
                 prev = ld;
             }
-            // The next write reuses the slab buffers: blocking writes keep the order.
+            // The caller may free or refill `data` after we return: wait for the kernels
+            // reading it in place. (Copied slabs need no wait: the next blocking write is
+            // ordered after them in the queue.)
+            if (zero_copy) ctx.queue().finish();
         });
         next_z = z0 + nzs - 1;
         if (last) next_z = dims.nz;

@@ -40,6 +40,8 @@ const Case cases[] = {
     {{9, 10, 12}, ValueType::int16, -300, 40}, {{19, 6, 9}, ValueType::float32, -20, 20},
     {{65, 3, 4}, ValueType::uint8, 0, 255},    {{3, 66, 5}, ValueType::float32, 0, 1000},
     {{31, 17, 23}, ValueType::uint16, 1000, 1100},
+    // x-rows of 64 and 65 cubes and longer: the CPU kernel works in chunks of 64 cubes.
+    {{66, 4, 3}, ValueType::uint8, 0, 255},    {{129, 3, 2}, ValueType::float32, -50, 50},
 };
 
 }  // namespace
@@ -130,8 +132,14 @@ TEST_CASE("tiny slabs give identical counts at every level") {
     SpanResult r = count_spans(ctx(), v, iso, opt);
     CHECK(r.slabs == 36);
     for (std::size_t k = 0; k < 2; ++k) CHECK(r.curves[k].counts[0] == whole.curves[k].counts[0]);
-    // A slab budget in bytes (Tuning::slab_bytes) splits the volume the same way.
+    // Copied slabs (the path of GPUs) give the same counts as slabs read in place.
     testutil::TuningGuard guard;
+    ctx().tuning.zero_copy = !ctx().tuning.zero_copy;
+    opt.slab_slices = 3;
+    r = count_spans(ctx(), v, iso, opt);
+    for (std::size_t k = 0; k < 2; ++k) CHECK(r.curves[k].counts[0] == whole.curves[k].counts[0]);
+    ctx().tuning = guard.saved;
+    // A slab budget in bytes (Tuning::slab_bytes) splits the volume the same way.
     ctx().tuning.slab_bytes = 23 * 19 * 2 * 7;
     opt.slab_slices = 0;
     r = count_spans(ctx(), v, iso, opt);
@@ -144,11 +152,12 @@ TEST_CASE("every kernel variant gives the reference counts") {
     struct Variant {
         const char* name;
         std::size_t work_group, items, local_hist_bytes;
+        bool zero_copy;
     };
     const Variant variants[] = {
-        {"private", 1, 1, 0},        {"private", 1, 3, 0},          {"private", 1, 64, 0},
-        {"atomic", 1, 1, 1 << 20},   {"atomic", 7, 5, 1 << 20},     {"atomic", 64, 16, 1 << 20},
-        {"atomic", 32, 4, 0 /* global-memory histograms */},
+        {"private", 1, 1, 0, true},        {"private", 1, 3, 0, false},      {"private", 1, 64, 0, true},
+        {"atomic", 1, 1, 1 << 20, false},  {"atomic", 7, 5, 1 << 20, true},  {"atomic", 64, 16, 1 << 20, false},
+        {"atomic", 32, 4, 0 /* global-memory histograms */, true},
     };
     std::uint32_t seed = 100;
     for (const Variant& var : variants) {
@@ -156,8 +165,10 @@ TEST_CASE("every kernel variant gives the reference counts") {
         ctx().tuning.work_group = var.work_group;
         ctx().tuning.private_items = var.items;
         ctx().tuning.local_hist_bytes = var.local_hist_bytes;
+        ctx().tuning.zero_copy = var.zero_copy;
         for (const Case& c : {cases[6], cases[8], cases[9], cases[11], cases[1], cases[4]}) {
             CAPTURE(var.name); CAPTURE(var.work_group); CAPTURE(var.items); CAPTURE(var.local_hist_bytes);
+            CAPTURE(var.zero_copy);
             Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
             IsovalueSet iso = IsovalueSet::for_volume(v, 50);
             SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 2, 0};

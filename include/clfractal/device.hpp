@@ -62,6 +62,9 @@ struct Tuning {
     std::size_t private_items = 0;   ///< work-items of the "private" variant (0 = 4 x CUs)
     /// Largest slab in bytes of input volume; 0 = derived from the device's memory.
     std::size_t slab_bytes = 0;
+    /// Read host volumes in place (CL_MEM_USE_HOST_PTR) instead of copying them to a
+    /// device buffer: on for CPU devices, whose "device memory" is host memory.
+    bool zero_copy = false;
     /// Largest histogram the "atomic" variant keeps in local memory (bytes); larger ones
     /// use global atomics. Set from the device (half its local memory).
     std::size_t local_hist_bytes = 0;
