@@ -163,6 +163,8 @@ Context::Context(cl::Device device) : device_(std::move(device)) {
     tuning.local_hist_bytes = local_mem_ / 2;
     tuning.zero_copy = is_cpu();
     tuning.work_group = std::min<std::size_t>(256, max_work_group_);
+    tuning.sat_variant = is_cpu() ? "sequential" : "workgroup";
+    tuning.sat_work_group = std::min<std::size_t>(256, max_work_group_);
 }
 
 Context& Context::shared() {
@@ -253,6 +255,14 @@ void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::ND
     } catch (const cl::Error& e) {
         check_cl(e.err(), ("clEnqueueNDRangeKernel " + name).c_str());
     }
+}
+
+void Context::warm_up(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
+    auto t0 = std::chrono::steady_clock::now();
+    launch(kernel, global, local);
+    queue_.finish();
+    std::lock_guard<std::mutex> lock(mutex_);
+    compile_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace clfractal

@@ -84,15 +84,6 @@ const SpanCurves& SpanResult::get(SpanKind k) const {
 
 namespace {
 
-const char* cl_type(ValueType t) {
-    switch (t) {
-    case ValueType::uint8: return "uchar";
-    case ValueType::uint16: return "ushort";
-    case ValueType::int16: return "short";
-    default: return "float";
-    }
-}
-
 // Partial histograms are 32-bit: a slab never holds more vertices than this.
 constexpr std::size_t max_slab_vertices = std::size_t(1) << 29;
 
@@ -120,6 +111,12 @@ struct SpanCounter::Impl {
     std::vector<cl::Kernel> count;                   // per kind
     std::size_t next_z = 0, slabs = 0;
     double seconds = 0;
+    bool warming = false;  // launches are first launches (see Context::warm_up)
+
+    void run(cl::Kernel& k, const cl::NDRange& global, const cl::NDRange& local) {
+        if (warming) ctx.warm_up(k, global, local);
+        else ctx.launch(k, global, local);
+    }
 
     Impl(Context& c, const IsovalueSet& i, ValueType t, const Dims& d, const SpanOptions& o)
         : ctx(c), iso(i), type(t), dims(d), opt(o) {
@@ -155,12 +152,12 @@ struct SpanCounter::Impl {
         if (variant != "private" && variant != "atomic")
             throw std::logic_error("unknown span variant '" + variant + "'");
         global_hist = variant == "atomic" && nbins * sizeof(int) > ctx.tuning.local_hist_bytes;
-        std::string options = defines({{"T", cl_type(type)}});
+        std::string options = defines({{"T", opencl_type_name(type)}});
         if (iso.integer()) options += " -DINTEGER_VALUES";
         if (global_hist) options += " -DGLOBAL_HIST";
 
         with_cl_errors([&] {
-            subsample = ctx.kernel("pyramid", "subsample", defines({{"T", cl_type(type)}}));
+            subsample = ctx.kernel("pyramid", "subsample", defines({{"T", opencl_type_name(type)}}));
             accumulate = ctx.kernel("span", "accumulate_partials", options);
             for (SpanKind k : opt.kinds) {
                 std::string name = std::string(k == SpanKind::cubes ? "count_cubes_" : "count_edges_") + variant;
@@ -190,6 +187,16 @@ struct SpanCounter::Impl {
                     h.emplace_back(ctx, nbins);
                     h.back().fill(ctx.queue(), 0);
                 }
+
+            // First launches of every kernel with the real work-group sizes, on a 2x2x2
+            // constant grid (it has no span, so the histograms stay zero).
+            warming = true;
+            Buffer<unsigned char> flat(ctx, 8 * value_size(type));
+            flat.fill(ctx.queue(), 0);
+            const Dims two{2, 2, 2};
+            if (opt.levels > 1) run_subsample(flat.get(), two, level_buf[1].get(), Dims{1, 1, 1});
+            for (std::size_t k = 0; k < opt.kinds.size(); ++k) count_level(k, flat.get(), 0, two, true);
+            warming = false;
             ctx.queue().finish();
         });
     }
@@ -211,13 +218,13 @@ struct SpanCounter::Impl {
         k.setArg(a++, partial.get());
         if (variant == "private") {
             partial.fill(ctx.queue(), 0);
-            ctx.launch(k, cl::NDRange(partial_rows), cl::NDRange(1));
+            run(k, cl::NDRange(partial_rows), cl::NDRange(1));
         } else {
             std::size_t work = cubes ? ld.cubes() : ld.vertices();
             std::size_t groups = std::min(partial_rows, (work + wg - 1) / wg);
             k.setArg(a++, cl::Local(global_hist ? sizeof(int) : nbins * sizeof(int)));
             if (global_hist) partial.fill(ctx.queue(), 0);
-            ctx.launch(k, cl::NDRange(groups * wg), cl::NDRange(wg));
+            run(k, cl::NDRange(groups * wg), cl::NDRange(wg));
             accumulate_rows(groups, kind, l);
             return;
         }
@@ -229,8 +236,19 @@ struct SpanCounter::Impl {
         accumulate.setArg(1, int(rows));
         accumulate.setArg(2, int(nbins));
         accumulate.setArg(3, hist[kind][l].get());
-        std::size_t g = (nbins + 63) / 64 * 64;
-        ctx.launch(accumulate, cl::NDRange(g), cl::NDRange(std::min<std::size_t>(64, ctx.max_work_group())));
+        const std::size_t w = std::min<std::size_t>(64, ctx.max_work_group());
+        run(accumulate, cl::NDRange((nbins + w - 1) / w * w), cl::NDRange(w));
+    }
+
+    void run_subsample(const cl::Buffer& src, const Dims& from, const cl::Buffer& dst, const Dims& to) {
+        subsample.setArg(0, src);
+        subsample.setArg(1, int(from.nx));
+        subsample.setArg(2, int(from.ny));
+        subsample.setArg(3, dst);
+        subsample.setArg(4, int(to.nx));
+        subsample.setArg(5, int(to.ny));
+        const std::size_t w = std::min<std::size_t>(64, ctx.max_work_group());
+        run(subsample, cl::NDRange((to.nx + w - 1) / w * w, to.ny, to.nz), cl::NDRange(w, 1, 1));
     }
 
     void add_slab(const void* data, std::size_t z0, std::size_t nzs) {
@@ -255,15 +273,7 @@ struct SpanCounter::Impl {
                 Dims ld = level_dims(Dims{dims.nx, dims.ny, 1}, l);
                 ld.nz = zl1 - zl0 + 1;
                 const cl::Buffer& values = l == 0 ? level0 : level_buf[l].get();
-                if (l > 0) {
-                    subsample.setArg(0, l == 1 ? level0 : level_buf[l - 1].get());
-                    subsample.setArg(1, int(prev.nx));
-                    subsample.setArg(2, int(prev.ny));
-                    subsample.setArg(3, level_buf[l].get());
-                    subsample.setArg(4, int(ld.nx));
-                    subsample.setArg(5, int(ld.ny));
-                    ctx.launch(subsample, cl::NDRange(ld.nx, ld.ny, ld.nz));
-                }
+                if (l > 0) run_subsample(l == 1 ? level0 : level_buf[l - 1].get(), prev, values, ld);
                 for (std::size_t k = 0; k < opt.kinds.size(); ++k) count_level(k, values, l, ld, last);
                 prev = ld;
             }

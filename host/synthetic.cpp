@@ -75,7 +75,7 @@ std::vector<SyntheticInfo> synthetic_catalog() {
         {"sphere", "uint8 255*(1 - d/(N/2)) clamped to [0,255], d the distance to the centre; "
                    "isosurfaces are spheres"},
         {"noisy-sphere", "the sphere plus uniform noise whose amplitude grows from 0 at x=0 to "
-                         "mu at x=N-1 (mu = --noise, default 24); uint8"},
+                         "mu at x=N-1 (mu = --noise, default 8); uint8"},
         {"torus", "float32 distance to a circle of radius N/4 around the centre in the plane "
                   "z = (N-1)/2; isosurfaces are tori"},
         {"points", "float32 distance to the nearest of P random points (gradient 1)"},
@@ -113,7 +113,7 @@ Volume make_synthetic(const std::string& name, const SyntheticOptions& opt) {
         const ValueType type = opt.type.value_or(ValueType::uint8);
         if (name == "sphere") return generate(name, n, type, opt.seed, sphere, constant_noise);
         // Noise on one side only, so that local-dimension maps show a clean and a noisy half.
-        const double max_amplitude = mu > 0 ? mu : 24.0;
+        const double max_amplitude = mu > 0 ? mu : 8.0;
         const auto growing_noise = [max_amplitude, n](std::size_t x) {
             return max_amplitude * static_cast<double>(x) / static_cast<double>(n - 1);
         };

@@ -28,6 +28,16 @@ const char* value_type_name(ValueType t) {
     throw std::logic_error("value_type_name: invalid ValueType");
 }
 
+const char* opencl_type_name(ValueType t) {
+    switch (t) {
+    case ValueType::uint8: return "uchar";
+    case ValueType::uint16: return "ushort";
+    case ValueType::int16: return "short";
+    case ValueType::float32: return "float";
+    }
+    throw std::logic_error("opencl_type_name: invalid ValueType");
+}
+
 ValueType parse_value_type(std::string_view name) {
     if (name == "uint8" || name == "uchar") return ValueType::uint8;
     if (name == "uint16" || name == "ushort") return ValueType::uint16;

@@ -86,8 +86,22 @@ __kernel void count_cubes_private(__global const T* restrict vol, int nx, int ny
     }
 }
 
-__kernel void count_edges_private(__global const T* vol, int nx, int ny, int nzs, int last_slab,
-                                  int vmin, __global const float* iso, int niso,
+// Bins of the spans of the n edges (a[i], b[i]), i < n, then the histogram updates.
+#define ADD_EDGE_CHUNK(a, b, n)                                                  \
+    do {                                                                         \
+        for (int i = 0; i < (n); ++i) {                                          \
+            lo[i] = first_isovalue_above(min((a)[i], (b)[i]), vmin, iso, niso);  \
+            hi[i] = first_isovalue_above(max((a)[i], (b)[i]), vmin, iso, niso);  \
+        }                                                                        \
+        for (int i = 0; i < (n); ++i)                                            \
+            if (lo[i] != hi[i]) {                                                \
+                h[lo[i]] += 1;                                                   \
+                h[hi[i]] -= 1;                                                   \
+            }                                                                    \
+    } while (0)
+
+__kernel void count_edges_private(__global const T* restrict vol, int nx, int ny, int nzs, int last_slab,
+                                  int vmin, __global const float* restrict iso, int niso,
                                   int nbins, __global int* restrict partial) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     __global int* h = partial + item * (size_t)nbins;
@@ -95,17 +109,17 @@ __kernel void count_edges_private(__global const T* vol, int nx, int ny, int nzs
     const size_t rows = (size_t)ny * zrows;
     const size_t r0 = rows * item / items, r1 = rows * (item + 1) / items;
     const size_t slice = (size_t)nx * ny;
+    int lo[CHUNK], hi[CHUNK];
     for (size_t r = r0; r < r1; ++r) {
         const size_t y = r % (size_t)ny, z = r / (size_t)ny;
         __global const T* p = vol + z * slice + y * (size_t)nx;
-        for (int x = 0; x + 1 < nx; ++x) ADD_SPAN(h, min(p[x], p[x + 1]), max(p[x], p[x + 1]));
-        if (y + 1 < (size_t)ny) {
-            __global const T* q = p + nx;
-            for (int x = 0; x < nx; ++x) ADD_SPAN(h, min(p[x], q[x]), max(p[x], q[x]));
-        }
-        if (z + 1 < (size_t)nzs) {
-            __global const T* q = p + slice;
-            for (int x = 0; x < nx; ++x) ADD_SPAN(h, min(p[x], q[x]), max(p[x], q[x]));
+        const bool has_y = y + 1 < (size_t)ny, has_z = z + 1 < (size_t)nzs;
+        for (int x0 = 0; x0 < nx; x0 += CHUNK) {
+            const int n = min(CHUNK, nx - x0);
+            __global const T* c = p + x0;
+            ADD_EDGE_CHUNK(c, c + 1, min(n, nx - 1 - x0));
+            if (has_y) ADD_EDGE_CHUNK(c, c + nx, n);
+            if (has_z) ADD_EDGE_CHUNK(c, c + slice, n);
         }
     }
 }

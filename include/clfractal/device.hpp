@@ -19,6 +19,7 @@
 #include <CL/opencl.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -68,6 +69,14 @@ struct Tuning {
     /// Largest histogram the "atomic" variant keeps in local memory (bytes); larger ones
     /// use global atomics. Set from the device (half its local memory).
     std::size_t local_hist_bytes = 0;
+    /// Summed-area table scans (sat.hpp): "sequential" (CPUs: a few work-items, each
+    /// scanning whole lines or rows) or "workgroup" (GPUs: local-memory scans per line).
+    std::string sat_variant;
+    std::size_t sat_work_group = 256;  ///< work-group size of the "workgroup" variant
+    std::size_t sat_items = 0;         ///< work-items of the "sequential" variant (0 = 4 x CUs)
+    /// Largest count total kept in 32-bit tables; above it tables are 64-bit. Tests
+    /// lower it to force the 64-bit kernels.
+    std::uint64_t sat_max_32bit = 0xffffffffu;
 };
 
 /// A context on one device with one in-order queue and a thread-safe program cache.
@@ -106,6 +115,11 @@ public:
     /// Enqueues `kernel` after checking the sizes against the device and kernel limits
     /// (global a multiple of local, local <= CL_KERNEL_WORK_GROUP_SIZE).
     void launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local = cl::NullRange);
+
+    /// A first launch of `kernel` (arguments set, work-group size `local`), waited for
+    /// and counted as compilation: PoCL and some GPU drivers finish compiling a kernel
+    /// for a work-group size at its first launch, which must not count as compute time.
+    void warm_up(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local);
 
 private:
     cl::Device device_;

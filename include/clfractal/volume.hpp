@@ -18,6 +18,8 @@ enum class ValueType { uint8, uint16, int16, float32 };
 std::size_t value_size(ValueType t);
 /// "uint8", "uint16", "int16", "float32".
 const char* value_type_name(ValueType t);
+/// The OpenCL C type of the values, for -DT=...: "uchar", "ushort", "short", "float".
+const char* opencl_type_name(ValueType t);
 /// Parses a type name (also accepts "uchar", "ushort", "short", "float"); throws InputError.
 ValueType parse_value_type(std::string_view name);
 /// True for the integer types, whose isovalue set is every integer in the value range.
