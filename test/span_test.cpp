@@ -102,6 +102,15 @@ TEST_CASE("integer isovalues cover every integer of the value range") {
     CHECK(r.get(SpanKind::cubes).counts[0][0] == 0);  // nothing lies below the minimum
 }
 
+TEST_CASE("an integer isovalue range narrower than the data counts exactly") {
+    // Values outside [first, last] clamp to the ends of the histogram.
+    Volume v = testutil::random_volume({14, 11, 9}, ValueType::uint16, 0, 900, 21);
+    IsovalueSet iso = IsovalueSet::parse_range("300:420:1", ValueType::uint16);
+    SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 2, 0};
+    check_against_reference(v, iso, count_spans(ctx(), v, iso, opt), 2);
+    check_against_reference(v, iso, count_spans_openmp(v, iso, opt), 2);
+}
+
 TEST_CASE("a constant volume has no intersected cube or edge") {
     Volume v({8, 9, 10}, ValueType::uint8);
     IsovalueSet iso = IsovalueSet::for_volume(v);

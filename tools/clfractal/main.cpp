@@ -156,8 +156,8 @@ void write_fd_plot(const FdCurve& f, const std::string& title, const std::string
     script << "set terminal pngcairo size 900,540 font 'sans,11'\n"
            << "set xlabel 'isovalue'\nset ylabel 'fractal " << (f.kind == SpanKind::cubes ? "box" : "edge")
            << " span dimension'\n"
-           << "set yrange [1.8:3.05]\nset grid\nset key off\n"
-           << "set title " << std::quoted(title) << "\n"
+           << "set yrange [1.8:3.05]\nset autoscale xfix\nset grid\nset key off\n"
+           << "set title " << std::quoted(title) << " noenhanced\n"
            << "plot '$DATA' using 1:2 with lines lw 2 lc rgb '#1f5fa8'\n";
     plot_png(script.str(), data.str(), path);
 }
@@ -254,7 +254,7 @@ int cmd_fd(const FdArgs& a) {
         j["curve"] = curve;
         write_file_atomic(a.json_path, j.dump(1) + "\n");
     }
-    if (!a.plot.empty()) write_fd_plot(f, a.volume + ": mean FD " + fd_string(s.mean).substr(0, 5), a.plot);
+    if (!a.plot.empty()) write_fd_plot(f, std::filesystem::path(a.volume).filename().string() + ": mean FD " + fd_string(s.mean).substr(0, 5), a.plot);
     return 0;
 }
 
