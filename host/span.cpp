@@ -3,6 +3,8 @@
 #include "clfractal/pyramid.hpp"
 
 #include <algorithm>
+#include <climits>
+#include <memory>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -134,9 +136,16 @@ struct SpanCounter::Impl {
         const std::size_t slice_bytes = dims.nx * dims.ny * value_size(type);
         std::size_t budget = ctx.tuning.slab_bytes ? ctx.tuning.slab_bytes
                                                    : std::min(ctx.max_alloc(), ctx.global_mem() / 4);
+        if (dims.nx > std::size_t(INT_MAX) || dims.ny > std::size_t(INT_MAX) || dims.nz > std::size_t(INT_MAX))
+            throw InputError("volume: axes longer than 2^31 - 1 vertices are not supported");
         std::size_t fit = std::max<std::size_t>(1, budget / std::max<std::size_t>(1, slice_bytes));
-        fit = std::min(fit, std::max<std::size_t>(1, max_slab_vertices / (dims.nx * dims.ny)));
         if (opt.slab_slices) fit = opt.slab_slices;
+        // Partial histograms are 32-bit: never more than max_slab_vertices per slab.
+        const std::size_t cap = max_slab_vertices / (dims.nx * dims.ny);
+        if (dims.nz > 1 && cap < align + 1)
+            throw InputError("volume: slices of " + dims_string(dims) + " hold more than 2^29 / " +
+                             std::to_string(align + 1) + " vertices, too many for 32-bit partial counts");
+        fit = std::min(fit, std::max<std::size_t>(1, cap));
         if (fit >= dims.nz) {
             max_slices = dims.nz;
         } else {
@@ -144,7 +153,7 @@ struct SpanCounter::Impl {
             if (steps == 0)
                 throw InputError("volume: a slab of " + std::to_string(align + 1) + " slices of " +
                                  std::to_string(dims.nx) + "x" + std::to_string(dims.ny) +
-                                 " does not fit the device's memory");
+                                 " does not fit the device's memory or the slab limit");
             max_slices = steps * align + 1;
         }
 
@@ -167,9 +176,13 @@ struct SpanCounter::Impl {
                 partial_rows = ctx.tuning.private_items ? ctx.tuning.private_items : 4 * ctx.compute_units();
                 wg = 1;
             } else {
-                std::size_t kmax = count[0].getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx.device());
+                std::size_t kmax = ctx.max_work_group();
+                for (auto& k : count) kmax = std::min(kmax, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx.device()));
                 wg = std::max<std::size_t>(1, std::min(ctx.tuning.work_group, kmax));
                 partial_rows = ctx.tuning.private_items ? ctx.tuning.private_items : 8 * ctx.compute_units();
+                // Global-memory histograms spread their atomics over many bins already:
+                // a few rows suffice, and each costs nbins * 4 bytes to clear and merge.
+                if (global_hist) partial_rows = std::min<std::size_t>(partial_rows, 16);
             }
 
             std::vector<float> isov = iso.integer() ? std::vector<float>{0.f} : iso.float_values();
@@ -262,6 +275,13 @@ struct SpanCounter::Impl {
             const std::size_t bytes = dims.nx * dims.ny * nzs * value_size(type);
             // Level 0: the caller's slices, wrapped in place or copied to the device.
             cl::Buffer level0 = level_buf[0].get();
+            // Also on an exception, no kernel may still read `data` when we return.
+            std::unique_ptr<Context, void (*)(Context*)> in_place(zero_copy ? &ctx : nullptr, [](Context* c) {
+                try {
+                    c->queue().finish();
+                } catch (...) {
+                }
+            });
             if (zero_copy)
                 level0 = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, const_cast<void*>(data));
             else
@@ -281,6 +301,7 @@ struct SpanCounter::Impl {
             // reading it in place. (Copied slabs need no wait: the next blocking write is
             // ordered after them in the queue.)
             if (zero_copy) ctx.queue().finish();
+            in_place.release();
         });
         next_z = z0 + nzs - 1;
         if (last) next_z = dims.nz;

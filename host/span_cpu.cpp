@@ -90,6 +90,8 @@ void count_edges(const T* v, const Dims& d, const Binner<T>& bin, std::int64_t* 
 
 SpanResult count_spans_openmp(const Volume& v, const IsovalueSet& iso, const SpanOptions& opt) {
     if (opt.levels < 1 || opt.levels > 16) throw InputError("--levels must be between 1 and 16");
+    if (iso.integer() != is_integer(v.type()))
+        throw std::logic_error("count_spans_openmp: isovalue set does not match the value type");
     auto t0 = std::chrono::steady_clock::now();
     const std::size_t nbins = iso.size() + 1;
     SpanResult r;

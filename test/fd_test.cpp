@@ -58,7 +58,8 @@ TEST_CASE("multi-level least squares (CLBlast) equals a plain fit; L = 2 equals 
         }
         ++defined;
         double slope = (L * sxy - sx * sy) / (L * sxx - sx * sx);
-        CHECK(f.fd_fit[j] == doctest::Approx(-slope).epsilon(1e-9));
+        // float32 GEMV on devices without fp64
+        CHECK(f.fd_fit[j] == doctest::Approx(-slope).epsilon(ctx().has_fp64() ? 1e-9 : 1e-5));
     }
     CHECK(defined > 10);
 
@@ -66,7 +67,7 @@ TEST_CASE("multi-level least squares (CLBlast) equals a plain fit; L = 2 equals 
     std::vector<double> d2 = least_squares_dimension(ctx(), two);
     for (std::size_t j = 0; j < iso.size(); ++j) {
         if (std::isnan(f.fd[j])) CHECK(std::isnan(d2[j]));
-        else CHECK(d2[j] == doctest::Approx(f.fd[j]).epsilon(1e-12));
+        else CHECK(d2[j] == doctest::Approx(f.fd[j]).epsilon(ctx().has_fp64() ? 1e-12 : 1e-5));
     }
 }
 

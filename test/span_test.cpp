@@ -120,6 +120,23 @@ TEST_CASE("a constant volume has no intersected cube or edge") {
             for (auto n : lvl) CHECK(n == 0);
 }
 
+TEST_CASE("slabs whose last one is short at coarse levels") {
+    // nz - 1 not a multiple of 2^(levels-1): the last slab has a single slice at level 2.
+    for (std::size_t nz : {35, 38, 34}) {
+        Volume v = testutil::random_volume({9, 7, nz}, ValueType::uint8, 0, 255, unsigned(nz));
+        IsovalueSet iso = IsovalueSet::for_volume(v);
+        SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 3, 0};
+        const SpanResult whole = count_spans(ctx(), v, iso, opt);
+        for (std::size_t slices : {5, 9}) {
+            CAPTURE(nz); CAPTURE(slices);
+            opt.slab_slices = slices;
+            SpanResult r = count_spans(ctx(), v, iso, opt);
+            for (std::size_t k = 0; k < 2; ++k) CHECK(r.curves[k].counts == whole.curves[k].counts);
+        }
+        check_against_reference(v, iso, whole, 3);
+    }
+}
+
 TEST_CASE("tiny slabs give identical counts at every level") {
     Volume v = testutil::random_volume({23, 19, 37}, ValueType::uint16, 0, 3000, 11);
     IsovalueSet iso = IsovalueSet::for_volume(v);

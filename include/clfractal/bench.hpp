@@ -20,10 +20,14 @@ struct BenchRow {
     std::size_t isovalues = 0;
     double cubes = 0;          ///< cubes counted (levels 0 and 1)
     double bytes = 0;          ///< bytes read: one read of each level
+    /// Whole calls: the device's buffers, first launches, upload (GPUs), kernels and
+    /// download; the OpenMP threads, histograms and subsampled copy.
     double device_seconds = 0, openmp_seconds = 0;
+    /// The device's counting alone (SpanResult::seconds: upload, kernels, download).
+    double counting_seconds = 0;
     double device_gcubes() const { return cubes / device_seconds / 1e9; }
     double openmp_gcubes() const { return cubes / openmp_seconds / 1e9; }
-    double device_gbs() const { return bytes / device_seconds / 1e9; }
+    double device_gbs() const { return bytes / counting_seconds / 1e9; }
     double speedup() const { return openmp_seconds / device_seconds; }  ///< > 1: device faster
     bool counts_equal = false;  ///< device and OpenMP counts identical
 };
@@ -32,7 +36,7 @@ struct BenchReport {
     std::string device;
     int openmp_threads = 0;
     double copy_gbs = 0;         ///< device copy bandwidth (read + write bytes / s)
-    double compile_seconds = 0;  ///< kernel compilation during the run (PoCL caches on disk)
+    double compile_seconds = 0;  ///< compilation and first launches, once per case (PoCL caches on disk)
     std::vector<BenchRow> rows;
 };
 

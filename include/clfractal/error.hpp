@@ -20,8 +20,10 @@ class DeviceError : public std::runtime_error {
 public:
     DeviceError(const std::string& what, int code) : std::runtime_error(what), code_(code) {}
     int code() const { return code_; }
-    /// True for CL_MEM_OBJECT_ALLOCATION_FAILURE / CL_OUT_OF_RESOURCES / CL_OUT_OF_HOST_MEMORY.
-    bool out_of_memory() const { return code_ == -4 || code_ == -5 || code_ == -6 || code_ == -61; }
+    /// True for CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_HOST_MEMORY and
+    /// CL_INVALID_BUFFER_SIZE: the input is too large for the device, not a fault.
+    /// (CL_OUT_OF_RESOURCES is also how some drivers report a failed kernel: a runtime failure.)
+    bool out_of_memory() const { return code_ == -4 || code_ == -6 || code_ == -61; }
 
 private:
     int code_;

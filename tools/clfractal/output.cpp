@@ -45,24 +45,22 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 void plot_png(const std::string& script, const std::string& data, const std::string& path) {
     if (std::system("command -v gnuplot >/dev/null 2>&1") != 0)
         throw InputError(path + ": --plot needs gnuplot (Debian: apt-get install gnuplot-nox); CSV/JSON work without it");
-    const std::string tmp_png = temp_name(path) + ".png", tmp_gp = temp_name(path) + ".gp";
-    write_file_atomic(tmp_gp, "$DATA << EOD\n" + data + "EOD\nset output '" + tmp_png + "'\n" + script);
-    const std::string cmd = "gnuplot '" + tmp_gp + "' 2>&1";
-    std::string log;
-    FILE* p = popen(cmd.c_str(), "r");
+    const std::string tmp_png = temp_name(path) + ".png";
+    // The script goes to gnuplot's stdin (no path ever reaches a shell); inside a gnuplot
+    // single-quoted string a quote is written twice.
+    std::string quoted;
+    for (char c : tmp_png) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+    const std::string text = "$DATA << EOD\n" + data + "EOD\nset output '" + quoted + "'\n" + script;
+    FILE* p = popen("gnuplot", "w");
     int status = -1;
     if (p) {
-        char buf[256];
-        while (fgets(buf, sizeof buf, p)) log += buf;
+        fwrite(text.data(), 1, text.size(), p);
         status = pclose(p);
     }
     std::error_code ec;
-    fs::remove(tmp_gp, ec);
     if (status != 0 || !fs::exists(tmp_png)) {
         fs::remove(tmp_png, ec);
-        for (char& c : log)
-            if (c == '\n') c = ' ';
-        throw InputError(path + ": gnuplot failed: " + log);
+        throw InputError(path + ": gnuplot failed (see its message above)");
     }
     rename_into_place(tmp_png, path);
 }
