@@ -60,6 +60,46 @@ head -c 1000 /dev/urandom > noise_10x10x10_uint8.raw
 expect 0 'mean FD' -- "$bin" -q fd noise_10x10x10_uint8.raw
 expect 0 'mean FD' -- "$bin" -q fd noise_10x10x10_uint8.raw --dims 10,10,10 --type uint8
 
+# local: the LD field as a float32 NRRD, NaN where LD is undefined. `info` rejects NaN like
+# any analysis input, so the field it reads back has a window wider than the grid (LD is
+# then defined everywhere); the NaN of a normal window are checked in the file itself.
+expect 0 'mean LD' -- "$bin" -q local synthetic:noisy-sphere:40 --iso 128 -o ld.nrrd
+python3 - <<'PY' && pass || fail "ld.nrrd: header, NaN pattern or values"
+import struct
+head, body = open("ld.nrrd", "rb").read().split(b"\n\n", 1)
+head = head.decode()
+assert "type: float" in head and "sizes: 40 40 40" in head and "endian: little" in head, head
+ld = struct.unpack("<%df" % 40**3, body)
+defined = [v for v in ld if v == v]
+assert 0 < len(defined) < len(ld), len(defined)
+assert 1.8 < sum(defined) / len(defined) < 2.6, sum(defined) / len(defined)
+PY
+expect 0 'defined +13824 of 13824' -- "$bin" -q local synthetic:sphere:24 --iso 100 --window 64 -o ld_all.nrrd
+expect 0 'type +float32' -- "$bin" info ld_all.nrrd
+expect 2 'clfractal: error: .*window' -- "$bin" local synthetic:sphere:20 --iso 100 --window 5 -o bad_ld.nrrd
+expect 2 'clfractal: error: .*window' -- "$bin" local synthetic:sphere:20 --iso 100 --window 0 -o bad_ld.nrrd
+[ ! -e bad_ld.nrrd ] && pass || fail "an LD file was written for a bad window"
+expect 2 'clfractal: error: .*iso' -- "$bin" local synthetic:sphere:20 -o bad_ld.nrrd
+
+# mesh: a binary PLY with one vertex per intersected edge (its count is E(s) of `fd --edge`),
+# a preview PNG, both methods, LD colours; bad arguments exit 2 and write nothing.
+expect 0 'triangles' -- "$bin" -q mesh synthetic:sphere:24 --iso 128 -o m.ply --preview m.png
+[ "$(head -c 36 m.ply)" = "$(printf 'ply\nformat binary_little_endian 1.0\n')" ] && pass || fail "mesh is not a binary PLY"
+[ -s m.png ] && [ "$(head -c 4 m.png | tail -c 3)" = "PNG" ] && pass || fail "preview is not a PNG"
+expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:24 --edge --isovalues 128:128:1 --csv e.csv
+[ "$(grep -a -m1 '^element vertex' m.ply | cut -d' ' -f3)" = "$(tail -1 e.csv | cut -d, -f2)" ] && pass \
+  || fail "PLY vertex count is not E(s)"
+expect 0 'marching tetrahedra' -- "$bin" -q mesh synthetic:torus:24 --iso 3 --method mt -o t.ply
+expect 0 '% red' -- "$bin" -q mesh synthetic:noisy-sphere:32 --iso 128 --color-by-ld --window 6 -o c.ply --preview c.png
+grep -aq '^property uchar red' c.ply && grep -aq '^property float ld' c.ply && pass || fail "coloured PLY lacks red/ld"
+expect 0 'no surface' -- "$bin" -q mesh synthetic:sphere:24 --iso 300 -o empty.ply
+expect 2 'clfractal: error: .*method' -- "$bin" mesh synthetic:sphere:24 --iso 128 --method dual -o bad.ply
+expect 2 'clfractal: error: .*window' -- "$bin" mesh synthetic:sphere:24 --iso 128 --window 8 -o bad.ply
+expect 2 'clfractal: error: .*window' -- "$bin" mesh synthetic:sphere:24 --iso 128 --color-by-ld --window 5 -o bad.ply
+expect 2 'clfractal: error: .*iso' -- "$bin" mesh synthetic:sphere:24 -o bad.ply
+[ ! -e bad.ply ] && pass || fail "a PLY was written for bad arguments"
+expect 2 'clfractal: error: .*cannot write' -- "$bin" -q mesh synthetic:sphere:24 --iso 128 -o no/such/dir/m.ply
+
 # Bad input: one error line naming the file, exit 2, no output file left behind.
 head -c 999 /dev/urandom > short_10x10x10_uint8.raw
 expect 2 'clfractal: error: .*short_10x10x10_uint8.raw.*truncated' -- "$bin" fd short_10x10x10_uint8.raw --csv bad.csv

@@ -73,7 +73,11 @@ struct Tuning {
     /// scanning whole lines or rows) or "workgroup" (GPUs: local-memory scans per line).
     std::string sat_variant;
     std::size_t sat_work_group = 256;  ///< work-group size of the "workgroup" variant
-    std::size_t sat_items = 0;         ///< work-items of the "sequential" variant (0 = 4 x CUs)
+    /// Local-dimension kernels (local.hpp): "rows" (CPUs: a few work-items, each walking
+    /// whole x-rows) or "vertices" (GPUs: one work-item per vertex).
+    std::string local_variant;
+    /// Work-items of the row-walking variants (sat "sequential", local "rows"); 0 = 4 x CUs.
+    std::size_t row_items = 0;
     /// Largest count total kept in 32-bit tables; above it tables are 64-bit. Tests
     /// lower it to force the 64-bit kernels.
     std::uint64_t sat_max_32bit = 0xffffffffu;

@@ -69,11 +69,8 @@ Mesh extract_isosurface(const Volume& v, double s, MeshMethod method = MeshMetho
 /// either end is NaN. Needs mesh.edge_points; throws InputError on a dims mismatch.
 std::vector<float> interpolate_on_vertices(const Mesh& mesh, const Volume& field);
 
-/// The mesh colour map of DESIGN §1 (thesis §2.4): LD <= 2.2 blue (0,0,255), LD >= 2.5
-/// red (255,0,0), linear in between, NaN grey (128,128,128).
-std::array<std::uint8_t, 3> ld_color(float ld);
-
-/// Sets mesh.ld from an LD field (float32, the volume's dims) and mesh.colors from ld_color.
+/// Sets mesh.ld from an LD field (float32, the volume's dims, as local_fractal_dimension
+/// returns it) and mesh.colors from the thesis colour map ld_colour (local.hpp).
 void color_by_ld(Mesh& mesh, const Volume& ld_field);
 
 /// Writes binary little-endian PLY: vertex x y z (float), then uchar red green blue when

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,9 @@
 
 #include "clfractal/bench.hpp"
 #include "clfractal/fd.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/mesh.hpp"
+#include "clfractal/render.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/synthetic.hpp"
 #include "clfractal/volume_io.hpp"
@@ -258,6 +262,109 @@ int cmd_fd(const FdArgs& a) {
     return 0;
 }
 
+// ------------------------------------------------------------------ local
+
+struct LocalArgs {
+    std::string volume, output;
+    double iso = 0;
+    int window = 8;
+    RawArgs raw;
+};
+
+int cmd_local(const LocalArgs& a) {
+    Volume v = read_volume(a.volume, a.raw.options());
+    Context& ctx = Context::shared();
+    progress("local fractal dimension of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + ", window " +
+             std::to_string(a.window) + ", on " + ctx.description());
+    const auto t0 = std::chrono::steady_clock::now();
+    Volume ld = local_fractal_dimension(ctx, v, a.iso, a.window);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    write_nrrd(ld, a.output);
+    const LocalSummary s = summarize_local(ld);
+
+    std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
+              << "device      " << ctx.description() << "\n"
+              << "isovalue    " << a.iso << (is_integer(v.type()) ? "" : " (compared as float32)") << ", window "
+              << a.window << "\n"
+              << std::fixed << std::setprecision(2) << "defined     " << s.defined << " of " << s.vertices
+              << " vertices (" << 100.0 * double(s.defined) / double(s.vertices) << "%, near the surface)\n";
+    if (s.defined)
+        std::cout << "LD > 2.2    " << 100 * s.above_blue << "% of them (colour map: blue up to 2.2)\n"
+                  << "LD > 2.5    " << 100 * s.above_red << "% of them (red from 2.5)\n"
+                  << std::setprecision(4) << "mean LD     " << s.mean << "\n";
+    else
+        std::cout << "mean LD     n/a (the isovalue intersects no window)\n";
+    std::cout << std::defaultfloat << std::setprecision(4) << "time        " << seconds << " s, kernels compiled in "
+              << ctx.compile_seconds() << " s\n"
+              << "wrote       " << a.output << " (float32, NaN where LD is undefined)\n";
+    return 0;
+}
+
+// ------------------------------------------------------------------ mesh
+
+struct MeshArgs {
+    std::string volume, output, method = "mc", preview;
+    double iso = 0;
+    bool color_by_ld = false;
+    int window = 8;
+    RawArgs raw;
+};
+
+int cmd_mesh(const MeshArgs& a) {
+    Volume v = read_volume(a.volume, a.raw.options());
+    const MeshMethod method = parse_mesh_method(a.method);
+    using clock = std::chrono::steady_clock;
+    const auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
+
+    auto t = clock::now();
+    Mesh mesh = extract_isosurface(v, a.iso, method);
+    const double extract_seconds = seconds_since(t);
+    std::ostringstream times;
+    times << std::setprecision(3) << "extraction " << extract_seconds << " s";
+    if (a.color_by_ld) {
+        Context& ctx = Context::shared();
+        progress("local fractal dimension, window " + std::to_string(a.window) + ", on " + ctx.description());
+        t = clock::now();
+        color_by_ld(mesh, local_fractal_dimension(ctx, v, a.iso, a.window));
+        times << ", LD field " << seconds_since(t) << " s";
+    }
+    t = clock::now();
+    write_ply(mesh, a.output);
+    times << ", PLY " << seconds_since(t) << " s";
+    if (!a.preview.empty()) {
+        t = clock::now();
+        write_png(render_mesh(mesh), a.preview);
+        times << ", preview " << seconds_since(t) << " s";
+    }
+
+    std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
+              << "isovalue    " << a.iso << "  ("
+              << (method == MeshMethod::marching_cubes ? "marching cubes, negative vertices separated"
+                                                       : "marching tetrahedra, Freudenthal triangulation")
+              << ")\n"
+              << "mesh        " << mesh.positions.size() << " vertices (one per intersected edge), "
+              << mesh.triangles.size() << " triangles\n";
+    if (mesh.triangles.empty()) {
+        const ValueRange r = value_range(v);
+        std::cout << "            no surface: the isovalue does not cross the values " << r.min << " .. " << r.max << "\n";
+    }
+    if (a.color_by_ld) {
+        std::size_t red = 0, blue = 0, undefined = 0;
+        for (float ld : mesh.ld) {
+            red += ld >= ld_red;
+            blue += ld <= ld_blue;
+            undefined += std::isnan(ld);
+        }
+        const double n = std::max<double>(1, double(mesh.ld.size()));
+        std::cout << std::fixed << std::setprecision(1) << "colour      LD window " << a.window << ": " << 100 * red / n
+                  << "% red (LD >= " << ld_red << "), " << 100 * blue / n << "% blue (LD <= " << ld_blue << "), "
+                  << 100 * undefined / n << "% grey (undefined)\n"
+                  << std::defaultfloat;
+    }
+    std::cout << "time        " << times.str() << "\n";
+    return 0;
+}
+
 // ------------------------------------------------------------------ gen
 
 int cmd_gen(const std::string& name, const SyntheticOptions& o, const std::string& type, const std::string& out) {
@@ -298,6 +405,7 @@ int cmd_bench(std::size_t size, int repeats, const std::string& json_path) {
                         {"cubes", row.cubes},
                         {"bytes", row.bytes},
                         {"device_seconds", row.device_seconds},
+                        {"device_counting_seconds", row.counting_seconds},
                         {"device_gcubes_per_s", row.device_gcubes()},
                         {"device_gb_per_s", row.device_gbs()},
                         {"roofline_fraction", row.device_gbs() / r.copy_gbs},
@@ -306,7 +414,9 @@ int cmd_bench(std::size_t size, int repeats, const std::string& json_path) {
                         {"speedup_vs_openmp", row.speedup()},
                         {"counts_equal", row.counts_equal}});
     }
-    std::cout << "(roofline: effective read bandwidth against the copy bandwidth; device/OpenMP > 1: device faster)\n";
+    std::cout << "(device s and OpenMP s: whole calls, buffers and threads included; GB/s and roofline: bytes of\n"
+                 " one read per level over the device's counting time (uploads, kernels, downloads) against the\n"
+                 " copy bandwidth; device/OpenMP > 1: device faster)\n";
     if (!json_path.empty()) {
         json j{{"device", r.device},
                {"copy_gb_per_s", r.copy_gbs},
@@ -351,6 +461,14 @@ int main(int argc, char** argv) {
     fd->add_option("--slab", fa.slab, "process z-slabs of at most this many slices (default: from device memory)");
     fa.raw.add(fd);
 
+    auto* local = app.add_subcommand("local", "local fractal dimension field (eq. 2.6) for one isovalue, as NRRD");
+    LocalArgs la;
+    local->add_option("VOLUME", la.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
+    local->add_option("--iso", la.iso, "isovalue S (cubes with a < S <= b are intersected)")->required();
+    local->add_option("--window", la.window, "window k (even, >= 2; default 8)");
+    local->add_option("-o,--output", la.output, "output .nrrd (float32)")->required();
+    la.raw.add(local);
+
     auto* gen = app.add_subcommand("gen", "write a synthetic volume as NRRD");
     std::string gen_name, gen_type, gen_out;
     SyntheticOptions gen_opt;
@@ -363,6 +481,18 @@ int main(int argc, char** argv) {
     gen->add_option("--points", gen_opt.points, "number of points for 'points'");
     gen->add_option("--type", gen_type, "convert to uint8|uint16|int16|float32");
     gen->add_option("-o,--output", gen_out, "output .nrrd")->required();
+
+    auto* mesh = app.add_subcommand("mesh", "isosurface mesh as PLY (marching cubes or tetrahedra), optional preview PNG");
+    MeshArgs ma;
+    mesh->add_option("VOLUME", ma.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
+    mesh->add_option("--iso", ma.iso, "isovalue S (positive vertices: f >= S)")->required();
+    mesh->add_option("-o,--output", ma.output, "output .ply (binary)")->required();
+    mesh->add_option("--method", ma.method, "mc: marching cubes (default), mt: marching tetrahedra")
+        ->check(CLI::IsMember({"mc", "mt"}));
+    auto* color_flag = mesh->add_flag("--color-by-ld", ma.color_by_ld, "colour vertices by local fractal dimension");
+    mesh->add_option("--window", ma.window, "LD window k (even, default 8)")->needs(color_flag);
+    mesh->add_option("--preview", ma.preview, "render the mesh to a PNG (three-quarter view)");
+    ma.raw.add(mesh);
 
     auto* bench = app.add_subcommand("bench", "span-curve throughput: device vs copy bandwidth vs OpenMP");
     std::size_t bench_size = 256;
@@ -391,7 +521,9 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("devices")) return cmd_devices();
         if (app.got_subcommand(info)) return cmd_info(info_volume, info_raw);
         if (app.got_subcommand(fd)) return cmd_fd(fa);
+        if (app.got_subcommand(local)) return cmd_local(la);
         if (app.got_subcommand(gen)) return cmd_gen(gen_name, gen_opt, gen_type, gen_out);
+        if (app.got_subcommand(mesh)) return cmd_mesh(ma);
         if (app.got_subcommand(bench)) return cmd_bench(bench_size, bench_repeats, bench_json);
     } catch (const InputError& e) {
         std::cerr << "clfractal: error: " << e.what() << "\n";

@@ -1,0 +1,308 @@
+#include "clfractal/local.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <type_traits>
+
+#include "clfractal/pyramid.hpp"
+#include "clfractal/sat.hpp"
+
+namespace clfractal {
+
+namespace {
+
+void check_arguments(double iso, int window) {
+    if (window < 2 || window % 2 != 0)
+        throw InputError("--window " + std::to_string(window) + ": the window must be even and at least 2");
+    if (!std::isfinite(iso)) throw InputError("--iso: the isovalue must be a finite number");
+}
+
+// Integer data compares with ceil(s): for integers a, b and real s, a < s <= b iff
+// a < ceil(s) <= b. Clamped just past the 16-bit ranges, where it still selects nothing.
+int integer_isovalue(double s) { return int(std::clamp(std::ceil(s), -65537.0, 65537.0)); }
+
+// ---------------------------------------------------------------- device
+
+std::size_t row_items(const Context& ctx) {
+    return ctx.tuning.row_items ? ctx.tuning.row_items : 4 * ctx.compute_units();
+}
+
+// Writes the LD field of `values` (d.vertices() values of `type`) into `ld` (d.vertices()
+// floats), with C-bit tables.
+template <class C>
+void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso, int window,
+                     const cl::Buffer& ld) {
+    const Dims ds = level_dims(d, 1);
+    const std::size_t table_bytes = d.vertices() * sizeof(C);
+    if (table_bytes > ctx.max_alloc() || d.vertices() * sizeof(float) > ctx.max_alloc())
+        throw InputError("volume " + dims_string(d) + ": the local-dimension tables need " +
+                         std::to_string(table_bytes >> 20) + " MiB, more than the device's largest allocation (" +
+                         std::to_string(ctx.max_alloc() >> 20) + " MiB)");
+    const std::string& variant = ctx.tuning.local_variant;
+    if (variant != "rows" && variant != "vertices")
+        throw std::logic_error("unknown local-dimension variant '" + variant + "'");
+    const bool rows = variant == "rows";
+    const std::size_t items = row_items(ctx);
+
+    std::string options = defines({{"T", opencl_type_name(type)}, {"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
+    if (is_integer(type)) options += " -DINTEGER_VALUES";
+    cl::Kernel indicator = ctx.kernel("local", rows ? "cube_indicator_rows" : "cube_indicator_vertices", options);
+    cl::Kernel query = ctx.kernel("local", rows ? "local_dimension_rows" : "local_dimension_vertices", options);
+    cl::Kernel subsample = ctx.kernel("pyramid", "subsample", defines({{"T", opencl_type_name(type)}}));
+
+    Buffer<unsigned char> sub(ctx, ds.vertices() * value_size(type));
+    Buffer<C> table(ctx, d.vertices()), table_sub(ctx, ds.vertices());
+    Buffer<C> scratch(ctx, rows ? items * (d.nx + ds.nx) : 0);
+
+    subsample.setArg(0, values);
+    subsample.setArg(1, int(d.nx));
+    subsample.setArg(2, int(d.ny));
+    subsample.setArg(3, sub.get());
+    subsample.setArg(4, int(ds.nx));
+    subsample.setArg(5, int(ds.ny));
+    ctx.launch(subsample, cl::NDRange(ds.nx, ds.ny, ds.nz));
+
+    auto indicator_table = [&](const cl::Buffer& vol, const Dims& dims, Buffer<C>& out) {
+        indicator.setArg(0, vol);
+        indicator.setArg(1, int(dims.nx));
+        indicator.setArg(2, int(dims.ny));
+        indicator.setArg(3, int(dims.nz));
+        if (is_integer(type)) indicator.setArg(4, cl_int(integer_isovalue(iso)));
+        else indicator.setArg(4, cl_float(float(iso)));
+        indicator.setArg(5, out.get());
+        if (rows) ctx.launch(indicator, cl::NDRange(items), cl::NDRange(1));
+        else ctx.launch(indicator, cl::NDRange(dims.nx, dims.ny, dims.nz));
+        summed_area_table(ctx, out, dims);
+    };
+    indicator_table(values, d, table);
+    indicator_table(sub.get(), ds, table_sub);
+
+    query.setArg(0, table.get());
+    query.setArg(1, int(d.nx));
+    query.setArg(2, int(d.ny));
+    query.setArg(3, int(d.nz));
+    query.setArg(4, table_sub.get());
+    query.setArg(5, int(ds.nx));
+    query.setArg(6, int(ds.ny));
+    query.setArg(7, int(ds.nz));
+    query.setArg(8, window / 2);
+    query.setArg(9, ld);
+    if (rows) {
+        query.setArg(10, scratch.get());
+        ctx.launch(query, cl::NDRange(items), cl::NDRange(1));
+    } else {
+        ctx.launch(query, cl::NDRange(d.nx, d.ny, d.nz));
+    }
+}
+
+void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso, int window,
+                     const cl::Buffer& ld) {
+    check_arguments(iso, window);
+    check_dims(d, "volume");
+    with_cl_errors([&] {
+        if (d.cubes() > ctx.tuning.sat_max_32bit) field_on_device<cl_ulong>(ctx, values, type, d, iso, window, ld);
+        else field_on_device<cl_uint>(ctx, values, type, d, iso, window, ld);
+    });
+}
+
+// ---------------------------------------------------------------- OpenMP baseline
+
+// Window bounds per coordinate of one axis (DESIGN §1): W = [lo, hi) in G, W' = [lo_sub,
+// hi_sub) in G', as indices of the padded summed-area table.
+struct AxisWindows {
+    std::vector<int> lo, hi, lo_sub, hi_sub;
+    AxisWindows(std::size_t n, std::size_t m, int half) : lo(n), hi(n), lo_sub(n), hi_sub(n) {
+        for (int x = 0; x < int(n); ++x) {
+            lo[x] = std::max(0, x - half);
+            hi[x] = std::min(int(n) - 1, x + half);
+            const int c0 = int(std::floor((x - half) / 2.0));
+            lo_sub[x] = std::max(0, c0);
+            hi_sub[x] = std::max(lo_sub[x], std::min(int(m) - 1, c0 + half));
+        }
+    }
+};
+
+// The padded indicator of `v` (see kernels/local.cl) and its summed-area table: per z-slice
+// each x-row is filled with the indicator (a loop the compiler vectorises), scanned and added
+// to the row before it; then the slices are accumulated along z. Every entry is written
+// once, so the table is allocated without a zero fill.
+template <class C, class T, class Iso>
+std::unique_ptr<C[]> indicator_table(const T* v, const Dims& d, Iso hit) {
+    std::unique_ptr<C[]> table(new C[d.vertices()]);
+    C* S = table.get();
+    const std::size_t row = d.nx, slice = d.nx * d.ny;
+#pragma omp parallel for schedule(static)
+    for (long long z = 0; z < (long long)d.nz; ++z)
+        for (std::size_t y = 0; y < d.ny; ++y) {
+            C* s = S + std::size_t(z) * slice + y * row;
+            s[0] = 0;
+            if (z == 0 || y == 0) {
+                std::fill(s + 1, s + row, C(0));
+                continue;
+            }
+            const T* p00 = v + (std::size_t(z) - 1) * slice + (y - 1) * row;
+            const T* p10 = p00 + row;
+            const T* p01 = p00 + slice;
+            const T* p11 = p01 + row;
+            for (std::size_t x = 1; x < d.nx; ++x) {
+                const T a = std::min(std::min(std::min(p00[x - 1], p00[x]), std::min(p10[x - 1], p10[x])),
+                                     std::min(std::min(p01[x - 1], p01[x]), std::min(p11[x - 1], p11[x])));
+                const T b = std::max(std::max(std::max(p00[x - 1], p00[x]), std::max(p10[x - 1], p10[x])),
+                                     std::max(std::max(p01[x - 1], p01[x]), std::max(p11[x - 1], p11[x])));
+                s[x] = C(hit(a, b));
+            }
+            const C* above = s - row;
+            C run = 0;
+            for (std::size_t x = 1; x < d.nx; ++x) {
+                run += s[x];
+                s[x] = run + above[x];
+            }
+        }
+#pragma omp parallel for schedule(static)
+    for (long long y = 1; y < (long long)d.ny; ++y)
+        for (std::size_t z = 2; z < d.nz; ++z) {
+            C* s = S + z * slice + std::size_t(y) * row;
+            const C* below = s - slice;
+            for (std::size_t x = 0; x < d.nx; ++x) s[x] += below[x];
+        }
+    return table;
+}
+
+template <class C> Volume field_openmp(const Volume& v, double iso, int window) {
+    const Dims d = v.dims();
+    const Volume sub = subsample(v);
+    const Dims ds = sub.dims();
+    std::unique_ptr<C[]> S, Ssub;
+    visit(v, [&](const auto* p) {
+        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
+        if constexpr (std::is_integral_v<T>) {
+            const int s = integer_isovalue(iso);
+            auto hit = [s](T a, T b) { return int(a) < s && s <= int(b); };
+            S = indicator_table<C>(p, d, hit);
+            Ssub = indicator_table<C>(sub.as<T>(), ds, hit);
+        } else {
+            const float s = float(iso);
+            auto hit = [s](T a, T b) { return a < s && s <= b; };
+            S = indicator_table<C>(p, d, hit);
+            Ssub = indicator_table<C>(sub.as<T>(), ds, hit);
+        }
+    });
+    const int half = window / 2;
+    const AxisWindows wx(d.nx, ds.nx, half), wy(d.ny, ds.ny, half), wz(d.nz, ds.nz, half);
+    Volume out(d, ValueType::float32, v.name);
+    out.spacing = v.spacing;
+    float* ld = out.as<float>();
+    const std::size_t row = d.nx, slice = d.nx * d.ny, row_sub = ds.nx, slice_sub = ds.nx * ds.ny;
+    // Per x-row: the y-z part of the inclusion-exclusion for every column, then two lookups
+    // per vertex and grid (as kernels/local.cl local_dimension_rows).
+    auto columns = [](const C* S, std::size_t row, std::size_t slice, int y0, int y1, int z0, int z1, std::size_t n,
+                      C* col) {
+        const C* a00 = S + z0 * slice + y0 * row;
+        const C* a01 = S + z0 * slice + y1 * row;
+        const C* a10 = S + z1 * slice + y0 * row;
+        const C* a11 = S + z1 * slice + y1 * row;
+        for (std::size_t x = 0; x < n; ++x) col[x] = (a11[x] - a10[x]) - (a01[x] - a00[x]);
+    };
+#pragma omp parallel
+    {
+        std::vector<C> col(d.nx), col_sub(ds.nx);
+#pragma omp for schedule(static)
+        for (long long r = 0; r < (long long)(d.ny * d.nz); ++r) {
+            const std::size_t y = std::size_t(r) % d.ny, z = std::size_t(r) / d.ny;
+            columns(S.get(), row, slice, wy.lo[y], wy.hi[y], wz.lo[z], wz.hi[z], d.nx, col.data());
+            columns(Ssub.get(), row_sub, slice_sub, wy.lo_sub[y], wy.hi_sub[y], wz.lo_sub[z], wz.hi_sub[z], ds.nx,
+                    col_sub.data());
+            float* o = ld + z * slice + y * row;
+            for (std::size_t x = 0; x < d.nx; ++x) {
+                const C a = col[wx.hi[x]] - col[wx.lo[x]], b = col_sub[wx.hi_sub[x]] - col_sub[wx.lo_sub[x]];
+                o[x] = a && b ? float(std::log2(double(a) / double(b))) : std::numeric_limits<float>::quiet_NaN();
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+Buffer<float> local_fractal_dimension(Context& ctx, const Buffer<unsigned char>& values, ValueType type,
+                                      const Dims& dims, double iso, int window) {
+    if (values.size() != dims.vertices() * value_size(type))
+        throw std::logic_error("local_fractal_dimension: the buffer does not hold " + dims_string(dims) + " " +
+                               value_type_name(type) + " values");
+    Buffer<float> ld(ctx, dims.vertices());
+    field_on_device(ctx, values.get(), type, dims, iso, window, ld.get());
+    return ld;
+}
+
+Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int window) {
+    check_arguments(iso, window);
+    Volume out(v.dims(), ValueType::float32, v.name);
+    out.spacing = v.spacing;
+    if (!ctx.tuning.zero_copy) {
+        Buffer<unsigned char> values(ctx, v.size_bytes(), CL_MEM_READ_ONLY);
+        with_cl_errors([&] { values.write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes()); });
+        Buffer<float> ld = local_fractal_dimension(ctx, values, v.type(), v.dims(), iso, window);
+        with_cl_errors([&] { ld.read(ctx.queue(), out.as<float>(), out.vertices()); });
+        return out;
+    }
+    // CPU devices read the volume and write the field in place in host memory. No kernel
+    // may still use that memory when we return, on an exception too.
+    try {
+        with_cl_errors([&] {
+            cl::Buffer values(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, v.size_bytes(),
+                              const_cast<void*>(v.data()));
+            cl::Buffer ld(ctx.context(), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, out.size_bytes(), out.data());
+            field_on_device(ctx, values, v.type(), v.dims(), iso, window, ld);
+            // Mapping makes the device's writes visible in host memory (a no-op on CPUs).
+            void* p = ctx.queue().enqueueMapBuffer(ld, CL_TRUE, CL_MAP_READ, 0, out.size_bytes());
+            ctx.queue().enqueueUnmapMemObject(ld, p);
+            ctx.queue().finish();
+        });
+    } catch (...) {
+        try {
+            ctx.queue().finish();
+        } catch (...) {
+        }
+        throw;
+    }
+    return out;
+}
+
+Volume local_fractal_dimension_openmp(const Volume& v, double iso, int window) {
+    check_arguments(iso, window);
+    return v.dims().cubes() > 0xffffffffu ? field_openmp<std::uint64_t>(v, iso, window)
+                                          : field_openmp<std::uint32_t>(v, iso, window);
+}
+
+Rgb ld_colour(double ld) {
+    if (std::isnan(ld)) return Rgb{128, 128, 128};
+    const double t = std::clamp((ld - ld_blue) / (ld_red - ld_blue), 0.0, 1.0);
+    const auto r = std::uint8_t(std::lround(255 * t));
+    return Rgb{r, 0, std::uint8_t(255 - r)};
+}
+
+LocalSummary summarize_local(const Volume& ld) {
+    const float* p = ld.as<float>();
+    const long long n = (long long)ld.vertices();
+    std::size_t defined = 0, above_blue = 0, above_red = 0;
+    double sum = 0;
+#pragma omp parallel for reduction(+ : defined, above_blue, above_red, sum) schedule(static)
+    for (long long i = 0; i < n; ++i) {
+        if (std::isnan(p[i])) continue;
+        ++defined;
+        above_blue += p[i] > ld_blue;
+        above_red += p[i] > ld_red;
+        sum += p[i];
+    }
+    LocalSummary s;
+    s.vertices = ld.vertices();
+    s.defined = defined;
+    s.above_blue = defined ? double(above_blue) / double(defined) : 0;
+    s.above_red = defined ? double(above_red) / double(defined) : 0;
+    s.mean = defined ? sum / double(defined) : std::numeric_limits<double>::quiet_NaN();
+    return s;
+}
+
+}  // namespace clfractal

@@ -1,0 +1,69 @@
+// Local fractal dimension (DESIGN §1 "Local fractal dimension", "Colour map"; thesis §2.4,
+// eq. 2.6 and eq. 2.8).
+//
+// For isovalue s and even window k, at vertex v = (x, y, z), per axis with n vertices in
+// G and n' = (n - 1) / 2 + 1 in G' (pyramid level 1):
+//   - window W in G:   cubes [max(0, x - k/2), min(n - 1, x + k/2))
+//   - window W' in G': cubes [max(0, c0), min(n' - 1, c0 + k/2)), c0 = floor((x - k/2) / 2)
+//   - LD(v) = log2( I_W / I_W' ), NaN where either count is 0,
+// where I counts the intersected cubes (span [a, b] with a < s <= b) in the window. Both
+// counts are box queries on 3D summed-area tables (sat.hpp) of the 0/1 "cube intersected"
+// indicator of G and of G', so the field costs O(N) whatever k is.
+//
+// The comparison a < s <= b is made in the data's type: float data compares with s rounded
+// to float32; integer data with s as given (a double, so s = 99.5 on uint8 data selects the
+// same cubes as s = 100).
+#pragma once
+#include <cstdint>
+
+#include "clfractal/device.hpp"
+#include "clfractal/volume.hpp"
+
+namespace clfractal {
+
+/// The LD field of `v` for isovalue `iso` and window `window`: a float32 volume of the same
+/// dims and spacing, NaN where LD is undefined. Throws InputError if the window is odd or
+/// below 2, or the isovalue is not finite. The tables are 32-bit when the grid has at most
+/// ctx.tuning.sat_max_32bit (2^32 - 1) cubes, else 64-bit; the kernels follow
+/// ctx.tuning.local_variant and sat_variant; with ctx.tuning.zero_copy (CPU devices) the
+/// volume is read and the field written in place in host memory. The device holds the
+/// values, the field and both tables at once (no z-slabs yet): a table larger than the
+/// device's largest allocation is an InputError.
+Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int window = 8);
+
+/// The same for values already on the device (`values` holds dims.vertices() values of
+/// `type`, x fastest); the field stays on the device for the stages that follow.
+Buffer<float> local_fractal_dimension(Context& ctx, const Buffer<unsigned char>& values, ValueType type,
+                                      const Dims& dims, double iso, int window = 8);
+
+/// The same field on the host with OpenMP threads, by the algorithm of the CPU kernels
+/// (indicator rows scanned in x and y per slice, then z; per x-row column sums and two
+/// lookups per vertex), LD rounded from double: the CPU baseline of the benchmark.
+Volume local_fractal_dimension_openmp(const Volume& v, double iso, int window = 8);
+
+/// Thesis §2.4 colour map: LD <= ld_blue is blue, LD >= ld_red is red, linear in between.
+constexpr double ld_blue = 2.2;
+constexpr double ld_red = 2.5;
+
+struct Rgb {
+    std::uint8_t r = 0, g = 0, b = 0;
+    bool operator==(const Rgb& o) const { return r == o.r && g == o.g && b == o.b; }
+};
+
+/// The colour of a local fractal dimension: (0, 0, 255) up to ld_blue, (255, 0, 0) from
+/// ld_red, and in between (r, 0, 255 - r) with r = round(255 t), t = (ld - 2.2) / 0.3;
+/// NaN (undefined) is grey (128, 128, 128).
+Rgb ld_colour(double ld);
+
+/// Summary of an LD field.
+struct LocalSummary {
+    std::size_t vertices = 0;   ///< all vertices of the field
+    std::size_t defined = 0;    ///< vertices where LD is defined ("near the surface")
+    double above_blue = 0;      ///< share of the defined vertices with LD > ld_blue (2.2)
+    double above_red = 0;       ///< share of the defined vertices with LD > ld_red (2.5)
+    double mean = 0;            ///< mean LD over the defined vertices (NaN when none)
+};
+/// Summarises a float32 LD field; throws std::logic_error for other types.
+LocalSummary summarize_local(const Volume& ld);
+
+}  // namespace clfractal

@@ -1,0 +1,277 @@
+// Local fractal dimension fields against brute-force window counts (test/reference): the
+// same NaN pattern exactly, values within 1e-6.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "clfractal/local.hpp"
+#include "clfractal/synthetic.hpp"
+#include "clfractal/volume_io.hpp"
+#include "reference/local_reference.hpp"
+#include "test_util.hpp"
+
+using namespace clfractal;
+using testutil::ctx;
+
+namespace {
+
+constexpr double tolerance = 1e-6;
+
+// Compares a float32 field with the reference; returns the number of defined vertices.
+std::size_t check_field(const Volume& ld, const std::vector<double>& want) {
+    REQUIRE(ld.type() == ValueType::float32);
+    REQUIRE(ld.vertices() == want.size());
+    const float* p = ld.as<float>();
+    std::size_t nan_differs = 0, value_differs = 0, defined = 0, first = want.size();
+    double max_error = 0;
+    for (std::size_t i = 0; i < want.size(); ++i) {
+        const bool got_nan = std::isnan(p[i]), want_nan = std::isnan(want[i]);
+        if (got_nan != want_nan) {
+            ++nan_differs;
+        } else if (!want_nan) {
+            ++defined;
+            const double e = std::fabs(double(p[i]) - want[i]);
+            max_error = std::max(max_error, e);
+            if (e <= tolerance) continue;
+            ++value_differs;
+        } else {
+            continue;
+        }
+        first = std::min(first, i);
+    }
+    if (first < want.size()) MESSAGE("first difference at vertex " << first << ": " << p[first] << " vs " << want[first]);
+    CHECK(nan_differs == 0);
+    CHECK(value_differs == 0);
+    CHECK(max_error <= tolerance);
+    return defined;
+}
+
+struct Case {
+    Dims d;
+    ValueType t;
+    long lo, hi;  // random integers in [lo, hi]; float data holds them / 2
+};
+
+// 1-vertex and 2-vertex axes, odd and even sizes, all four types, narrow value ranges so
+// that most windows see intersected cubes.
+const Case cases[] = {
+    {{1, 1, 1}, ValueType::uint8, 0, 3},        {{2, 2, 2}, ValueType::uint8, 0, 3},
+    {{1, 5, 7}, ValueType::uint8, 0, 3},        {{5, 1, 7}, ValueType::uint16, 0, 5},
+    {{7, 5, 1}, ValueType::int16, -4, 4},       {{2, 3, 2}, ValueType::float32, -6, 6},
+    {{3, 3, 3}, ValueType::int16, -2, 2},       {{13, 7, 11}, ValueType::uint8, 0, 5},
+    {{17, 9, 5}, ValueType::uint16, 1000, 1006}, {{11, 13, 7}, ValueType::int16, -5, 5},
+    {{19, 6, 9}, ValueType::float32, -8, 8},    {{16, 16, 16}, ValueType::uint8, 0, 3},
+    {{15, 14, 13}, ValueType::float32, -3, 3},
+};
+
+// Isovalues of a case: a vertex value, a value between vertex values (for integer data a
+// non-integer; for float data one that float32 rounds), the minimum (never intersected:
+// all NaN) and one above the maximum.
+std::vector<double> isovalues(const Case& c) {
+    const double mid = double((c.lo + c.hi) / 2);
+    if (is_integer(c.t)) return {mid, mid + 0.5, double(c.lo), double(c.hi) + 1};
+    return {mid / 2, mid / 2 + 0.3, double(c.lo) / 2, double(c.hi) / 2 + 0.25};
+}
+
+const int windows[] = {2, 4, 8, 40};
+
+}  // namespace
+
+TEST_SUITE("local") {
+
+TEST_CASE("LD equals brute-force window counts: all types, borders, windows 2..40") {
+    std::uint32_t seed = 1;
+    std::size_t defined = 0;
+    for (const Case& c : cases) {
+        Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
+        for (double iso : isovalues(c))
+            for (int k : windows) {
+                CAPTURE(dims_string(c.d)); CAPTURE(value_type_name(c.t)); CAPTURE(iso); CAPTURE(k);
+                defined += check_field(local_fractal_dimension(ctx(), v, iso, k), ref::local_dimension_brute(v, iso, k));
+            }
+    }
+    CHECK(defined > 10000);  // the comparison is not all NaN
+}
+
+TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy give the same field") {
+    struct Input {
+        Volume v;
+        double iso;
+        int k;
+        std::vector<double> want;
+    };
+    std::vector<Input> inputs;
+    std::uint32_t seed = 50;
+    for (const Case& c : {cases[2], cases[3], cases[7], cases[9], cases[10], cases[11]})
+        for (int k : {2, 6}) {
+            Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
+            const double iso = isovalues(c)[1];
+            std::vector<double> want = ref::local_dimension_brute(v, iso, k);
+            inputs.push_back({std::move(v), iso, k, std::move(want)});
+        }
+    testutil::TuningGuard guard;
+    for (const char* local_variant : {"rows", "vertices"})
+        for (const char* sat_variant : {"sequential", "workgroup"})
+            for (std::uint64_t max32 : {std::uint64_t(0xffffffffu), std::uint64_t(0)})
+                for (bool zero_copy : {true, false}) {
+                    ctx().tuning.local_variant = local_variant;
+                    ctx().tuning.sat_variant = sat_variant;
+                    ctx().tuning.sat_max_32bit = max32;  // 0: every grid gets 64-bit tables
+                    ctx().tuning.zero_copy = zero_copy;
+                    ctx().tuning.row_items = max32 ? 3 : 64;  // 64: more work-items than rows
+                    ctx().tuning.sat_work_group = 48;
+                    for (const Input& in : inputs) {
+                        CAPTURE(local_variant); CAPTURE(sat_variant); CAPTURE(max32); CAPTURE(zero_copy);
+                        CAPTURE(dims_string(in.v.dims())); CAPTURE(in.k);
+                        check_field(local_fractal_dimension(ctx(), in.v, in.iso, in.k), in.want);
+                    }
+                }
+    ctx().tuning.local_variant = "no-such-variant";
+    CHECK_THROWS_AS(local_fractal_dimension(ctx(), inputs[0].v, 1, 2), std::logic_error);
+}
+
+TEST_CASE("the OpenMP baseline and the summed-area reference equal the brute force") {
+    std::uint32_t seed = 90;
+    for (const Case& c : cases) {
+        Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
+        for (double iso : isovalues(c))
+            for (int k : {2, 8}) {
+                CAPTURE(dims_string(c.d)); CAPTURE(value_type_name(c.t)); CAPTURE(iso); CAPTURE(k);
+                const std::vector<double> want = ref::local_dimension_brute(v, iso, k);
+                check_field(local_fractal_dimension_openmp(v, iso, k), want);
+                const std::vector<double> sat = ref::local_dimension_sat(v, iso, k);
+                for (std::size_t i = 0; i < want.size(); ++i)
+                    if (!(std::isnan(want[i]) && std::isnan(sat[i])) && want[i] != sat[i]) {
+                        FAIL_CHECK("summed-area reference differs at vertex " << i);
+                        break;
+                    }
+            }
+    }
+}
+
+TEST_CASE("the field stays on the device and equals the host call") {
+    Volume v = testutil::random_volume({12, 10, 9}, ValueType::int16, -3, 3, 7);
+    Buffer<unsigned char> values(ctx(), v.size_bytes());
+    values.write(ctx().queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
+    Buffer<float> field = local_fractal_dimension(ctx(), values, v.type(), v.dims(), -0.5, 4);
+    REQUIRE(field.size() == v.vertices());
+    Volume host = local_fractal_dimension(ctx(), v, -0.5, 4);
+    std::vector<float> dev = field.to_host(ctx().queue());
+    CHECK(std::memcmp(dev.data(), host.data(), host.size_bytes()) == 0);
+    check_field(host, ref::local_dimension_brute(v, -0.5, 4));
+    CHECK_THROWS_AS(local_fractal_dimension(ctx(), values, ValueType::float32, v.dims(), 0, 4), std::logic_error);
+}
+
+TEST_CASE("a plane has LD 2 wherever both windows lie inside the grid and meet it") {
+    // f = x, s = 10.5: cube column x = 10 is intersected in G, column 5 in G' (10 < s <= 12).
+    Volume v({32, 32, 32}, ValueType::uint8);
+    for (std::size_t i = 0; i < v.vertices(); ++i) v.as<std::uint8_t>()[i] = std::uint8_t(i % 32);
+    Volume ld = local_fractal_dimension(ctx(), v, 10.5, 8);
+    std::size_t interior = 0;
+    for (std::size_t z = 4; z < 28; ++z)
+        for (std::size_t y = 4; y < 28; ++y)
+            for (std::size_t x = 0; x < 32; ++x) {
+                float f = ld.as<float>()[v.index(x, y, z)];
+                if (std::isnan(f)) continue;
+                CHECK(f == 2.0f);
+                ++interior;
+            }
+    CHECK(interior == 24 * 24 * 7);  // x = 8..14: both windows hold their intersected column
+    check_field(ld, ref::local_dimension_brute(v, 10.5, 8));
+}
+
+TEST_CASE("noise raises LD: a clean sphere is blue on average, a noisy one red") {
+    double previous = 0;
+    for (double mu : {0.0, 8.0, 32.0}) {
+        SyntheticOptions o;
+        o.size = 64;
+        o.noise = mu;
+        LocalSummary s = summarize_local(local_fractal_dimension(ctx(), make_synthetic("sphere", o), 128, 8));
+        CAPTURE(mu);
+        MESSAGE("sphere 64^3 + noise " << mu << ": mean LD " << s.mean << ", share > 2.5 " << s.above_red);
+        CHECK(s.mean > previous);
+        if (mu == 0) CHECK(s.mean < ld_blue);
+        if (mu == 32) CHECK(s.mean > ld_red);
+        previous = s.mean;
+    }
+}
+
+TEST_CASE("invalid windows and isovalues are input errors") {
+    Volume v = testutil::random_volume({5, 5, 5}, ValueType::float32, 0, 9, 1);
+    for (int k : {0, 1, 3, -2, 7})
+        CHECK_THROWS_WITH_AS(local_fractal_dimension(ctx(), v, 1.0, k), doctest::Contains("window"), InputError);
+    for (double s : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                     -std::numeric_limits<double>::infinity()})
+        CHECK_THROWS_WITH_AS(local_fractal_dimension(ctx(), v, s, 8), doctest::Contains("isovalue"), InputError);
+    CHECK_THROWS_AS(local_fractal_dimension_openmp(v, 1.0, 5), InputError);
+    // Any finite isovalue is valid for integer data, far outside the type's range too.
+    Volume u = testutil::random_volume({4, 4, 4}, ValueType::uint8, 0, 255, 2);
+    for (double s : {-1e9, 1e9, 255.5, -0.5}) {
+        Volume ld = local_fractal_dimension(ctx(), u, s, 2);
+        CHECK(summarize_local(ld).defined == 0);
+    }
+}
+
+TEST_CASE("colour map: blue up to 2.2, red from 2.5, linear between, NaN grey") {
+    CHECK(ld_colour(1.0) == Rgb{0, 0, 255});
+    CHECK(ld_colour(2.2) == Rgb{0, 0, 255});
+    CHECK(ld_colour(2.5) == Rgb{255, 0, 0});
+    CHECK(ld_colour(3.1) == Rgb{255, 0, 0});
+    CHECK(ld_colour(2.44) == Rgb{204, 0, 51});
+    CHECK(ld_colour(2.26) == Rgb{51, 0, 204});
+    CHECK(ld_colour(-std::numeric_limits<double>::infinity()) == Rgb{0, 0, 255});
+    CHECK(ld_colour(std::numeric_limits<double>::quiet_NaN()) == Rgb{128, 128, 128});
+}
+
+TEST_CASE("summary: defined vertices, shares above 2.2 and 2.5, mean") {
+    Volume ld({5, 1, 1}, ValueType::float32);
+    float* p = ld.as<float>();
+    p[0] = 2.0f; p[1] = 2.3f; p[2] = 2.6f; p[3] = std::numeric_limits<float>::quiet_NaN(); p[4] = 2.5f;
+    LocalSummary s = summarize_local(ld);
+    CHECK(s.vertices == 5);
+    CHECK(s.defined == 4);
+    CHECK(s.above_blue == 0.75);
+    CHECK(s.above_red == 0.25);
+    CHECK(s.mean == doctest::Approx((2.0 + 2.3 + 2.6 + 2.5) / 4));
+    Volume none({2, 2, 1}, ValueType::float32);
+    for (int i = 0; i < 4; ++i) none.as<float>()[i] = std::numeric_limits<float>::quiet_NaN();
+    CHECK(summarize_local(none).defined == 0);
+    CHECK(std::isnan(summarize_local(none).mean));
+    CHECK_THROWS_AS(summarize_local(Volume({2, 2, 2}, ValueType::uint8)), std::logic_error);
+}
+
+TEST_CASE("real volumes: brute force on small ones, summed-area reference on larger ones") {
+    const std::string dir = testutil::shared_data();
+    if (dir.empty()) {
+        MESSAGE("../shared/data is absent: real-volume LD checks skipped");
+        return;
+    }
+    struct Real {
+        const char* file;
+        double iso[2];
+        bool brute;
+    };
+    const Real volumes[] = {
+        {"bucky_32x32x32_uint8.raw", {40, 128.5}, true},
+        {"fuel_cropped_64x33x32_uint8.raw", {10, 100}, true},
+        {"hydrogen_3d_orbital_64x64x64_float32.raw", {0.01, 0.3}, false},
+        {"walnut_128x96x114_uint16.raw", {1000, 8000}, false},
+        {"stent_128x128x256_int16.raw", {150, 1000}, false},
+    };
+    for (const Real& r : volumes) {
+        Volume v = read_volume(dir + "/" + r.file);
+        for (double iso : r.iso) {
+            CAPTURE(std::string(r.file)); CAPTURE(iso);
+            Volume ld = local_fractal_dimension(ctx(), v, iso, 8);
+            std::size_t defined = check_field(ld, r.brute ? ref::local_dimension_brute(v, iso, 8)
+                                                          : ref::local_dimension_sat(v, iso, 8));
+            MESSAGE(std::string(r.file) << " s=" << iso << ": LD defined at " << defined << " vertices, mean "
+                           << summarize_local(ld).mean);
+            CHECK(defined > 0);
+        }
+    }
+}
+
+}  // TEST_SUITE("local")
