@@ -26,16 +26,6 @@ using namespace clfractal;
 
 namespace {
 
-template <class F> double best_of(int repeats, F f) {
-    double best = 1e300;
-    for (int i = 0; i < repeats; ++i) {
-        auto t0 = std::chrono::steady_clock::now();
-        f();
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    return best;
-}
-
 // Largest |a - b| over the vertices where both are defined; -1 when the NaN patterns differ.
 double max_difference(const Volume& a, const Volume& b) {
     const float* p = a.as<float>();

@@ -12,16 +12,6 @@ namespace clfractal {
 
 namespace {
 
-template <class F> double best_of(int repeats, F f) {
-    double best = 1e300;
-    for (int i = 0; i < repeats; ++i) {
-        auto t0 = std::chrono::steady_clock::now();
-        f();
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    return best;
-}
-
 // A sphere over the whole 16-bit range with noise growing along x (cf. noisy-sphere).
 Volume sphere16(std::size_t n) {
     Volume v(Dims{n, n, n}, ValueType::uint16, "sphere16:" + std::to_string(n));

@@ -2,6 +2,8 @@
 // copy bandwidth and against the OpenMP baseline, in the same run. Compilation is timed
 // apart; every figure is the best of `repeats` runs after a warm-up.
 #pragma once
+#include <algorithm>
+#include <chrono>
 #include <functional>
 #include <string>
 #include <vector>
@@ -9,6 +11,17 @@
 #include "clfractal/span.hpp"
 
 namespace clfractal {
+
+/// Wall time in seconds of the fastest of `repeats` calls of f().
+template <class F> double best_of(int repeats, F f) {
+    double best = 1e300;
+    for (int i = 0; i < repeats; ++i) {
+        auto t0 = std::chrono::steady_clock::now();
+        f();
+        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return best;
+}
 
 struct BenchCase {
     std::string label;   ///< e.g. "uint8 512^3"
