@@ -64,6 +64,8 @@ expect 0 'mean FD' -- "$bin" -q fd noise_10x10x10_uint8.raw --dims 10,10,10 --ty
 # any analysis input, so the field it reads back has a window wider than the grid (LD is
 # then defined everywhere); the NaN of a normal window are checked in the file itself.
 expect 0 'mean LD' -- "$bin" -q local synthetic:noisy-sphere:40 --iso 128 -o ld.nrrd
+expect 0 'ld_mesh.ply \([0-9]+ vertices, [0-9]+ triangles, coloured by LD' -- "$bin" -q local synthetic:noisy-sphere:40 --iso 128 -o ld2.nrrd --mesh ld_mesh.ply
+head -c 400 ld_mesh.ply | grep -aq 'property float ld' && pass || fail "local --mesh PLY carries no ld property"
 python3 - <<'PY' && pass || fail "ld.nrrd: header, NaN pattern or values"
 import struct
 head, body = open("ld.nrrd", "rb").read().split(b"\n\n", 1)

@@ -265,7 +265,7 @@ int cmd_fd(const FdArgs& a) {
 // ------------------------------------------------------------------ local
 
 struct LocalArgs {
-    std::string volume, output;
+    std::string volume, output, mesh;
     double iso = 0;
     int window = 8;
     RawArgs raw;
@@ -297,6 +297,14 @@ int cmd_local(const LocalArgs& a) {
     std::cout << std::defaultfloat << std::setprecision(4) << "time        " << seconds << " s, kernels compiled in "
               << ctx.compile_seconds() << " s\n"
               << "wrote       " << a.output << " (float32, NaN where LD is undefined)\n";
+    if (!a.mesh.empty()) {
+        // The marching-cubes isosurface at the same isovalue, coloured by this LD field.
+        Mesh mesh = extract_isosurface(v, a.iso);
+        color_by_ld(mesh, ld);
+        write_ply(mesh, a.mesh);
+        std::cout << "wrote       " << a.mesh << " (" << mesh.positions.size() << " vertices, " << mesh.triangles.size()
+                  << " triangles, coloured by LD)\n";
+    }
     return 0;
 }
 
@@ -467,6 +475,7 @@ int main(int argc, char** argv) {
     local->add_option("--iso", la.iso, "isovalue S (cubes with a < S <= b are intersected)")->required();
     local->add_option("--window", la.window, "window k (even, >= 2; default 8)");
     local->add_option("-o,--output", la.output, "output .nrrd (float32)")->required();
+    local->add_option("--mesh", la.mesh, "also write the isosurface as PLY, coloured by LD");
     la.raw.add(local);
 
     auto* gen = app.add_subcommand("gen", "write a synthetic volume as NRRD");
