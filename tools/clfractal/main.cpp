@@ -182,8 +182,12 @@ int cmd_fd(const FdArgs& a) {
     FdCurve f = fd_curve(ctx, spans, kind);
     FdSummary s = summarize(f.fd, f.counts[0], f.counts[1], a.min_count);
 
-    // The smoothest and the noisiest isovalue among those with enough cubes to matter.
-    std::uint64_t floor_count = std::max<std::uint64_t>(a.min_count, 1);
+    // The smoothest and the noisiest isovalue among those with enough cubes to matter:
+    // at least --min-count and 1% of the largest subsampled count (ratios of a handful of
+    // cubes are noise themselves).
+    std::uint64_t largest = 0;
+    for (std::uint64_t n : f.counts[1]) largest = std::max(largest, n);
+    std::uint64_t floor_count = std::max<std::uint64_t>({a.min_count, largest / 100, 1});
     std::size_t lo = SIZE_MAX, hi = SIZE_MAX;
     for (std::size_t j = 0; j < f.fd.size(); ++j) {
         if (std::isnan(f.fd[j]) || f.counts[1][j] < floor_count) continue;
