@@ -7,15 +7,13 @@
 // tables are derived on first use from the rules in mesh.hpp rather than typed in, and
 // the tests check every case and every pair of neighbouring cases for a closed,
 // consistently oriented surface.
+#include "clfractal/output_file.hpp"
 #include "clfractal/mesh.hpp"
 
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <numeric>
@@ -26,7 +24,6 @@
 namespace clfractal {
 namespace {
 
-namespace fs = std::filesystem;
 
 // A grid edge of one cube: from corner `corner` along the direction bit mask `dir`
 // (x = 1, y = 2, z = 4) to corner `corner | dir`; corner & dir == 0.
@@ -440,9 +437,7 @@ void write_ply(const Mesh& mesh, const std::string& path) {
     header += "element face " + std::to_string(mesh.triangles.size()) +
               "\nproperty list uchar int vertex_indices\nend_header\n";
 
-    // Unique per process and call, so concurrent writers never share a temporary.
-    static std::atomic<unsigned> counter{0};
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    const std::string tmp = temporary_path(path);
     std::ofstream out(tmp, std::ios::binary);
     out << header;
     std::string record;
@@ -459,17 +454,8 @@ void write_ply(const Mesh& mesh, const std::string& path) {
         out.write(record.data(), std::streamsize(record.size()));
     }
     out.close();
-    std::error_code ec;
-    if (!out) {
-        fs::remove(tmp, ec);
-        throw InputError(path + ": cannot write (directory missing or not writable?)");
-    }
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw InputError(path + ": cannot write: " + ec.message());
-    }
+    if (!out) discard_temporary(tmp, path, "cannot write (directory missing or not writable?)");
+    rename_into_place(tmp, path);
 }
 
 Mesh read_ply(const std::string& path) {

@@ -1,14 +1,12 @@
 // Software rasterizer for mesh previews (no GL on headless machines) and PNG files
 // through libpng's simplified API.
+#include "clfractal/output_file.hpp"
 #include "clfractal/render.hpp"
 
 #include <png.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 
 namespace clfractal {
@@ -126,26 +124,15 @@ Image render_mesh(const Mesh& mesh, const RenderOptions& opt) {
 void write_png(const Image& image, const std::string& path) {
     if (image.rgb.size() != 3 * image.width * image.height || image.width == 0)
         throw std::logic_error("write_png: image size and pixel buffer disagree");
-    static std::atomic<unsigned> counter{0};
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    const std::string tmp = temporary_path(path);
     png_image png{};
     png.version = PNG_IMAGE_VERSION;
     png.width = png_uint_32(image.width);
     png.height = png_uint_32(image.height);
     png.format = PNG_FORMAT_RGB;
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    if (!png_image_write_to_file(&png, tmp.c_str(), 0, image.rgb.data(), 0, nullptr)) {
-        const std::string message = png.message;
-        fs::remove(tmp, ec);
-        throw InputError(path + ": cannot write PNG: " + message);
-    }
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw InputError(path + ": cannot write: " + ec.message());
-    }
+    if (!png_image_write_to_file(&png, tmp.c_str(), 0, image.rgb.data(), 0, nullptr))
+        discard_temporary(tmp, path, std::string("cannot write PNG: ") + png.message);
+    rename_into_place(tmp, path);
 }
 
 Image read_png(const std::string& path) {

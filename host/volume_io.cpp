@@ -1,11 +1,10 @@
 // Volume I/O: raw files, NRRD through teem, synthetic:NAME[:N] specs (DESIGN §2 layer 2).
+#include "clfractal/output_file.hpp"
 #include "clfractal/volume_io.hpp"
 
 #include <teem/nrrd.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -279,10 +278,7 @@ Volume read_volume(const std::string& spec, const RawOptions& raw) {
 }
 
 void write_nrrd(const Volume& v, const std::string& path, bool gzip) {
-    // Unique per process and call, so concurrent writers never share a temporary.
-    static std::atomic<unsigned> counter{0};
-    const std::string tmp =
-        path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    const std::string tmp = temporary_path(path);
 
     // teem only reads the data when writing; the wrap does not take ownership.
     std::unique_ptr<Nrrd, NrrdNix> nrrd(nrrdNew());
@@ -296,19 +292,8 @@ void write_nrrd(const Volume& v, const std::string& path, bool gzip) {
         nrrdAxisInfoSet_nva(nrrd.get(), nrrdAxisInfoSpacing, v.spacing.data());
         failed = nrrdSave(tmp.c_str(), nrrd.get(), nio.get());
     }
-    if (failed) {
-        const std::string message = biff_message();
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw InputError(path + ": cannot write NRRD: " + message);
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw InputError(path + ": cannot write: " + ec.message());
-    }
+    if (failed) discard_temporary(tmp, path, "cannot write NRRD: " + biff_message());
+    rename_into_place(tmp, path);
 }
 
 void check_finite(const Volume& v, const std::string& what) {

@@ -1,43 +1,23 @@
 #include "output.hpp"
 
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include "clfractal/error.hpp"
+#include "clfractal/output_file.hpp"
 
 namespace fs = std::filesystem;
-using clfractal::InputError;
-
-namespace {
-
-std::string temp_name(const std::string& path) { return path + ".tmp-" + std::to_string(getpid()); }
-
-void rename_into_place(const std::string& tmp, const std::string& path) {
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw InputError(path + ": cannot write: " + ec.message());
-    }
-}
-
-}  // namespace
+using namespace clfractal;
 
 void write_file_atomic(const std::string& path, const std::string& content) {
-    const std::string tmp = temp_name(path);
+    const std::string tmp = temporary_path(path);
     {
         std::ofstream out(tmp, std::ios::binary);
         out << content;
         out.flush();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw InputError(path + ": cannot write (directory missing or not writable?)");
-        }
+        if (!out) discard_temporary(tmp, path, "cannot write (directory missing or not writable?)");
     }
     rename_into_place(tmp, path);
 }
@@ -45,7 +25,7 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 void plot_png(const std::string& script, const std::string& data, const std::string& path) {
     if (std::system("command -v gnuplot >/dev/null 2>&1") != 0)
         throw InputError(path + ": --plot needs gnuplot (Debian: apt-get install gnuplot-nox); CSV/JSON work without it");
-    const std::string tmp_png = temp_name(path) + ".png";
+    const std::string tmp_png = temporary_path(path) + ".png";
     // The script goes to gnuplot's stdin (no path ever reaches a shell); inside a gnuplot
     // single-quoted string a quote is written twice.
     std::string quoted;
