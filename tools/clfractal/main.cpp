@@ -22,62 +22,14 @@
 #include "clfractal/span.hpp"
 #include "clfractal/synthetic.hpp"
 #include "clfractal/volume_io.hpp"
+#include "cli.hpp"
 #include "output.hpp"
 
 using namespace clfractal;
 using json = nlohmann::json;
+using namespace cli;
 
 namespace {
-
-bool quiet = false;
-void progress(const std::string& s) {
-    if (!quiet) std::cerr << "clfractal: " << s << "\n";
-}
-
-// Options that say how to read a headerless raw file.
-struct RawArgs {
-    std::string dims, type, endian = "little";
-    void add(CLI::App* app) {
-        app->add_option("--dims", dims, "raw file dimensions X,Y,Z");
-        app->add_option("--type", type, "raw file value type: uint8|uint16|int16|float32");
-        app->add_option("--endian", endian, "raw file byte order")->check(CLI::IsMember({"little", "big"}));
-    }
-    RawOptions options() const {
-        RawOptions o;
-        if (!dims.empty()) {
-            Dims d;
-            char c1 = 0, c2 = 0;
-            std::istringstream in(dims);
-            long long x = 0, y = 0, z = 0;
-            if (!(in >> x >> c1 >> y >> c2 >> z) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof() || x < 1 ||
-                y < 1 || z < 1)
-                throw InputError("--dims '" + dims + "': expected three positive integers X,Y,Z");
-            d = Dims{std::size_t(x), std::size_t(y), std::size_t(z)};
-            check_dims(d, "--dims " + dims);
-            o.dims = d;
-        }
-        if (!type.empty()) o.type = parse_value_type(type);
-        o.big_endian = endian == "big";
-        return o;
-    }
-};
-
-// An isovalue written so that it reads back to the same float32 / integer.
-std::string iso_string(const IsovalueSet& iso, std::size_t j) {
-    char buf[64];
-    if (iso.integer()) std::snprintf(buf, sizeof buf, "%lld", (long long)(iso.first() + std::int64_t(j)));
-    else std::snprintf(buf, sizeof buf, "%.9g", double(iso.float_values()[j]));
-    return buf;
-}
-
-std::string fd_string(double d) {
-    if (std::isnan(d)) return "";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.10g", d);
-    return buf;
-}
-
-json fd_json(double d) { return std::isnan(d) ? json(nullptr) : json(d); }
 
 // ------------------------------------------------------------------ devices
 
@@ -448,7 +400,7 @@ int cmd_bench(std::size_t size, int repeats, const std::string& json_path) {
 int main(int argc, char** argv) {
     CLI::App app{"clfractal: isosurface fractal dimension of 3D scalar grids, for every isovalue at once"};
     app.require_subcommand(1);
-    app.add_flag("-q,--quiet", quiet, "no progress on stderr");
+    app.add_flag("-q,--quiet", cli::quiet, "no progress on stderr");
     app.set_version_flag("--version", "clfractal 0.1.0");
 
     app.add_subcommand("devices", "list OpenCL platforms and devices, marking the chosen one");
@@ -515,6 +467,9 @@ int main(int argc, char** argv) {
     bench->add_option("--repeats", bench_repeats, "best of this many runs (default 3)");
     bench->add_option("--json", bench_json, "write the figures as JSON");
 
+    // Subcommands that live in their own files (cmd_*.cpp).
+    cli::Commands commands;
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -538,6 +493,8 @@ int main(int argc, char** argv) {
         if (app.got_subcommand(gen)) return cmd_gen(gen_name, gen_opt, gen_type, gen_out);
         if (app.got_subcommand(mesh)) return cmd_mesh(ma);
         if (app.got_subcommand(bench)) return cmd_bench(bench_size, bench_repeats, bench_json);
+        for (auto& c : commands)
+            if (app.got_subcommand(c.app)) return c.run();
     } catch (const InputError& e) {
         std::cerr << "clfractal: error: " << e.what() << "\n";
         return 2;

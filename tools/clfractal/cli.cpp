@@ -1,0 +1,65 @@
+// Shared pieces of the command-line tool (see cli.hpp).
+#include "cli.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "clfractal/error.hpp"
+#include "clfractal/volume.hpp"
+
+using namespace clfractal;
+
+namespace cli {
+
+bool quiet = false;
+void progress(const std::string& s) {
+    if (!quiet) std::cerr << "clfractal: " << s << "\n";
+}
+
+void RawArgs::add(CLI::App* app) {
+    app->add_option("--dims", dims, "raw file dimensions X,Y,Z");
+    app->add_option("--type", type, "raw file value type: uint8|uint16|int16|float32");
+    app->add_option("--endian", endian, "raw file byte order")->check(CLI::IsMember({"little", "big"}));
+}
+
+RawOptions RawArgs::options() const {
+    RawOptions o;
+    if (!dims.empty()) {
+        Dims d;
+        char c1 = 0, c2 = 0;
+        std::istringstream in(dims);
+        long long x = 0, y = 0, z = 0;
+        if (!(in >> x >> c1 >> y >> c2 >> z) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof() || x < 1 || y < 1 ||
+            z < 1)
+            throw InputError("--dims '" + dims + "': expected three positive integers X,Y,Z");
+        d = Dims{std::size_t(x), std::size_t(y), std::size_t(z)};
+        check_dims(d, "--dims " + dims);
+        o.dims = d;
+    }
+    if (!type.empty()) o.type = parse_value_type(type);
+    o.big_endian = endian == "big";
+    return o;
+}
+
+// An isovalue written so that it reads back to the same float32 / integer.
+std::string iso_string(const IsovalueSet& iso, std::size_t j) {
+    char buf[64];
+    if (iso.integer())
+        std::snprintf(buf, sizeof buf, "%lld", (long long)(iso.first() + std::int64_t(j)));
+    else
+        std::snprintf(buf, sizeof buf, "%.9g", double(iso.float_values()[j]));
+    return buf;
+}
+
+std::string fd_string(double d) {
+    if (std::isnan(d)) return "";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.10g", d);
+    return buf;
+}
+
+nlohmann::json fd_json(double d) { return std::isnan(d) ? nlohmann::json(nullptr) : nlohmann::json(d); }
+
+}  // namespace cli

@@ -1,0 +1,47 @@
+// Shared pieces of the command-line tool: progress output, raw-file options, number
+// formatting, and the registry through which each subcommand file adds its command.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "clfractal/span.hpp"
+#include "clfractal/volume_io.hpp"
+
+namespace cli {
+
+/// Set by -q/--quiet: no progress on stderr.
+extern bool quiet;
+
+/// One progress line on stderr ("clfractal: ..."), unless --quiet.
+void progress(const std::string& s);
+
+/// Options that say how to read a headerless raw file.
+struct RawArgs {
+    std::string dims, type, endian = "little";
+    void add(CLI::App* app);
+    clfractal::RawOptions options() const;
+};
+
+/// An isovalue written so that it reads back to the same float32 / integer.
+std::string iso_string(const clfractal::IsovalueSet& iso, std::size_t j);
+
+/// A dimension for CSV: empty where undefined (NaN).
+std::string fd_string(double d);
+
+/// A dimension for JSON: null where undefined (NaN).
+nlohmann::json fd_json(double d);
+
+/// A subcommand: its CLI11 app and what runs when it is chosen.
+struct Command {
+    CLI::App* app;
+    std::function<int()> run;
+};
+using Commands = std::vector<Command>;
+
+// Subcommands defined in their own files (cmd_*.cpp). Each adds itself to `app` and
+// appends what to run; its options live in heap state owned by the closure.
+}  // namespace cli
