@@ -311,6 +311,10 @@ struct SpanCounter::Impl {
 
     SpanResult finish() {
         if (next_z != dims.nz) throw std::logic_error("SpanCounter::finish: not every slab was added");
+        return snapshot();
+    }
+
+    SpanResult snapshot() {
         auto t0 = std::chrono::steady_clock::now();
         SpanResult r;
         r.isovalues = iso;
@@ -342,6 +346,7 @@ SpanCounter::SpanCounter(Context& ctx, const IsovalueSet& iso, ValueType type, c
 SpanCounter::~SpanCounter() { delete impl_; }
 void SpanCounter::add_slab(const void* data, std::size_t z0, std::size_t nzs) { impl_->add_slab(data, z0, nzs); }
 SpanResult SpanCounter::finish() { return impl_->finish(); }
+SpanResult SpanCounter::snapshot() { return impl_->snapshot(); }
 std::size_t SpanCounter::slab_slices() const { return impl_->max_slices; }
 
 SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, const SpanOptions& opt) {
