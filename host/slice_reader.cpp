@@ -240,6 +240,8 @@ struct SliceReader::Impl {
                                      " at slice " + std::to_string(next + done / (slice_values() * file_value_size)));
                 }
                 done += std::size_t(got);
+                // zlib passes data without a gzip header through unchanged: not ours.
+                if (gzdirect(gz)) throw InputError(spec + ": the data is not gzip-compressed");
             }
         }
     }
