@@ -172,6 +172,28 @@ TEST_CASE("many batches and deep pyramids: counts and curves equal the whole-vol
     }
 }
 
+TEST_CASE("the GPU kernel variants and copied (not zero-copy) slices stream the same counts") {
+    const Volume v = testutil::random_volume(Dims{11, 7, 30}, ValueType::uint16, 0, 700, 13);
+    const IsovalueSet iso = IsovalueSet::for_volume(v);
+    const SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 3, 0};
+    const SpanResult want = count_spans(ctx(), v, iso, opt);
+    for (const char* variant : {"private", "atomic"})
+        for (bool zero_copy : {false, true}) {
+            CAPTURE(variant);
+            CAPTURE(zero_copy);
+            testutil::TuningGuard guard;
+            ctx().tuning.span_variant = variant;
+            ctx().tuning.zero_copy = zero_copy;
+            ctx().tuning.local_hist_bytes = 1024;  // 16-bit ranges use global-memory histograms
+            SpanStream stream(ctx(), 11, 7, ValueType::uint16, iso, 3);
+            for (std::size_t z = 0; z < v.dims().nz; ++z)
+                stream.push_slice(reinterpret_cast<const std::uint16_t*>(slice_of(v, z)));
+            const SpanResult got = stream.counts();
+            CHECK(got.curves[0].counts == want.curves[0].counts);
+            CHECK(got.curves[1].counts == want.curves[1].counts);
+        }
+}
+
 TEST_CASE("one kind only, and the stream's checks") {
     const Volume v = testutil::random_volume(Dims{6, 5, 14}, ValueType::float32, -10, 10, 9);
     const IsovalueSet iso = IsovalueSet::for_volume(v, 32);
