@@ -1,6 +1,8 @@
 // Slice-by-slice readers (DESIGN §6): memory maps for raw data, zlib for gzip data.
 #include "clfractal/slice_reader.hpp"
 
+#include "clfractal/output_file.hpp"
+
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -301,6 +303,58 @@ const char* SliceReader::method() const { return impl_->method.c_str(); }
 void SliceReader::read(void* dst, std::size_t count) { impl_->read(dst, count); }
 std::size_t SliceReader::next_slice() const { return impl_->next; }
 void SliceReader::rewind() { impl_->rewind(); }
+
+struct NrrdSliceWriter::Impl {
+    std::string path, tmp;
+    Dims dims;
+    std::size_t slice_bytes = 0, written = 0;
+    std::ofstream out;
+    bool closed = false;
+};
+
+NrrdSliceWriter::NrrdSliceWriter(const std::string& path, const Dims& dims, ValueType type,
+                                 const std::array<double, 3>& spacing)
+    : impl_(std::make_unique<Impl>()) {
+    check_dims(dims, path);
+    Impl& w = *impl_;
+    w.path = path;
+    w.tmp = temporary_path(path);
+    w.dims = dims;
+    w.slice_bytes = dims.nx * dims.ny * value_size(type);
+    static const char* nrrd_names[] = {"uchar", "ushort", "short", "float"};
+    w.out.open(w.tmp, std::ios::binary);
+    if (!w.out) discard_temporary(w.tmp, path, std::string("cannot write: ") + std::strerror(errno));
+    w.out << "NRRD0004\ntype: " << nrrd_names[int(type)] << "\ndimension: 3\nsizes: " << dims.nx << " " << dims.ny
+          << " " << dims.nz << "\n";
+    w.out.precision(17);
+    w.out << "spacings: " << spacing[0] << " " << spacing[1] << " " << spacing[2] << "\n";
+    if (value_size(type) > 1) w.out << "endian: " << (host_big_endian ? "big" : "little") << "\n";
+    w.out << "encoding: raw\n\n";
+}
+
+NrrdSliceWriter::~NrrdSliceWriter() {
+    if (impl_->closed) return;
+    impl_->out.close();
+    std::error_code ec;
+    fs::remove(impl_->tmp, ec);
+}
+
+void NrrdSliceWriter::write(const void* slices, std::size_t count) {
+    Impl& w = *impl_;
+    if (w.closed || w.written + count > w.dims.nz) throw std::logic_error("NrrdSliceWriter::write: too many slices");
+    w.out.write(static_cast<const char*>(slices), std::streamsize(count * w.slice_bytes));
+    if (!w.out) discard_temporary(w.tmp, w.path, std::string("cannot write: ") + std::strerror(errno));
+    w.written += count;
+}
+
+void NrrdSliceWriter::close() {
+    Impl& w = *impl_;
+    if (w.written != w.dims.nz) throw std::logic_error("NrrdSliceWriter::close: not every slice was written");
+    w.out.close();
+    if (!w.out) discard_temporary(w.tmp, w.path, std::string("cannot write: ") + std::strerror(errno));
+    w.closed = true;
+    rename_into_place(w.tmp, w.path);
+}
 
 ValueRange value_range(SliceReader& reader) {
     reader.rewind();

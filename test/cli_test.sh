@@ -144,5 +144,18 @@ expect 2 'clfractal: error: .*st_plain.nrrd.*not gzip' -- "$bin" -q fd st_plain.
 expect 2 'clfractal: error: .*short_10x10x10_uint8.raw.*truncated' -- "$bin" fd short_10x10x10_uint8.raw --stream
 expect 2 'clfractal: error: .*--slab' -- "$bin" fd synthetic:sphere:20 --stream --slab 4
 
+# local --stream: the field read and written slice by slice is the same file's data.
+expect 0 'mean LD' -- "$bin" -q local st_21x17x29_uint8.raw --iso 60 --window 4 -o ld_whole.nrrd
+expect 0 'streamed, gzip' -- "$bin" -q local st.nrrd --iso 60 --window 4 --stream -o ld_stream.nrrd
+python3 - <<'PY' && pass || fail "local --stream field differs from local"
+def data(p):
+    b = open(p, 'rb').read()
+    return b[b.index(b'\n\n') + 2:]
+assert data('ld_whole.nrrd') == data('ld_stream.nrrd')
+PY
+expect 2 'clfractal: error: .*--mesh' -- "$bin" -q local st.nrrd --iso 60 --stream -o x.nrrd --mesh x.ply
+expect 2 'clfractal: error: .*window' -- "$bin" -q local st.nrrd --iso 60 --window 3 --stream -o x.nrrd
+[ ! -e x.nrrd ] && pass || fail "local --stream left an output after an error"
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -390,6 +390,35 @@ TEST_CASE("slice readers: bad inputs are input errors") {
     }
 }
 
+TEST_CASE("LD streamed from a file and written slice by slice equals the in-core field") {
+    TempDir dir;
+    const Volume v = testutil::random_volume(Dims{12, 10, 27}, ValueType::int16, -8, 8, 99);
+    write_nrrd(v, dir.file("in.nrrd"), true);
+    SliceReader reader(dir.file("in.nrrd"));
+    {
+        NrrdSliceWriter writer(dir.file("ld.nrrd"), v.dims(), ValueType::float32);
+        LocalStream stream(ctx(), 12, 10, ValueType::int16, 0.5, 6,
+                           [&](std::size_t, const float* ld, const void*) { writer.write(ld, 1); }, 4);
+        std::vector<std::int16_t> slice(120);
+        for (std::size_t z = 0; z < 27; ++z) {
+            reader.read(slice.data(), 1);
+            stream.push_slice(slice.data());
+        }
+        stream.finish();
+        writer.close();
+    }
+    CHECK(same_field(read_volume(dir.file("ld.nrrd")), local_fractal_dimension(ctx(), v, 0.5, 6)));
+    // A writer that is not closed leaves nothing behind.
+    {
+        NrrdSliceWriter writer(dir.file("partial.nrrd"), v.dims(), ValueType::int16);
+        writer.write(v.data(), 3);
+        CHECK_THROWS_AS(writer.close(), std::logic_error);
+    }
+    CHECK(!fs::exists(dir.file("partial.nrrd")));
+    for (auto& e : fs::directory_iterator(fs::path(dir.file("x")).parent_path()))
+        CHECK(e.path().filename().string().find("partial") == std::string::npos);
+}
+
 TEST_CASE("a file streamed into SpanStream gives the counts of the file read whole") {
     TempDir dir;
     const Volume v = testutil::random_volume(Dims{10, 9, 25}, ValueType::uint16, 0, 300, 77);

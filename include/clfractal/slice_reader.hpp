@@ -44,6 +44,27 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+/// Writes a NRRD (attached header, raw encoding, native endianness) slice by slice to a
+/// temporary name beside `path`, renamed into place by close() once every slice is in; if
+/// close() is never reached (an exception), the temporary file is removed.
+class NrrdSliceWriter {
+public:
+    NrrdSliceWriter(const std::string& path, const Dims& dims, ValueType type,
+                    const std::array<double, 3>& spacing = {1.0, 1.0, 1.0});
+    ~NrrdSliceWriter();
+    NrrdSliceWriter(const NrrdSliceWriter&) = delete;
+    NrrdSliceWriter& operator=(const NrrdSliceWriter&) = delete;
+
+    /// Appends `count` slices (count * nx * ny values of the type).
+    void write(const void* slices, std::size_t count);
+    /// Checks that all nz slices were written, flushes and renames into place.
+    void close();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 /// The value range of the whole file, read slice by slice (one pass, bounded memory);
 /// the reader is rewound afterwards.
 ValueRange value_range(SliceReader& reader);

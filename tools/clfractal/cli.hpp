@@ -52,6 +52,9 @@ struct StreamedSpans {
 };
 StreamedSpans stream_spans(const std::string& volume, const clfractal::RawOptions& raw, const std::string& isovalues,
                            std::size_t bins, int levels, clfractal::SpanKind kind);
+/// local --stream: the LD field of a volume file read and written slice by slice.
+int cmd_local_stream(const std::string& volume, const clfractal::RawOptions& raw, double iso, int window,
+                     const std::string& output);
 
 // Subcommands defined in their own files (cmd_*.cpp). Each adds itself to `app` and
 // appends what to run; its options live in heap state owned by the closure.

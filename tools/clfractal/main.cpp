@@ -236,10 +236,15 @@ struct LocalArgs {
     std::string volume, output, mesh;
     double iso = 0;
     int window = 8;
+    bool stream = false;
     RawArgs raw;
 };
 
 int cmd_local(const LocalArgs& a) {
+    if (a.stream) {
+        if (!a.mesh.empty()) throw InputError("--mesh: not with --stream (the mesh needs the whole volume)");
+        return cmd_local_stream(a.volume, a.raw.options(), a.iso, a.window, a.output);
+    }
     Volume v = read_volume(a.volume, a.raw.options());
     Context& ctx = Context::shared();
     progress("local fractal dimension of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + ", window " +
@@ -445,6 +450,7 @@ int main(int argc, char** argv) {
     local->add_option("--window", la.window, "window k (even, >= 2; default 8)");
     local->add_option("-o,--output", la.output, "output .nrrd (float32)")->required();
     local->add_option("--mesh", la.mesh, "also write the isosurface as PLY, coloured by LD");
+    local->add_flag("--stream", la.stream, "read and write slice by slice (memory: a few slices; same field)");
     la.raw.add(local);
 
     auto* gen = app.add_subcommand("gen", "write a synthetic volume as NRRD");

@@ -1,0 +1,111 @@
+// fd --stream and local --stream: a volume file read slice by slice (DESIGN §6), so that
+// host memory stays a few slices however large the file.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <vector>
+
+#include "clfractal/local.hpp"
+
+#include "clfractal/slice_reader.hpp"
+#include "clfractal/stream.hpp"
+#include "cli.hpp"
+
+using namespace clfractal;
+
+namespace cli {
+
+StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, const std::string& isovalues,
+                           std::size_t bins, int levels, SpanKind kind) {
+    SliceReader reader(volume, raw);
+    const Dims d = reader.dims();
+    if (bins && is_integer(reader.type()))
+        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    StreamedSpans out{d, reader.type(), {}, reader.method()};
+    IsovalueSet iso;
+    if (!isovalues.empty()) {
+        iso = IsovalueSet::parse_range(isovalues, reader.type());
+    } else {
+        // The default set needs the value range: one more pass over the file.
+        progress("reading the value range of " + volume + " (" + out.method + ")");
+        const ValueRange r = value_range(reader);
+        iso = is_integer(reader.type()) ? IsovalueSet::integers(std::int64_t(r.min), std::int64_t(r.max))
+                                        : IsovalueSet::uniform(r.min, r.max, bins ? bins : 256);
+    }
+    Context& ctx = Context::shared();
+    progress("streaming " + std::to_string(iso.size()) + " isovalues of " + dims_string(d) + " " +
+             value_type_name(reader.type()) + " slice by slice (" + out.method + ") on " + ctx.description());
+    SpanStream stream(ctx, d.nx, d.ny, reader.type(), iso, levels, {kind});
+    // Read a batch of slices at a time; the stream copies each slice into its own batch.
+    const std::size_t chunk = std::max<std::size_t>(1, std::min(d.nz, stream.batch_slices()));
+    std::vector<unsigned char> buf(chunk * reader.slice_bytes());
+    for (std::size_t z = 0; z < d.nz;) {
+        const std::size_t n = std::min(chunk, d.nz - z);
+        reader.read(buf.data(), n);
+        for (std::size_t i = 0; i < n; ++i) stream.push_slice(static_cast<const void*>(buf.data() + i * reader.slice_bytes()));
+        z += n;
+    }
+    out.spans = stream.counts();
+    return out;
+}
+
+int cmd_local_stream(const std::string& volume, const RawOptions& raw, double iso, int window,
+                     const std::string& output) {
+    SliceReader reader(volume, raw);
+    const Dims d = reader.dims();
+    Context& ctx = Context::shared();
+    progress("local fractal dimension of " + dims_string(d) + " " + value_type_name(reader.type()) +
+             " slice by slice (" + reader.method() + "), window " + std::to_string(window) + ", on " +
+             ctx.description());
+    const auto t0 = std::chrono::steady_clock::now();
+    NrrdSliceWriter writer(output, d, ValueType::float32, reader.spacing());
+    std::size_t defined = 0, above_blue = 0, above_red = 0;
+    double sum = 0;
+    const std::size_t plane = d.nx * d.ny;
+    // Output slices come a few at a time, k/2 slices behind the input.
+    LocalStream stream(
+        ctx, d.nx, d.ny, reader.type(), iso, window,
+        [&](std::size_t, const float* ld, const void*) {
+            for (std::size_t i = 0; i < plane; ++i) {
+                if (std::isnan(ld[i])) continue;
+                ++defined;
+                above_blue += ld[i] > ld_blue;
+                above_red += ld[i] > ld_red;
+                sum += ld[i];
+            }
+            writer.write(ld, 1);
+        },
+        std::max<std::size_t>(1, std::min<std::size_t>(16, (std::size_t(64) << 20) / (plane * 4))));
+    std::vector<unsigned char> slice(reader.slice_bytes());
+    for (std::size_t z = 0; z < d.nz; ++z) {
+        reader.read(slice.data(), 1);
+        stream.push_slice(static_cast<const void*>(slice.data()));
+    }
+    stream.finish();
+    writer.close();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    const double vertices = double(d.vertices());
+    std::cout << "volume      " << volume << "  " << dims_string(d) << " " << value_type_name(reader.type()) << "\n"
+              << "device      " << ctx.description() << "\n"
+              << "isovalue    " << iso << (is_integer(reader.type()) ? "" : " (compared as float32)") << ", window "
+              << window << "\n"
+              << std::fixed << std::setprecision(2) << "defined     " << defined << " of " << d.vertices()
+              << " vertices (" << 100.0 * double(defined) / vertices << "%, near the surface)\n";
+    if (defined)
+        std::cout << "LD > 2.2    " << 100.0 * double(above_blue) / double(defined)
+                  << "% of them (colour map: blue up to 2.2)\n"
+                  << "LD > 2.5    " << 100.0 * double(above_red) / double(defined) << "% of them (red from 2.5)\n"
+                  << std::setprecision(4) << "mean LD     " << sum / double(defined) << "\n";
+    else
+        std::cout << "mean LD     n/a (the isovalue intersects no window)\n";
+    std::cout << std::defaultfloat << std::setprecision(4) << "time        " << seconds
+              << " s (streamed, " << reader.method() << ", read and written slice by slice), kernels compiled in "
+              << ctx.compile_seconds() << " s\n"
+              << "wrote       " << output << " (float32, NaN where LD is undefined)\n";
+    return 0;
+}
+
+}  // namespace cli
