@@ -202,6 +202,11 @@ LocalStream::LocalStream(Context& ctx, std::size_t nx, std::size_t ny, ValueType
 LocalStream::~LocalStream() = default;
 void LocalStream::push_slice(const void* slice) { impl_->push(slice); }
 void LocalStream::finish() { impl_->finish(); }
+const void* LocalStream::input_slice(std::size_t z) const {
+    const Impl& s = *impl_;
+    if (z < s.buf_lo || z >= s.received) return nullptr;
+    return s.buf.data() + (z - s.buf_lo) * s.slice_bytes;
+}
 std::size_t LocalStream::slices() const { return impl_->received; }
 std::size_t LocalStream::emitted() const { return impl_->next_out; }
 std::size_t LocalStream::delay() const { return impl_->half + impl_->batch - 1; }

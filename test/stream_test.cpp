@@ -232,14 +232,22 @@ TEST_CASE("streamed LD equals the whole-volume field: all types, windows, batche
                 const std::size_t plane = c.d.nx * c.d.ny;
                 std::size_t expect_z = 0;
                 bool values_ok = true;
+                LocalStream* self = nullptr;
                 LocalStream stream(
                     ctx(), c.d.nx, c.d.ny, c.t, 1.5, window,
                     [&](std::size_t z, const float* ld, const void* values) {
                         CHECK(z == expect_z++);
                         std::memcpy(got.as<float>() + z * plane, ld, plane * sizeof(float));
                         values_ok &= std::memcmp(values, slice_of(v, z), plane * value_size(c.t)) == 0;
+                        // The neighbourhood of radius k/2 is held for a filter to read.
+                        const std::size_t h = std::size_t(window / 2);
+                        for (std::size_t w = z > h ? z - h : 0; w <= std::min(c.d.nz - 1, z + h); ++w) {
+                            const void* in = self->input_slice(w);
+                            values_ok &= in && std::memcmp(in, slice_of(v, w), plane * value_size(c.t)) == 0;
+                        }
                     },
                     batch);
+                self = &stream;
                 CHECK(stream.delay() == std::size_t(window / 2) + batch - 1);
                 for (std::size_t z = 0; z < c.d.nz; ++z) {
                     stream.push_slice(static_cast<const void*>(slice_of(v, z)));

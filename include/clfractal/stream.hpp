@@ -98,6 +98,11 @@ public:
     /// Ends the volume: emits the remaining output slices. No slice may follow.
     void finish();
 
+    /// Input slice z' while the stream still holds it, else nullptr. During the sink's call
+    /// for output slice z it holds every slice z' with |z' - z| <= k/2 in the volume, so a
+    /// consumer with a neighbourhood of radius up to k/2 (a median or Gaussian filter) reads
+    /// its input here.
+    const void* input_slice(std::size_t z) const;
     std::size_t slices() const;   ///< input slices pushed
     std::size_t emitted() const;  ///< output slices emitted
     /// Input slices an output slice waits for after its own: k/2 + batch - 1.
