@@ -112,6 +112,8 @@ struct SpanCounter::Impl {
     cl::Kernel subsample, accumulate;
     std::vector<cl::Kernel> count;                   // per kind
     std::size_t next_z = 0, slabs = 0;
+    std::size_t z_end = 0;  // one past the last slice of the counted part
+    bool done = false;      // the part's last slab was added
     double seconds = 0;
     bool warming = false;  // launches are first launches (see Context::warm_up)
 
@@ -131,6 +133,11 @@ struct SpanCounter::Impl {
         if (iso.integer() && (iso.first() < -32768 || iso.first() + std::int64_t(iso.size()) > 65536))
             throw InputError("isovalues: integer range outside the 16-bit types");
         align = std::size_t(1) << (opt.levels - 1);
+        z_end = opt.z_end ? opt.z_end : dims.nz;
+        if (opt.z_begin % align != 0 || opt.z_begin >= z_end || z_end > dims.nz ||
+            (z_end < dims.nz && (z_end - 1) % align != 0))
+            throw std::logic_error("SpanCounter: the part's first and last slices must be multiples of 2^(levels-1)");
+        next_z = opt.z_begin;
 
         // Slab depth: whole volume if it fits, else a multiple of `align` plus one slice.
         const std::size_t slice_bytes = dims.nx * dims.ny * value_size(type);
@@ -146,8 +153,8 @@ struct SpanCounter::Impl {
             throw InputError("volume: slices of " + dims_string(dims) + " hold more than 2^29 / " +
                              std::to_string(align + 1) + " vertices, too many for 32-bit partial counts");
         fit = std::min(fit, std::max<std::size_t>(1, cap));
-        if (fit >= dims.nz) {
-            max_slices = dims.nz;
+        if (fit >= z_end - opt.z_begin) {
+            max_slices = z_end - opt.z_begin;
         } else {
             std::size_t steps = (fit - 1) / align;
             if (steps == 0)
@@ -265,10 +272,12 @@ struct SpanCounter::Impl {
     }
 
     void add_slab(const void* data, std::size_t z0, std::size_t nzs) {
-        if (z0 != next_z || nzs == 0 || nzs > max_slices || z0 + nzs > dims.nz || z0 % align != 0)
+        if (done || z0 != next_z || nzs == 0 || nzs > max_slices || z0 + nzs > z_end || z0 % align != 0)
             throw std::logic_error("SpanCounter::add_slab: slabs out of order or of the wrong size");
+        const bool end_of_part = z0 + nzs == z_end;
+        // Edges on the top slice belong to this counter only at the top of the volume.
         const bool last = z0 + nzs == dims.nz;
-        if (!last && (nzs - 1) % align != 0)
+        if (!end_of_part && (nzs - 1) % align != 0)
             throw std::logic_error("SpanCounter::add_slab: inner slab depth must be a multiple of 2^(levels-1) plus 1");
         auto t0 = std::chrono::steady_clock::now();
         with_cl_errors([&] {
@@ -304,13 +313,13 @@ struct SpanCounter::Impl {
             in_place.release();
         });
         next_z = z0 + nzs - 1;
-        if (last) next_z = dims.nz;
+        done = end_of_part;
         ++slabs;
         seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
 
     SpanResult finish() {
-        if (next_z != dims.nz) throw std::logic_error("SpanCounter::finish: not every slab was added");
+        if (!done) throw std::logic_error("SpanCounter::finish: not every slab was added");
         return snapshot();
     }
 
@@ -349,16 +358,32 @@ SpanResult SpanCounter::finish() { return impl_->finish(); }
 SpanResult SpanCounter::snapshot() { return impl_->snapshot(); }
 std::size_t SpanCounter::slab_slices() const { return impl_->max_slices; }
 
+std::vector<std::pair<std::size_t, std::size_t>> split_slices(std::size_t nz, int levels, std::size_t parts) {
+    if (nz == 0 || parts == 0 || levels < 1 || levels > 16) throw std::logic_error("split_slices: bad arguments");
+    const std::size_t align = std::size_t(1) << (levels - 1);
+    const std::size_t steps = (nz - 1) / align;
+    std::vector<std::size_t> starts;
+    for (std::size_t i = 0; i < parts; ++i) {
+        const std::size_t b = i * steps / parts * align;
+        if (starts.empty() || b != starts.back()) starts.push_back(b);
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> out;
+    for (std::size_t i = 0; i < starts.size(); ++i)
+        out.emplace_back(starts[i], i + 1 < starts.size() ? starts[i + 1] + 1 : nz);
+    return out;
+}
+
 SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, const SpanOptions& opt) {
     SpanCounter counter(ctx, iso, v.type(), v.dims(), opt);
     const std::size_t step = counter.slab_slices() - 1;
     const std::size_t slice_bytes = v.dims().nx * v.dims().ny * value_size(v.type());
     const auto* bytes = static_cast<const unsigned char*>(v.data());
-    std::size_t z0 = 0;
+    const std::size_t end = opt.z_end ? opt.z_end : v.dims().nz;
+    std::size_t z0 = opt.z_begin;
     while (true) {
-        std::size_t nzs = std::min(counter.slab_slices(), v.dims().nz - z0);
+        std::size_t nzs = std::min(counter.slab_slices(), end - z0);
         counter.add_slab(bytes + z0 * slice_bytes, z0, nzs);
-        if (z0 + nzs == v.dims().nz) break;
+        if (z0 + nzs == end) break;
         z0 += step;
     }
     return counter.finish();

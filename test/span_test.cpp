@@ -173,6 +173,42 @@ TEST_CASE("tiny slabs give identical counts at every level") {
     for (std::size_t k = 0; k < 2; ++k) CHECK(r.curves[k].counts[0] == whole.curves[k].counts[0]);
 }
 
+TEST_CASE("counts of z-parts (as MPI ranks split a volume) add up to the whole") {
+    for (const Dims d : {Dims{9, 7, 37}, Dims{5, 6, 2}, Dims{4, 3, 1}, Dims{6, 5, 9}}) {
+        Volume v = testutil::random_volume(d, ValueType::int16, -50, 50, unsigned(d.nz));
+        IsovalueSet iso = IsovalueSet::for_volume(v);
+        for (int levels : {1, 2, 3}) {
+            SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, levels, 0};
+            const SpanResult whole = count_spans(ctx(), v, iso, opt);
+            for (std::size_t parts : {1, 2, 3, 5}) {
+                CAPTURE(d.nz); CAPTURE(levels); CAPTURE(parts);
+                auto ranges = split_slices(d.nz, levels, parts);
+                REQUIRE(!ranges.empty());
+                CHECK(ranges.size() <= parts);
+                CHECK(ranges.front().first == 0);
+                CHECK(ranges.back().second == d.nz);
+                std::vector<std::vector<std::vector<std::uint64_t>>> sum(2);
+                for (std::size_t i = 0; i < ranges.size(); ++i) {
+                    if (i > 0) CHECK(ranges[i].first + 1 == ranges[i - 1].second);
+                    opt.z_begin = ranges[i].first;
+                    opt.z_end = ranges[i].second;
+                    opt.slab_slices = (i % 2) ? 2 * (std::size_t(1) << (levels - 1)) + 1 : 0;  // slabs inside a part
+                    SpanResult r = count_spans(ctx(), v, iso, opt);
+                    for (std::size_t k = 0; k < 2; ++k) {
+                        if (sum[k].empty()) sum[k] = r.curves[k].counts;
+                        else
+                            for (int l = 0; l < levels; ++l)
+                                for (std::size_t j = 0; j < iso.size(); ++j) sum[k][l][j] += r.curves[k].counts[l][j];
+                    }
+                }
+                opt.z_begin = opt.z_end = opt.slab_slices = 0;
+                for (std::size_t k = 0; k < 2; ++k) CHECK(sum[k] == whole.curves[k].counts);
+            }
+        }
+    }
+    CHECK(split_slices(37, 3, 4) == std::vector<std::pair<std::size_t, std::size_t>>{{0, 9}, {8, 17}, {16, 25}, {24, 37}});
+}
+
 TEST_CASE("every kernel variant gives the reference counts") {
     testutil::TuningGuard guard;
     struct Variant {

@@ -8,6 +8,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "clfractal/device.hpp"
@@ -68,6 +69,12 @@ struct SpanOptions {
     /// Largest slab in slices (0: from the device's memory and Tuning::slab_bytes). Tests
     /// force tiny slabs; results are identical for every slab size.
     std::size_t slab_slices = 0;
+    /// Count only the part of the volume between vertex slices z_begin and z_end - 1
+    /// (z_end = 0: to the last slice). z_begin must be a multiple of 2^(levels-1); the
+    /// part's last slice is shared with the next part, whose counter counts what lies on
+    /// it. Counts of parts [b0, b1+1), [b1, b2+1), ..., [bk, nz) add up to the whole
+    /// volume's: this is how MPI ranks split a volume.
+    std::size_t z_begin = 0, z_end = 0;
 };
 
 /// Incremental span counter over z-slabs of a volume (the engine behind count_spans and
@@ -82,7 +89,8 @@ public:
     SpanCounter& operator=(const SpanCounter&) = delete;
 
     /// Counts the slab of `nzs` full-resolution slices starting at slice z0. `data`
-    /// holds those slices (nx * ny * nzs values of the counter's type).
+    /// holds those slices (nx * ny * nzs values of the counter's type). The first slab
+    /// starts at SpanOptions::z_begin.
     void add_slab(const void* data, std::size_t z0, std::size_t nzs);
     /// Downloads the histograms and forms the prefix sums. Call after the last slab.
     SpanResult finish();
@@ -98,6 +106,12 @@ private:
     struct Impl;
     Impl* impl_;
 };
+
+/// Splits the nz slices of a volume into at most `parts` z-ranges [z_begin, z_end) for
+/// SpanOptions, as even as the alignment allows: each starts at a multiple of
+/// 2^(levels-1) and ends on the next one's first slice. Fewer ranges come back when the
+/// volume has too few slices for `parts`.
+std::vector<std::pair<std::size_t, std::size_t>> split_slices(std::size_t nz, int levels, std::size_t parts);
 
 /// Counts the spans of `v` for every isovalue of `iso` at every level, on the device,
 /// in one pass per slab.

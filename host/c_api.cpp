@@ -1,0 +1,241 @@
+// The C ABI (include/clfractal/clfractal.h) over the C++ library: opaque handles, status
+// codes and a thread-local last-error message; no exception leaves this file.
+#include "clfractal/clfractal.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <new>
+#include <string>
+
+#include "clfractal/fd.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/volume_io.hpp"
+
+using namespace clfractal;
+
+struct clf_context {
+    std::unique_ptr<Context> ctx;
+    std::string description;
+};
+
+struct clf_volume {
+    Volume volume;
+};
+
+struct clf_curve {
+    FdCurve curve;
+};
+
+namespace {
+
+thread_local std::string last_error;
+
+clf_status fail(clf_status status, const std::string& message) {
+    last_error = message;
+    return status;
+}
+
+// Runs f, turning every exception into a status and the last-error message.
+template <class F>
+clf_status guarded(F&& f) {
+    try {
+        f();
+        return CLF_OK;
+    } catch (const InputError& e) {
+        return fail(CLF_ERROR_INPUT, e.what());
+    } catch (const DeviceError& e) {
+        return fail(e.out_of_memory() ? CLF_ERROR_OUT_OF_MEMORY : CLF_ERROR_DEVICE, e.what());
+    } catch (const std::bad_alloc&) {
+        return fail(CLF_ERROR_OUT_OF_MEMORY, "out of host memory");
+    } catch (const std::exception& e) {
+        return fail(CLF_ERROR_INTERNAL, e.what());
+    } catch (...) {
+        return fail(CLF_ERROR_INTERNAL, "unknown error");
+    }
+}
+
+ValueType to_value_type(clf_type t) {
+    switch (t) {
+    case CLF_UINT8: return ValueType::uint8;
+    case CLF_UINT16: return ValueType::uint16;
+    case CLF_INT16: return ValueType::int16;
+    case CLF_FLOAT32: return ValueType::float32;
+    }
+    throw InputError("type: unknown clf_type " + std::to_string(int(t)));
+}
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+void require(bool ok, const char* what) {
+    if (!ok) throw InputError(what);
+}
+
+}  // namespace
+
+extern "C" {
+
+const char* clf_version(void) { return CLFRACTAL_VERSION; }
+
+const char* clf_last_error(void) { return last_error.c_str(); }
+
+clf_status clf_context_create(const char* device_filter, clf_context** out) {
+    if (!out) return fail(CLF_ERROR_INPUT, "clf_context_create: out is NULL");
+    *out = nullptr;
+    return guarded([&] {
+        cl::Device device;
+        const std::string filter = device_filter ? lower(device_filter) : std::string();
+        if (filter.empty()) {
+            device = choose_device();
+        } else {
+            bool found = false;
+            for (auto& d : list_devices())
+                if (lower(d.platform).find(filter) != std::string::npos ||
+                    lower(d.name).find(filter) != std::string::npos) {
+                    device = d.device;
+                    found = true;
+                    break;
+                }
+            if (!found) throw InputError("device '" + std::string(device_filter) + "': no OpenCL device matches");
+        }
+        auto c = std::make_unique<clf_context>();
+        c->ctx = std::make_unique<Context>(device);
+        c->description = c->ctx->description();
+        *out = c.release();
+    });
+}
+
+void clf_context_destroy(clf_context* ctx) { delete ctx; }
+
+const char* clf_context_description(const clf_context* ctx) { return ctx ? ctx->description.c_str() : ""; }
+
+clf_status clf_volume_read(const char* path, clf_volume** out) {
+    if (!out) return fail(CLF_ERROR_INPUT, "clf_volume_read: out is NULL");
+    *out = nullptr;
+    return guarded([&] {
+        require(path != nullptr, "clf_volume_read: path is NULL");
+        auto v = std::make_unique<clf_volume>();
+        v->volume = read_volume(path);
+        *out = v.release();
+    });
+}
+
+clf_status clf_volume_create(const void* data, size_t nx, size_t ny, size_t nz, clf_type type, clf_volume** out) {
+    if (!out) return fail(CLF_ERROR_INPUT, "clf_volume_create: out is NULL");
+    *out = nullptr;
+    return guarded([&] {
+        require(data != nullptr, "clf_volume_create: data is NULL");
+        auto v = std::make_unique<clf_volume>();
+        v->volume = Volume(Dims{nx, ny, nz}, to_value_type(type), "clf_volume_create");
+        std::memcpy(v->volume.data(), data, v->volume.size_bytes());
+        check_finite(v->volume, "clf_volume_create");
+        *out = v.release();
+    });
+}
+
+void clf_volume_destroy(clf_volume* volume) { delete volume; }
+
+void clf_volume_dims(const clf_volume* volume, size_t dims[3]) {
+    if (!volume || !dims) return;
+    dims[0] = volume->volume.dims().nx;
+    dims[1] = volume->volume.dims().ny;
+    dims[2] = volume->volume.dims().nz;
+}
+
+clf_type clf_volume_type(const clf_volume* volume) {
+    switch (volume->volume.type()) {
+    case ValueType::uint8: return CLF_UINT8;
+    case ValueType::uint16: return CLF_UINT16;
+    case ValueType::int16: return CLF_INT16;
+    default: return CLF_FLOAT32;
+    }
+}
+
+void clf_curve_options_default(clf_curve_options* options) {
+    if (!options) return;
+    *options = clf_curve_options{};
+    options->kind = CLF_BOX;
+    options->levels = 2;
+}
+
+clf_status clf_curve_compute(clf_context* ctx, const clf_volume* volume, const clf_curve_options* options,
+                             clf_curve** out) {
+    if (!out) return fail(CLF_ERROR_INPUT, "clf_curve_compute: out is NULL");
+    *out = nullptr;
+    return guarded([&] {
+        require(ctx && volume, "clf_curve_compute: context or volume is NULL");
+        clf_curve_options o;
+        clf_curve_options_default(&o);
+        if (options) o = *options;
+        require(o.kind == CLF_BOX || o.kind == CLF_EDGE, "clf_curve_compute: kind must be CLF_BOX or CLF_EDGE");
+        if (o.levels < 2 || o.levels > 16) throw InputError("levels " + std::to_string(o.levels) + ": must be 2..16");
+        const Volume& v = volume->volume;
+        IsovalueSet iso;
+        if (o.isovalues) {
+            require(!is_integer(v.type()), "isovalues: integer data uses every integer of its value range");
+            iso = IsovalueSet::floats(std::vector<float>(o.isovalues, o.isovalues + o.isovalue_count));
+        } else {
+            require(o.bins == 0 || !is_integer(v.type()), "bins: integer data uses every integer of its value range");
+            iso = IsovalueSet::for_volume(v, o.bins ? o.bins : 256);
+        }
+        const SpanKind kind = o.kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes;
+        SpanOptions opt{{kind}, o.levels, 0};
+        SpanResult spans = count_spans(*ctx->ctx, v, iso, opt);
+        auto c = std::make_unique<clf_curve>();
+        c->curve = fd_curve(*ctx->ctx, spans, kind);
+        *out = c.release();
+    });
+}
+
+void clf_curve_destroy(clf_curve* curve) { delete curve; }
+
+size_t clf_curve_size(const clf_curve* curve) { return curve ? curve->curve.fd.size() : 0; }
+
+int clf_curve_levels(const clf_curve* curve) { return curve ? curve->curve.levels() : 0; }
+
+double clf_curve_isovalue(const clf_curve* curve, size_t j) {
+    if (!curve || j >= curve->curve.fd.size()) return std::numeric_limits<double>::quiet_NaN();
+    return curve->curve.isovalues.value(j);
+}
+
+double clf_curve_dimension(const clf_curve* curve, size_t j) {
+    if (!curve || j >= curve->curve.fd.size()) return std::numeric_limits<double>::quiet_NaN();
+    return curve->curve.fd[j];
+}
+
+double clf_curve_dimension_fit(const clf_curve* curve, size_t j) {
+    if (!curve || j >= curve->curve.fd.size()) return std::numeric_limits<double>::quiet_NaN();
+    return curve->curve.levels() > 2 ? curve->curve.fd_fit[j] : curve->curve.fd[j];
+}
+
+uint64_t clf_curve_count(const clf_curve* curve, int level, size_t j) {
+    if (!curve || level < 0 || level >= curve->curve.levels() || j >= curve->curve.fd.size()) return 0;
+    return curve->curve.counts[std::size_t(level)][j];
+}
+
+void clf_curve_summary(const clf_curve* curve, uint64_t min_count, clf_summary* out) {
+    if (!curve || !out) return;
+    const FdSummary s = summarize(curve->curve.fd, curve->curve.counts[0], curve->curve.counts[1], min_count);
+    out->defined = s.defined;
+    out->mean = s.mean;
+    out->std = s.std;
+    out->weighted_mean = s.weighted_mean;
+    out->kappa = s.kappa;
+}
+
+clf_status clf_local_dimension(clf_context* ctx, const clf_volume* volume, double iso, int window, float* out) {
+    return guarded([&] {
+        require(ctx && volume && out, "clf_local_dimension: context, volume or out is NULL");
+        Volume ld = local_fractal_dimension(*ctx->ctx, volume->volume, iso, window);
+        std::memcpy(out, ld.data(), ld.size_bytes());
+    });
+}
+
+}  // extern "C"

@@ -1,0 +1,116 @@
+/* clfractal C ABI: the isosurface fractal dimension of 3D scalar grids from C (or any
+ * language with a C FFI).
+ *
+ * Conventions:
+ *  - Objects are opaque handles created by clf_*_create / clf_*_read / clf_*_compute and
+ *    released by the matching clf_*_destroy (which accepts NULL).
+ *  - Every function that can fail returns a clf_status; CLF_OK is 0. On failure the
+ *    thread's last-error message (clf_last_error) names the input and the problem, and
+ *    output handles are left NULL. No C++ exception crosses this boundary.
+ *  - Volumes are x fastest: value (x, y, z) sits at x + nx * (y + ny * z).
+ *  - Definitions (intersection a < s <= b, isovalue sets, subsampling, dimensions) are
+ *    those of the C++ library: see README.md and the headers in include/clfractal.
+ */
+#ifndef CLFRACTAL_H
+#define CLFRACTAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum clf_status {
+    CLF_OK = 0,
+    CLF_ERROR_INPUT = 1,         /* bad input: file, dimensions, NaN, argument */
+    CLF_ERROR_OUT_OF_MEMORY = 2, /* the device or the host is out of memory */
+    CLF_ERROR_DEVICE = 3,        /* an OpenCL failure (message carries the error name) */
+    CLF_ERROR_INTERNAL = 4       /* anything else */
+} clf_status;
+
+typedef enum clf_type { CLF_UINT8 = 0, CLF_UINT16 = 1, CLF_INT16 = 2, CLF_FLOAT32 = 3 } clf_type;
+
+/* Box dimension counts intersected cubes (eq. 2.5), edge dimension grid edges (eq. 3.1). */
+typedef enum clf_kind { CLF_BOX = 0, CLF_EDGE = 1 } clf_kind;
+
+typedef struct clf_context clf_context; /* an OpenCL device with its compiled kernels */
+typedef struct clf_volume clf_volume;   /* a host volume */
+typedef struct clf_curve clf_curve;     /* a fractal dimension curve over isovalues */
+
+/* Options of a curve. Zero-initialise and set what you need; clf_curve_options_default
+ * gives box dimension, 2 levels (eq. 2.5), default isovalues (every integer of the value
+ * range, or 256 uniform float values). */
+typedef struct clf_curve_options {
+    clf_kind kind;
+    int levels;              /* pyramid levels 0..levels-1, >= 2; 2 = the thesis' ratio */
+    size_t bins;             /* float data: number of uniform isovalues (0: 256) */
+    const float* isovalues;  /* float data: an explicit sorted list instead of bins */
+    size_t isovalue_count;
+} clf_curve_options;
+
+typedef struct clf_summary {
+    size_t defined;       /* isovalues where the dimension is defined (and counts >= min_count) */
+    double mean, std;     /* mean and population std of D(s) over them (NaN when none) */
+    double weighted_mean; /* mean weighted by the full-grid count */
+    double kappa;         /* growth exponent mean / 3 */
+} clf_summary;
+
+/* The library version, "MAJOR.MINOR.PATCH". */
+const char* clf_version(void);
+
+/* The message of the calling thread's last failure ("" if none). Valid until the next
+ * failing call on this thread. */
+const char* clf_last_error(void);
+
+/* ---- device context ---- */
+
+/* A context on the device whose platform or device name contains `device_filter`
+ * (case-insensitive); NULL or "" picks the default (environment CLFRACTAL_DEVICE /
+ * CLFRACTAL_DEVICE_TYPE, else the first GPU, else the first device). */
+clf_status clf_context_create(const char* device_filter, clf_context** out);
+void clf_context_destroy(clf_context* ctx);
+/* "platform / device", valid while the context lives. */
+const char* clf_context_description(const clf_context* ctx);
+
+/* ---- volumes ---- */
+
+/* Reads a .nrrd/.nhdr, a NAME_XxYxZ_TYPE.raw file or "synthetic:NAME[:N]". */
+clf_status clf_volume_read(const char* path, clf_volume** out);
+/* A volume holding a copy of `data` (nx * ny * nz values of `type`, x fastest). Float
+ * data containing NaN or Inf is rejected. */
+clf_status clf_volume_create(const void* data, size_t nx, size_t ny, size_t nz, clf_type type, clf_volume** out);
+void clf_volume_destroy(clf_volume* volume);
+void clf_volume_dims(const clf_volume* volume, size_t dims[3]);
+clf_type clf_volume_type(const clf_volume* volume);
+
+/* ---- fractal dimension curves ---- */
+
+void clf_curve_options_default(clf_curve_options* options);
+/* Counts every isovalue at once on the device and forms the curve. options may be NULL. */
+clf_status clf_curve_compute(clf_context* ctx, const clf_volume* volume, const clf_curve_options* options,
+                             clf_curve** out);
+void clf_curve_destroy(clf_curve* curve);
+size_t clf_curve_size(const clf_curve* curve);
+int clf_curve_levels(const clf_curve* curve);
+double clf_curve_isovalue(const clf_curve* curve, size_t j);
+/* D(s_j) from levels 0 and 1 (NaN where undefined). */
+double clf_curve_dimension(const clf_curve* curve, size_t j);
+/* The least-squares dimension over all levels (equals clf_curve_dimension for 2 levels). */
+double clf_curve_dimension_fit(const clf_curve* curve, size_t j);
+/* Intersected cubes (or edges) of level `level` at isovalue j. */
+uint64_t clf_curve_count(const clf_curve* curve, int level, size_t j);
+/* Summary over the isovalues where D is defined and the level-1 count is >= min_count. */
+void clf_curve_summary(const clf_curve* curve, uint64_t min_count, clf_summary* out);
+
+/* ---- local fractal dimension (eq. 2.6) ---- */
+
+/* Writes LD at every vertex for isovalue `iso` and even window `window` (8 is the
+ * thesis' choice) into `out` (nx * ny * nz floats, NaN where undefined). */
+clf_status clf_local_dimension(clf_context* ctx, const clf_volume* volume, double iso, int window, float* out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CLFRACTAL_H */

@@ -1,0 +1,172 @@
+// The C ABI (include/clfractal/clfractal.h) against the C++ library and the reference:
+// same curves, same LD field, status codes and last-error messages on bad input.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "clfractal/clfractal.h"
+#include "clfractal/fd.hpp"
+#include "clfractal/local.hpp"
+#include "reference/span_reference.hpp"
+#include "test_util.hpp"
+
+using namespace clfractal;
+
+namespace {
+
+clf_type c_type(ValueType t) {
+    switch (t) {
+    case ValueType::uint8: return CLF_UINT8;
+    case ValueType::uint16: return CLF_UINT16;
+    case ValueType::int16: return CLF_INT16;
+    default: return CLF_FLOAT32;
+    }
+}
+
+struct CContext {
+    clf_context* c = nullptr;
+    CContext() { REQUIRE(clf_context_create("", &c) == CLF_OK); }
+    ~CContext() { clf_context_destroy(c); }
+};
+
+bool same_double(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
+
+}  // namespace
+
+TEST_SUITE("capi") {
+
+TEST_CASE("curves through the C ABI equal the C++ library's and the reference counts") {
+    CContext cc;
+    CHECK(std::string(clf_context_description(cc.c)) == testutil::ctx().description());
+    std::uint32_t seed = 7;
+    for (ValueType t : {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32}) {
+        for (Dims d : {Dims{13, 7, 11}, Dims{2, 2, 2}, Dims{1, 5, 9}}) {
+            const bool unsigned_type = t == ValueType::uint8 || t == ValueType::uint16;
+            Volume v = testutil::random_volume(d, t, unsigned_type ? 0 : -40, 200, seed++);
+            clf_volume* cv = nullptr;
+            REQUIRE(clf_volume_create(v.data(), d.nx, d.ny, d.nz, c_type(t), &cv) == CLF_OK);
+            size_t dims[3];
+            clf_volume_dims(cv, dims);
+            CHECK((dims[0] == d.nx && dims[1] == d.ny && dims[2] == d.nz));
+            CHECK(clf_volume_type(cv) == c_type(t));
+            for (clf_kind kind : {CLF_BOX, CLF_EDGE})
+                for (int levels : {2, 3}) {
+                    CAPTURE(value_type_name(t)); CAPTURE(d.nx); CAPTURE(int(kind)); CAPTURE(levels);
+                    clf_curve_options o;
+                    clf_curve_options_default(&o);
+                    o.kind = kind;
+                    o.levels = levels;
+                    o.bins = is_integer(t) ? 0 : 40;
+                    clf_curve* curve = nullptr;
+                    REQUIRE(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_OK);
+                    const SpanKind k = kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes;
+                    IsovalueSet iso = IsovalueSet::for_volume(v, 40);
+                    FdCurve f = fd_curve(testutil::ctx(), count_spans(testutil::ctx(), v, iso, {{k}, levels, 0}), k);
+                    REQUIRE(clf_curve_size(curve) == iso.size());
+                    CHECK(clf_curve_levels(curve) == levels);
+                    bool all_equal = true;
+                    for (int l = 0; l < levels; ++l) {
+                        Volume lv = ref::level(v, l);
+                        auto expected = k == SpanKind::cubes ? ref::cubes_brute(lv, iso) : ref::edges_brute(lv, iso);
+                        for (std::size_t j = 0; j < iso.size(); ++j)
+                            all_equal &= clf_curve_count(curve, l, j) == expected[j];
+                    }
+                    for (std::size_t j = 0; j < iso.size(); ++j) {
+                        all_equal &= clf_curve_isovalue(curve, j) == iso.value(j);
+                        all_equal &= same_double(clf_curve_dimension(curve, j), f.fd[j]);
+                        all_equal &= same_double(clf_curve_dimension_fit(curve, j), levels > 2 ? f.fd_fit[j] : f.fd[j]);
+                    }
+                    CHECK(all_equal);
+                    clf_summary s;
+                    clf_curve_summary(curve, 3, &s);
+                    FdSummary e = summarize(f.fd, f.counts[0], f.counts[1], 3);
+                    CHECK(s.defined == e.defined);
+                    CHECK(same_double(s.mean, e.mean));
+                    CHECK(same_double(s.std, e.std));
+                    // Out-of-range queries are harmless.
+                    CHECK(std::isnan(clf_curve_dimension(curve, iso.size())));
+                    CHECK(clf_curve_count(curve, levels, 0) == 0);
+                    clf_curve_destroy(curve);
+                }
+            clf_volume_destroy(cv);
+        }
+    }
+}
+
+TEST_CASE("an explicit float isovalue list and the LD field through the C ABI") {
+    CContext cc;
+    Volume v = testutil::random_volume({12, 10, 9}, ValueType::float32, -20, 20, 3);
+    clf_volume* cv = nullptr;
+    REQUIRE(clf_volume_create(v.data(), 12, 10, 9, CLF_FLOAT32, &cv) == CLF_OK);
+    const std::vector<float> list{-5.f, -0.5f, 0.f, 2.5f, 7.f};
+    clf_curve_options o;
+    clf_curve_options_default(&o);
+    o.isovalues = list.data();
+    o.isovalue_count = list.size();
+    clf_curve* curve = nullptr;
+    REQUIRE(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_OK);
+    IsovalueSet iso = IsovalueSet::floats(list);
+    auto expected = ref::cubes_brute(v, iso);
+    REQUIRE(clf_curve_size(curve) == list.size());
+    for (std::size_t j = 0; j < list.size(); ++j) CHECK(clf_curve_count(curve, 0, j) == expected[j]);
+    clf_curve_destroy(curve);
+
+    std::vector<float> ld(v.vertices());
+    REQUIRE(clf_local_dimension(cc.c, cv, 0.25, 4, ld.data()) == CLF_OK);
+    Volume expect = local_fractal_dimension(testutil::ctx(), v, 0.25, 4);
+    CHECK(std::memcmp(ld.data(), expect.data(), expect.size_bytes()) == 0);
+    clf_volume_destroy(cv);
+}
+
+TEST_CASE("bad input through the C ABI: a status, a message, NULL handles, no exception") {
+    CContext cc;
+    clf_volume* cv = reinterpret_cast<clf_volume*>(1);
+    CHECK(clf_volume_read("/nonexistent/volume.nrrd", &cv) == CLF_ERROR_INPUT);
+    CHECK(cv == nullptr);
+    CHECK(std::string(clf_last_error()).find("/nonexistent/volume.nrrd") != std::string::npos);
+
+    float nan_data[8] = {0, 1, 2, 3, 4, 5, 6, std::numeric_limits<float>::quiet_NaN()};
+    CHECK(clf_volume_create(nan_data, 2, 2, 2, CLF_FLOAT32, &cv) == CLF_ERROR_INPUT);
+    CHECK(cv == nullptr);
+    CHECK(std::string(clf_last_error()).find("NaN") != std::string::npos);
+    CHECK(clf_volume_create(nan_data, 2, 2, 2, clf_type(9), &cv) == CLF_ERROR_INPUT);
+    CHECK(clf_volume_create(nullptr, 2, 2, 2, CLF_UINT8, &cv) == CLF_ERROR_INPUT);
+    CHECK(clf_volume_create(nan_data, 0, 2, 2, CLF_UINT8, &cv) == CLF_ERROR_INPUT);
+    CHECK(clf_volume_create(nan_data, std::size_t(1) << 30, std::size_t(1) << 30, 4, CLF_UINT8, &cv) ==
+          CLF_ERROR_INPUT);
+    CHECK(cv == nullptr);
+
+    unsigned char bytes[8] = {0, 10, 20, 30, 40, 50, 60, 70};
+    REQUIRE(clf_volume_create(bytes, 2, 2, 2, CLF_UINT8, &cv) == CLF_OK);
+    clf_curve_options o;
+    clf_curve_options_default(&o);
+    clf_curve* curve = reinterpret_cast<clf_curve*>(1);
+    o.levels = 1;
+    CHECK(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_ERROR_INPUT);
+    CHECK(curve == nullptr);
+    CHECK(std::string(clf_last_error()).find("levels") != std::string::npos);
+    o.levels = 2;
+    o.bins = 16;
+    CHECK(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_ERROR_INPUT);
+    CHECK(clf_curve_compute(nullptr, cv, nullptr, &curve) == CLF_ERROR_INPUT);
+    CHECK(clf_curve_compute(cc.c, cv, nullptr, nullptr) == CLF_ERROR_INPUT);
+    float ld[8];
+    CHECK(clf_local_dimension(cc.c, cv, 35, 3, ld) == CLF_ERROR_INPUT);  // odd window
+    CHECK(clf_context_create("no such device anywhere", nullptr) == CLF_ERROR_INPUT);
+    clf_context* none = reinterpret_cast<clf_context*>(1);
+    CHECK(clf_context_create("no such device anywhere", &none) == CLF_ERROR_INPUT);
+    CHECK(none == nullptr);
+    CHECK(std::string(clf_last_error()).find("no such device anywhere") != std::string::npos);
+    clf_volume_destroy(cv);
+    // Destroying NULL is allowed.
+    clf_volume_destroy(nullptr);
+    clf_curve_destroy(nullptr);
+    clf_context_destroy(nullptr);
+    CHECK(std::string(clf_version()) == "0.1.0");
+}
+
+}  // TEST_SUITE

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The installed package: `cmake --install` into a fresh prefix, then the examples built
+# outside the tree against it, once with find_package(clfractal) and once with pkg-config,
+# and run.
+# Usage: install_test.sh BUILD_DIR SOURCE_DIR WORKDIR
+set -eu
+build=$1
+src=$2
+work=$3
+rm -rf "$work" && mkdir -p "$work"
+prefix=$work/prefix
+cmake --install "$build" --prefix "$prefix" >/dev/null
+for f in include/clfractal/clfractal.h include/clfractal/span.hpp bin/clfractal; do
+  [ -e "$prefix/$f" ] || { echo "FAIL: $f not installed"; exit 1; }
+done
+libdir=$(dirname "$(find "$prefix" -name 'libclfractal.so' | head -1)")
+[ -n "$libdir" ] || { echo "FAIL: libclfractal.so not installed"; exit 1; }
+[ -f "$libdir/cmake/clfractal/clfractalConfig.cmake" ] || { echo "FAIL: no CMake package config"; exit 1; }
+[ -f "$libdir/pkgconfig/clfractal.pc" ] || { echo "FAIL: no pkg-config file"; exit 1; }
+# Nothing of the build or source tree may leak into the installed package.
+if grep -rqs -- "$src\|$build" "$libdir/cmake" "$libdir/pkgconfig"; then
+  echo "FAIL: the installed package refers to the build or source tree"; exit 1
+fi
+
+# 1. find_package(clfractal): the examples directory as a project of its own.
+cmake -S "$src/examples" -B "$work/examples-build" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work/examples-build" -j2 >/dev/null
+"$work/examples-build/example_c_api" | grep -q "mean" || { echo "FAIL: example_c_api (find_package)"; exit 1; }
+
+# 2. pkg-config: a C compiler and nothing else.
+export PKG_CONFIG_PATH=$libdir/pkgconfig
+cc -o "$work/c_api_pc" "$src/examples/c_api.c" $(pkg-config --cflags --libs clfractal) -lm
+LD_LIBRARY_PATH=$libdir "$work/c_api_pc" | grep -q "mean" || { echo "FAIL: example_c_api (pkg-config)"; exit 1; }
+echo "install test: passed ($prefix)"

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# clfractal-mpi with 2 and 3 ranks gives exactly the single-process `clfractal fd` CSV.
+# Usage: mpi_test.sh MPIEXEC CLFRACTAL_MPI CLFRACTAL WORKDIR [SHARED_DATA]
+set -u
+mpiexec=$1
+mpi=$2
+bin=$3
+work=$4
+data=${5:-}
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+failures=0
+check() {  # check NP ARGS...: the CSVs of NP ranks and of one process are identical
+  local np=$1
+  shift
+  if ! "$mpiexec" --allow-run-as-root --oversubscribe -np "$np" "$mpi" "$@" --csv mpi.csv >mpi.out 2>&1; then
+    echo "FAIL: mpirun -np $np $*: $(cat mpi.out)"; failures=$((failures + 1)); return
+  fi
+  "$bin" -q fd "$@" --csv one.csv >/dev/null
+  if ! cmp -s mpi.csv one.csv; then
+    echo "FAIL: -np $np $* differs from one process"; diff mpi.csv one.csv | head -5; failures=$((failures + 1))
+  else
+    echo "ok: -np $np $*"
+  fi
+}
+check 2 synthetic:noisy-sphere:48
+check 3 synthetic:noisy-sphere:37 --edge --levels 3
+check 2 synthetic:marschner-lobb:41 --levels 3
+check 3 synthetic:torus:5
+if [ -n "$data" ] && [ -f "$data/MANIFEST.tsv" ]; then
+  check 2 "$data/fuel_cropped_64x33x32_uint8.raw" --edge
+  check 2 "$data/hydrogen_3d_orbital_64x64x64_float32.raw" --levels 3
+  check 3 "$(ls "$data"/*_uint16.raw | head -1)" --levels 3
+else
+  echo "no shared data: real volumes skipped"
+fi
+# Bad input: exit 2 with one error line, from rank 0 only.
+"$mpiexec" --allow-run-as-root --oversubscribe -np 2 "$mpi" /nonexistent.nrrd >err.out 2>&1
+rc=$?
+if [ "$rc" -ne 2 ] || [ "$(grep -c 'clfractal-mpi: error: /nonexistent.nrrd' err.out)" -ne 1 ]; then
+  echo "FAIL: bad input: exit $rc: $(cat err.out)"; failures=$((failures + 1))
+fi
+[ "$failures" -eq 0 ]

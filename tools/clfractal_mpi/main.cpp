@@ -1,0 +1,189 @@
+// clfractal-mpi: the fractal dimension curve of one volume counted by several MPI ranks
+// (DESIGN §6). Each rank owns a z-part of the volume (starting at a multiple of
+// 2^(levels-1), sharing its last slice with the next part), counts it on its own device,
+// and the int64 histograms are summed on rank 0 with MPI_Reduce: the curve equals the
+// single-process `clfractal fd` exactly.
+//
+//   mpirun -np P clfractal-mpi VOLUME [--edge] [--levels L] [--isovalues A:B:S | --bins K] [--csv F] [--json F]
+#include <mpi.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "cli.hpp"
+#include "clfractal/fd.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/volume_io.hpp"
+#include "output.hpp"
+
+using namespace clfractal;
+
+namespace {
+
+struct Args {
+    std::string volume, csv, json_path, isovalues;
+    bool edge = false;
+    int levels = 2;
+    std::size_t bins = 0;
+    cli::RawArgs raw;
+};
+
+// The part of `v` between slices z0 and z1 - 1 (a copy), for ranks that read a whole file.
+Volume slices_of(const Volume& v, std::size_t z0, std::size_t z1) {
+    Volume part(Dims{v.dims().nx, v.dims().ny, z1 - z0}, v.type(), v.name);
+    const std::size_t slice = v.dims().nx * v.dims().ny * value_size(v.type());
+    std::memcpy(part.data(), static_cast<const unsigned char*>(v.data()) + z0 * slice, (z1 - z0) * slice);
+    return part;
+}
+
+int run(const Args& a, int rank, int size) {
+    Volume v = read_volume(a.volume, a.raw.options());
+    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
+    if (a.bins && is_integer(v.type()))
+        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    const auto parts = split_slices(v.dims().nz, a.levels, std::size_t(size));
+    const bool has_part = std::size_t(rank) < parts.size();
+
+    // The isovalue set needs the global value range: each rank takes its part's, reduced.
+    double lo = INFINITY, hi = -INFINITY;
+    if (has_part) {
+        ValueRange r = value_range(slices_of(v, parts[rank].first, parts[rank].second));
+        lo = r.min;
+        hi = r.max;
+    }
+    double local[2] = {-lo, hi}, global[2];
+    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    IsovalueSet iso;
+    if (!a.isovalues.empty()) iso = IsovalueSet::parse_range(a.isovalues, v.type());
+    else if (is_integer(v.type())) iso = IsovalueSet::integers(std::int64_t(-global[0]), std::int64_t(global[1]));
+    else iso = IsovalueSet::uniform(-global[0], global[1], a.bins ? a.bins : 256);
+
+    const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
+    Context& ctx = Context::shared();
+    std::vector<std::uint64_t> counts(std::size_t(a.levels) * iso.size(), 0);
+    SpanResult spans;
+    double seconds = 0;
+    if (has_part) {
+        SpanOptions opt{{kind}, a.levels, 0};
+        opt.z_begin = parts[rank].first;
+        opt.z_end = parts[rank].second;
+        spans = count_spans(ctx, v, iso, opt);
+        seconds = spans.seconds;
+        for (int l = 0; l < a.levels; ++l)
+            std::copy(spans.curves[0].counts[l].begin(), spans.curves[0].counts[l].end(),
+                      counts.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()));
+    }
+    std::vector<std::uint64_t> total(counts.size());
+    MPI_Reduce(counts.data(), total.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    double slowest = 0;
+    MPI_Reduce(&seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    if (rank != 0) return 0;
+
+    // Rank 0 forms the curve from the summed counts.
+    SpanResult sum;
+    sum.isovalues = iso;
+    SpanCurves c;
+    c.kind = kind;
+    for (int l = 0; l < a.levels; ++l) {
+        c.level_dims.push_back(level_dims(v.dims(), l));
+        c.counts.emplace_back(total.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()),
+                              total.begin() + std::ptrdiff_t(std::size_t(l + 1) * iso.size()));
+    }
+    sum.curves.push_back(c);
+    FdCurve f = fd_curve(ctx, sum, kind);
+    FdSummary s = summarize(f.fd, f.counts[0], f.counts[1]);
+    std::cout << std::fixed << std::setprecision(4) << "volume      " << a.volume << "  " << dims_string(v.dims())
+              << " " << value_type_name(v.type()) << "\n"
+              << "ranks       " << size << " (" << parts.size() << " with a z-part), device of rank 0: "
+              << ctx.description() << "\n"
+              << "dimension   fractal " << (a.edge ? "edge" : "box") << " span dimension, levels 0.."
+              << a.levels - 1 << "\n"
+              << "isovalues   " << iso.size() << ", defined at " << s.defined << "\n";
+    if (s.defined) std::cout << "mean FD     " << s.mean << "  std " << s.std << "\n";
+    std::cout << std::defaultfloat << "time        " << slowest << " s counting (slowest rank)\n";
+
+    if (!a.csv.empty()) {
+        std::ostringstream out;
+        out << "isovalue,count,count_sub,fd";
+        for (int l = 2; l < a.levels; ++l) out << ",count_l" << l;
+        if (a.levels > 2) out << ",fd_fit";
+        out << "\n";
+        for (std::size_t j = 0; j < iso.size(); ++j) {
+            out << cli::iso_string(iso, j) << "," << f.counts[0][j] << "," << f.counts[1][j] << ","
+                << cli::fd_string(f.fd[j]);
+            for (int l = 2; l < a.levels; ++l) out << "," << f.counts[l][j];
+            if (a.levels > 2) out << "," << cli::fd_string(f.fd_fit[j]);
+            out << "\n";
+        }
+        write_file_atomic(a.csv, out.str());
+    }
+    if (!a.json_path.empty()) {
+        nlohmann::json j;
+        j["volume"] = a.volume;
+        j["ranks"] = size;
+        j["parts"] = parts;
+        j["mean_fd"] = cli::fd_json(s.mean);
+        j["std_fd"] = cli::fd_json(s.std);
+        j["isovalues_defined"] = s.defined;
+        j["seconds_compute_slowest_rank"] = slowest;
+        write_file_atomic(a.json_path, j.dump(1) + "\n");
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    MPI_Init(&argc, &argv);
+    int rank = 0, size = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    cli::quiet = true;
+
+    CLI::App app{"clfractal-mpi: the fractal dimension curve of a volume, z-parts counted by MPI ranks"};
+    Args a;
+    app.add_option("VOLUME", a.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
+    app.add_flag("--edge", a.edge, "edge span dimension (eq. 3.1) instead of box (eq. 2.5)");
+    app.add_option("--levels", a.levels, "pyramid levels (2 = eq. 2.5)");
+    app.add_option("--isovalues", a.isovalues, "isovalues A:B:STEP");
+    app.add_option("--bins", a.bins, "number of uniform isovalues for float data (default 256)");
+    app.add_option("--csv", a.csv, "write isovalue,count,count_sub,fd (as clfractal fd --csv)");
+    app.add_option("--json", a.json_path, "write the summary as JSON");
+    a.raw.add(&app);
+    app.set_version_flag("--version", "clfractal-mpi 0.1.0");
+
+    int code = 0;
+    try {
+        app.parse(argc, argv);
+        code = run(a, rank, size);
+    } catch (const CLI::CallForHelp& e) {
+        if (rank == 0) app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        if (rank == 0) app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        if (rank == 0) std::cerr << "clfractal-mpi: error: " << e.what() << " (see clfractal-mpi --help)\n";
+        code = 2;
+    } catch (const InputError& e) {
+        if (rank == 0) std::cerr << "clfractal-mpi: error: " << e.what() << "\n";
+        code = 2;
+    } catch (const DeviceError& e) {
+        std::cerr << "clfractal-mpi: error (rank " << rank << "): " << e.what() << "\n";
+        code = e.out_of_memory() ? 2 : 1;
+    } catch (const std::exception& e) {
+        std::cerr << "clfractal-mpi: error (rank " << rank << "): " << e.what() << "\n";
+        code = 1;
+    }
+    // A rank that failed after the others entered a collective would leave them waiting:
+    // abort the job with the failure's exit code.
+    if (code != 0 && code != 2) MPI_Abort(MPI_COMM_WORLD, code);
+    MPI_Finalize();
+    return code;
+}
