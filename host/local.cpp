@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <type_traits>
@@ -236,8 +237,58 @@ Buffer<float> local_fractal_dimension(Context& ctx, const Buffer<unsigned char>&
     return ld;
 }
 
+namespace {
+
+// Device bytes per vertex of an in-core run: the values, the field, the table (64-bit
+// when the grid may need it) and the subsampled values and table (an eighth).
+std::size_t local_bytes_per_vertex(ValueType type) { return value_size(type) * 9 / 8 + 4 + 8 * 9 / 8 + 1; }
+
+// Whether a grid of `d` must be split into z-slabs: its tables or field exceed the
+// device's largest allocation, the whole run a third of its memory, or its values the
+// slab limit Tuning::slab_bytes (which tests lower to force slabs).
+bool needs_slabs(const Context& ctx, const Dims& d, ValueType type) {
+    const std::size_t c = d.cubes() > ctx.tuning.sat_max_32bit ? 8 : 4;
+    if (d.vertices() * c > ctx.max_alloc() || d.vertices() * sizeof(float) > ctx.max_alloc()) return true;
+    if (d.vertices() * local_bytes_per_vertex(type) > ctx.global_mem() / 3) return true;
+    return ctx.tuning.slab_bytes && d.vertices() * value_size(type) > ctx.tuning.slab_bytes;
+}
+
+Volume local_in_core(Context& ctx, const Volume& v, double iso, int window);
+
+// Out of core: output slices [a, b) from the input slab [lo, hi) with lo = a - k/2 rounded
+// down to even (so the slab's level-1 slices are the volume's) and hi = b + k/2: every
+// window of those slices lies inside the slab, or meets the volume's ends where the slab
+// ends too, so each slab gives exactly the whole-volume values.
+Volume local_in_slabs(Context& ctx, const Volume& v, double iso, int window) {
+    const Dims d = v.dims();
+    const std::size_t half = std::size_t(window / 2), plane = d.nx * d.ny, slice_bytes = plane * value_size(v.type());
+    // The deepest output slab whose input slab (up to depth + k + 1 slices) fits.
+    std::size_t depth = 1;
+    while (depth < d.nz && !needs_slabs(ctx, Dims{d.nx, d.ny, 2 * depth + window + 1}, v.type())) depth *= 2;
+    Volume out(d, ValueType::float32, v.name);
+    out.spacing = v.spacing;
+    for (std::size_t a = 0; a < d.nz; a += depth) {
+        const std::size_t b = std::min(d.nz, a + depth);
+        const std::size_t lo = a > half ? (a - half) & ~std::size_t(1) : 0, hi = std::min(d.nz, b + half);
+        Volume slab(Dims{d.nx, d.ny, hi - lo}, v.type());
+        std::memcpy(slab.data(), static_cast<const unsigned char*>(v.data()) + lo * slice_bytes, slab.size_bytes());
+        const Volume f = local_in_core(ctx, slab, iso, window);
+        std::memcpy(out.as<float>() + a * plane, f.as<float>() + (a - lo) * plane, (b - a) * plane * sizeof(float));
+    }
+    return out;
+}
+
+}  // namespace
+
 Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int window) {
     check_arguments(iso, window);
+    if (v.dims().nz > 1 && needs_slabs(ctx, v.dims(), v.type())) return local_in_slabs(ctx, v, iso, window);
+    return local_in_core(ctx, v, iso, window);
+}
+
+namespace {
+
+Volume local_in_core(Context& ctx, const Volume& v, double iso, int window) {
     Volume out(v.dims(), ValueType::float32, v.name);
     out.spacing = v.spacing;
     if (!ctx.tuning.zero_copy) {
@@ -269,6 +320,8 @@ Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int wi
     }
     return out;
 }
+
+}  // namespace
 
 Volume local_fractal_dimension_openmp(const Volume& v, double iso, int window) {
     check_arguments(iso, window);

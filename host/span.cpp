@@ -320,6 +320,10 @@ struct SpanCounter::Impl {
 
     SpanResult finish() {
         if (!done) throw std::logic_error("SpanCounter::finish: not every slab was added");
+        return snapshot();
+    }
+
+    SpanResult snapshot() {
         auto t0 = std::chrono::steady_clock::now();
         SpanResult r;
         r.isovalues = iso;
@@ -351,6 +355,7 @@ SpanCounter::SpanCounter(Context& ctx, const IsovalueSet& iso, ValueType type, c
 SpanCounter::~SpanCounter() { delete impl_; }
 void SpanCounter::add_slab(const void* data, std::size_t z0, std::size_t nzs) { impl_->add_slab(data, z0, nzs); }
 SpanResult SpanCounter::finish() { return impl_->finish(); }
+SpanResult SpanCounter::snapshot() { return impl_->snapshot(); }
 std::size_t SpanCounter::slab_slices() const { return impl_->max_slices; }
 
 std::vector<std::pair<std::size_t, std::size_t>> split_slices(std::size_t nz, int levels, std::size_t parts) {

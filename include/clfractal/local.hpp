@@ -27,8 +27,10 @@ namespace clfractal {
 /// ctx.tuning.sat_max_32bit (2^32 - 1) cubes, else 64-bit; the kernels follow
 /// ctx.tuning.local_variant and sat_variant; with ctx.tuning.zero_copy (CPU devices) the
 /// volume is read and the field written in place in host memory. The device holds the
-/// values, the field and both tables at once (no z-slabs yet): a table larger than the
-/// device's largest allocation is an InputError.
+/// values, the field and both tables of one z-slab at once: a volume whose tables exceed
+/// the device's largest allocation, or whose run exceeds a third of its memory, or whose
+/// values exceed ctx.tuning.slab_bytes (tests force tiny slabs this way), is processed in
+/// z-slabs with a halo of k/2 slices, with results identical to the in-core run.
 Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int window = 8);
 
 /// The same for values already on the device (`values` holds dims.vertices() values of

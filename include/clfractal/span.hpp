@@ -94,6 +94,10 @@ public:
     void add_slab(const void* data, std::size_t z0, std::size_t nzs);
     /// Downloads the histograms and forms the prefix sums. Call after the last slab.
     SpanResult finish();
+    /// The counts of the slabs added so far, without requiring the last one (the slab
+    /// seen last counted as an inner slab: its last slice's x/y edges are not in it).
+    /// level_dims are those of the whole volume given to the constructor.
+    SpanResult snapshot();
 
     /// The slab depth (in slices, including the shared last slice) this counter uses.
     std::size_t slab_slices() const;

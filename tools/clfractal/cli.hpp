@@ -42,6 +42,17 @@ struct Command {
 };
 using Commands = std::vector<Command>;
 
+/// The span counts of one kind of a volume file read slice by slice (fd --stream), with
+/// the isovalues given (A:B:STEP), or the default set from a first pass over the file.
+struct StreamedSpans {
+    clfractal::Dims dims;
+    clfractal::ValueType type;
+    clfractal::SpanResult spans;
+    std::string method;  ///< how the file was read: mmap, gzip, memory
+};
+StreamedSpans stream_spans(const std::string& volume, const clfractal::RawOptions& raw, const std::string& isovalues,
+                           std::size_t bins, int levels, clfractal::SpanKind kind);
+
 // Subcommands defined in their own files (cmd_*.cpp). Each adds itself to `app` and
 // appends what to run; its options live in heap state owned by the closure.
 }  // namespace cli

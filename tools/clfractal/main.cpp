@@ -101,6 +101,7 @@ struct FdArgs {
     std::size_t bins = 0;
     std::uint64_t min_count = 0;
     std::size_t slab = 0;
+    bool stream = false;
     RawArgs raw;
 };
 
@@ -119,18 +120,28 @@ void write_fd_plot(const FdCurve& f, const std::string& title, const std::string
 }
 
 int cmd_fd(const FdArgs& a) {
-    Volume v = read_volume(a.volume, a.raw.options());
-    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
-    if (a.bins && is_integer(v.type()))
-        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
-    IsovalueSet iso = !a.isovalues.empty() ? IsovalueSet::parse_range(a.isovalues, v.type())
-                                           : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
-    Context& ctx = Context::shared();
-    progress("counting " + std::to_string(iso.size()) + " isovalues of " + dims_string(v.dims()) + " " +
-             value_type_name(v.type()) + " on " + ctx.description());
+    if (a.stream) {
+        if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
+        if (a.slab) throw InputError("--slab: not with --stream (the stream counts a few slices at a time)");
+    }
     const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
+    StreamedSpans streamed = a.stream ? stream_spans(a.volume, a.raw.options(), a.isovalues, a.bins, a.levels, kind)
+                                      : StreamedSpans{};
+    Volume v = a.stream ? Volume() : read_volume(a.volume, a.raw.options());
+    const Dims dims = a.stream ? streamed.dims : v.dims();
+    const ValueType type = a.stream ? streamed.type : v.type();
+    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
+    if (a.bins && is_integer(type))
+        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    IsovalueSet iso = a.stream ? streamed.spans.isovalues
+                      : !a.isovalues.empty() ? IsovalueSet::parse_range(a.isovalues, type)
+                                             : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
+    Context& ctx = Context::shared();
+    if (!a.stream)
+        progress("counting " + std::to_string(iso.size()) + " isovalues of " + dims_string(dims) + " " +
+                 value_type_name(type) + " on " + ctx.description());
     SpanOptions opt{{kind}, a.levels, a.slab};
-    SpanResult spans = count_spans(ctx, v, iso, opt);
+    SpanResult spans = a.stream ? std::move(streamed.spans) : count_spans(ctx, v, iso, opt);
     FdCurve f = fd_curve(ctx, spans, kind);
     FdSummary s = summarize(f.fd, f.counts[0], f.counts[1], a.min_count);
 
@@ -149,7 +160,7 @@ int cmd_fd(const FdArgs& a) {
 
     const char* kind_name = a.edge ? "edge" : "box";
     std::cout << std::fixed << std::setprecision(4);
-    std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
+    std::cout << "volume      " << a.volume << "  " << dims_string(dims) << " " << value_type_name(type) << "\n"
               << "device      " << ctx.description() << "\n"
               << "dimension   fractal " << kind_name << " span dimension, levels 0.." << a.levels - 1 << "\n"
               << "isovalues   " << iso.size() << " (" << iso_string(iso, 0) << " .. "
@@ -165,7 +176,8 @@ int cmd_fd(const FdArgs& a) {
         std::cout << "mean FD     n/a (no isovalue intersects both grids)\n";
     }
     std::cout << std::defaultfloat << std::setprecision(4) << "time        " << spans.seconds << " s counting ("
-              << spans.slabs << " slab" << (spans.slabs > 1 ? "s" : "") << "), kernels compiled in "
+              << (a.stream ? "streamed, " + streamed.method + ", " : "") << spans.slabs << " slab"
+              << (spans.slabs > 1 ? "s" : "") << "), kernels compiled in "
               << ctx.compile_seconds() << " s\n";
 
     if (!a.csv.empty()) {
@@ -185,8 +197,8 @@ int cmd_fd(const FdArgs& a) {
     if (!a.json_path.empty()) {
         json j;
         j["volume"] = a.volume;
-        j["dims"] = {v.dims().nx, v.dims().ny, v.dims().nz};
-        j["type"] = value_type_name(v.type());
+        j["dims"] = {dims.nx, dims.ny, dims.nz};
+        j["type"] = value_type_name(type);
         j["kind"] = kind_name;
         j["levels"] = a.levels;
         j["min_count"] = a.min_count;
@@ -423,6 +435,7 @@ int main(int argc, char** argv) {
     fd->add_option("--json", fa.json_path, "write the summary and curve as JSON");
     fd->add_option("--plot", fa.plot, "draw the curve to a PNG with gnuplot");
     fd->add_option("--slab", fa.slab, "process z-slabs of at most this many slices (default: from device memory)");
+    fd->add_flag("--stream", fa.stream, "read the file slice by slice (memory: a few slices; same numbers)");
     fa.raw.add(fd);
 
     auto* local = app.add_subcommand("local", "local fractal dimension field (eq. 2.6) for one isovalue, as NRRD");

@@ -1,0 +1,325 @@
+// Slice-by-slice readers (DESIGN §6): memory maps for raw data, zlib for gzip data.
+#include "clfractal/slice_reader.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <teem/nrrd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace clfractal {
+
+namespace {
+
+constexpr bool host_big_endian = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
+
+void swap_bytes(unsigned char* p, std::size_t n, std::size_t size) {
+    if (size == 1) return;
+    for (std::size_t i = 0; i < n; ++i, p += size) std::reverse(p, p + size);
+}
+
+bool has_extension(const std::string& path, const char* a, const char* b) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == a || ext == b;
+}
+
+// Byte offset just past the blank line that ends an attached NRRD header.
+std::size_t attached_data_offset(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    std::size_t offset = 0;
+    while (std::getline(in, line)) {
+        offset += line.size() + 1;
+        if (line.empty() || line == "\r") return offset;
+    }
+    throw InputError(path + ": NRRD header has no blank line before the data");
+}
+
+}  // namespace
+
+struct SliceReader::Impl {
+    std::string spec;
+    Dims dims;
+    ValueType type = ValueType::uint8;
+    std::array<double, 3> spacing{1.0, 1.0, 1.0};
+    std::string method = "memory";
+    std::size_t file_value_size = 0;  // bytes per value in the file (8 for float64 NRRD)
+    bool swap = false;
+    std::string data_path;
+    std::size_t data_offset = 0;
+    std::size_t next = 0;
+
+    int fd = -1;         // mmap
+    gzFile gz = nullptr; // gzip
+    Volume whole;        // memory
+    std::vector<unsigned char> staging;  // float64 values before conversion
+
+    std::size_t slice_values() const { return dims.nx * dims.ny; }
+    std::size_t slice_bytes() const { return slice_values() * value_size(type); }
+
+    Impl(const std::string& s, const RawOptions& raw) : spec(s) {
+        const std::string synthetic_prefix = "synthetic:";
+        if (spec.compare(0, synthetic_prefix.size(), synthetic_prefix) == 0) {
+            read_whole(raw);
+            return;
+        }
+        std::error_code ec;
+        if (!fs::exists(spec, ec)) throw InputError(spec + ": no such file");
+        if (!fs::is_regular_file(spec, ec)) throw InputError(spec + ": not a regular file");
+        if (has_extension(spec, ".nrrd", ".nhdr")) open_nrrd(raw);
+        else open_raw(raw);
+        open();
+    }
+
+    ~Impl() { close(); }
+
+    void read_whole(const RawOptions& raw) {
+        whole = read_volume(spec, raw);
+        dims = whole.dims();
+        type = whole.type();
+        spacing = whole.spacing;
+        method = "memory";
+    }
+
+    void open_raw(const RawOptions& raw) {
+        std::optional<Dims> d = raw.dims;
+        std::optional<ValueType> t = raw.type;
+        if (!d || !t) {
+            Dims name_dims;
+            ValueType name_type;
+            if (!parse_raw_name(spec, name_dims, name_type)) return read_whole(raw);  // read_raw's messages
+            if (!d) d = name_dims;
+            if (!t) t = name_type;
+        }
+        check_dims(*d, spec);
+        dims = *d;
+        type = *t;
+        file_value_size = value_size(type);
+        const std::uintmax_t expected = dims.vertices() * file_value_size;
+        const std::uintmax_t found = fs::file_size(spec);
+        if (found != expected)
+            throw InputError(spec + (found < expected ? ": truncated" : ": too long") + ": expected " +
+                             std::to_string(expected) + " bytes (" + dims_string(dims) + " " + value_type_name(type) +
+                             "), found " + std::to_string(found));
+        swap = raw.big_endian != host_big_endian;
+        data_path = spec;
+        method = "mmap";
+    }
+
+    void open_nrrd(const RawOptions& raw) {
+        Nrrd* header = nrrdNew();
+        NrrdIoState* nio = nrrdIoStateNew();
+        nio->skipData = AIR_TRUE;
+        struct Free {
+            Nrrd* h;
+            NrrdIoState* n;
+            ~Free() {
+                nrrdNuke(h);
+                nrrdIoStateNix(n);
+            }
+        } free_later{header, nio};
+        if (nrrdLoad(header, spec.c_str(), nio)) {
+            char* err = biffGetDone(NRRD);
+            std::free(err);
+            return read_whole(raw);  // read_nrrd words the message
+        }
+        const bool simple = header->dim == 3 && nio->lineSkip == 0 && nio->byteSkip == 0 && !nio->dataFSkip &&
+                            nio->dataFNArr->len <= 1 &&
+                            (nio->encoding == nrrdEncodingRaw || nio->encoding == nrrdEncodingGzip) &&
+                            (header->type == nrrdTypeUChar || header->type == nrrdTypeUShort ||
+                             header->type == nrrdTypeShort || header->type == nrrdTypeFloat ||
+                             header->type == nrrdTypeDouble);
+        if (!simple) return read_whole(raw);
+        dims = Dims{header->axis[0].size, header->axis[1].size, header->axis[2].size};
+        check_dims(dims, spec);
+        switch (header->type) {
+        case nrrdTypeUChar: type = ValueType::uint8; break;
+        case nrrdTypeUShort: type = ValueType::uint16; break;
+        case nrrdTypeShort: type = ValueType::int16; break;
+        default: type = ValueType::float32;
+        }
+        file_value_size = header->type == nrrdTypeDouble ? 8 : value_size(type);
+        for (unsigned a = 0; a < 3; ++a) {
+            double sp = 1.0, dir[NRRD_SPACE_DIM_MAX];
+            const int status = nrrdSpacingCalculate(header, a, &sp, dir);
+            sp = std::fabs(sp);
+            if ((status == nrrdSpacingStatusScalarNoSpace || status == nrrdSpacingStatusScalarWithSpace ||
+                 status == nrrdSpacingStatusDirection) &&
+                std::isfinite(sp) && sp > 0)
+                spacing[a] = sp;
+        }
+        swap = file_value_size > 1 && (nio->endian == airEndianBig) != host_big_endian;
+        if (nio->dataFNArr->len == 1) {
+            fs::path p(nio->dataFN[0]);
+            if (p.is_relative() && nio->path) p = fs::path(nio->path) / p;
+            data_path = p.string();
+            data_offset = 0;
+        } else {
+            data_path = spec;
+            data_offset = attached_data_offset(spec);
+        }
+        if (nio->encoding == nrrdEncodingGzip) {
+            method = "gzip";
+        } else {
+            method = "mmap";
+            const std::uintmax_t expected = dims.vertices() * file_value_size;
+            std::error_code ec;
+            const std::uintmax_t found = fs::file_size(data_path, ec);
+            if (ec) throw InputError(data_path + ": cannot read: " + ec.message());
+            if (found < data_offset + expected)
+                throw InputError(spec + ": truncated: expected " + std::to_string(expected) + " bytes of data (" +
+                                 dims_string(dims) + "), found " + std::to_string(found - std::min(found, std::uintmax_t(data_offset))));
+        }
+    }
+
+    void open() {
+        next = 0;
+        if (method == "mmap") {
+            fd = ::open(data_path.c_str(), O_RDONLY);
+            if (fd < 0) throw InputError(data_path + ": cannot open: " + std::strerror(errno));
+        } else if (method == "gzip") {
+            const int f = ::open(data_path.c_str(), O_RDONLY);
+            if (f < 0) throw InputError(data_path + ": cannot open: " + std::strerror(errno));
+            if (::lseek(f, off_t(data_offset), SEEK_SET) < 0) {
+                ::close(f);
+                throw InputError(data_path + ": cannot seek to the data");
+            }
+            gz = gzdopen(f, "rb");
+            if (!gz) {
+                ::close(f);
+                throw InputError(data_path + ": cannot open the gzip stream");
+            }
+            gzbuffer(gz, 1 << 20);
+        }
+    }
+
+    void close() {
+        if (fd >= 0) ::close(fd);
+        fd = -1;
+        if (gz) gzclose(gz);
+        gz = nullptr;
+    }
+
+    // Reads `bytes` file bytes of the slices [next, next + count) into `dst`.
+    void read_file_bytes(unsigned char* dst, std::size_t count) {
+        const std::size_t bytes = count * slice_values() * file_value_size;
+        if (method == "mmap") {
+            // Map just these slices and drop the mapping: resident memory stays one window.
+            const std::size_t offset = data_offset + next * slice_values() * file_value_size;
+            const std::size_t page = std::size_t(sysconf(_SC_PAGESIZE));
+            const std::size_t start = offset / page * page;
+            const std::size_t length = offset + bytes - start;
+            void* map = ::mmap(nullptr, length, PROT_READ, MAP_PRIVATE, fd, off_t(start));
+            if (map == MAP_FAILED) throw InputError(data_path + ": cannot map: " + std::strerror(errno));
+            ::madvise(map, length, MADV_SEQUENTIAL);
+            std::memcpy(dst, static_cast<unsigned char*>(map) + (offset - start), bytes);
+            ::munmap(map, length);
+        } else {
+            std::size_t done = 0;
+            while (done < bytes) {
+                const unsigned chunk = unsigned(std::min<std::size_t>(bytes - done, 1u << 30));
+                const int got = gzread(gz, dst + done, chunk);
+                if (got <= 0) {
+                    int code = Z_OK;
+                    const char* msg = gzerror(gz, &code);
+                    throw InputError(spec + ": gzip data " +
+                                     (got == 0 ? std::string("truncated") : "corrupt: " + std::string(msg)) +
+                                     " at slice " + std::to_string(next + done / (slice_values() * file_value_size)));
+                }
+                done += std::size_t(got);
+                // zlib passes data without a gzip header through unchanged: not ours.
+                if (gzdirect(gz)) throw InputError(spec + ": the data is not gzip-compressed");
+            }
+        }
+    }
+
+    void check_finite_slices(const void* dst, std::size_t count) {
+        if (type != ValueType::float32) return;
+        const float* p = static_cast<const float*>(dst);
+        const std::size_t n = count * slice_values();
+        for (std::size_t i = 0; i < n; ++i)
+            if (!std::isfinite(p[i])) {
+                const std::size_t v = next * slice_values() + i;
+                throw InputError(spec + ": float data contains " +
+                                 (std::isnan(p[i]) ? "NaN" : p[i] > 0 ? "Inf" : "-Inf") + " at vertex (" +
+                                 std::to_string(v % dims.nx) + "," + std::to_string(v / dims.nx % dims.ny) + "," +
+                                 std::to_string(v / slice_values()) + ")");
+            }
+    }
+
+    void read(void* dst, std::size_t count) {
+        if (next + count > dims.nz) throw std::logic_error("SliceReader::read past the last slice");
+        if (count == 0) return;
+        auto* out = static_cast<unsigned char*>(dst);
+        if (method == "memory") {
+            std::memcpy(out, static_cast<const unsigned char*>(whole.data()) + next * slice_bytes(),
+                        count * slice_bytes());
+        } else if (file_value_size == 8) {
+            staging.resize(count * slice_values() * 8);
+            read_file_bytes(staging.data(), count);
+            if (swap) swap_bytes(staging.data(), count * slice_values(), 8);
+            float* f = static_cast<float*>(dst);
+            for (std::size_t i = 0; i < count * slice_values(); ++i) {
+                double d;
+                std::memcpy(&d, staging.data() + 8 * i, 8);
+                f[i] = float(d);
+            }
+        } else {
+            read_file_bytes(out, count);
+            if (swap) swap_bytes(out, count * slice_values(), file_value_size);
+        }
+        check_finite_slices(dst, count);
+        next += count;
+    }
+
+    void rewind() {
+        close();
+        open();
+    }
+};
+
+SliceReader::SliceReader(const std::string& spec, const RawOptions& raw) : impl_(std::make_unique<Impl>(spec, raw)) {}
+SliceReader::~SliceReader() = default;
+const Dims& SliceReader::dims() const { return impl_->dims; }
+ValueType SliceReader::type() const { return impl_->type; }
+const std::array<double, 3>& SliceReader::spacing() const { return impl_->spacing; }
+std::size_t SliceReader::slice_bytes() const { return impl_->slice_bytes(); }
+const char* SliceReader::method() const { return impl_->method.c_str(); }
+void SliceReader::read(void* dst, std::size_t count) { impl_->read(dst, count); }
+std::size_t SliceReader::next_slice() const { return impl_->next; }
+void SliceReader::rewind() { impl_->rewind(); }
+
+ValueRange value_range(SliceReader& reader) {
+    reader.rewind();
+    const Dims d = reader.dims();
+    const std::size_t chunk = std::max<std::size_t>(1, std::min(d.nz, (std::size_t(32) << 20) / reader.slice_bytes()));
+    ValueRange r;
+    bool first = true;
+    Volume buf(Dims{d.nx, d.ny, chunk}, reader.type());
+    for (std::size_t z = 0; z < d.nz; z += chunk) {
+        const std::size_t n = std::min(chunk, d.nz - z);
+        if (n != chunk) buf = Volume(Dims{d.nx, d.ny, n}, reader.type());
+        reader.read(buf.data(), n);
+        const ValueRange c = value_range(buf);
+        r.min = first ? c.min : std::min(r.min, c.min);
+        r.max = first ? c.max : std::max(r.max, c.max);
+        first = false;
+    }
+    reader.rewind();
+    return r;
+}
+
+}  // namespace clfractal

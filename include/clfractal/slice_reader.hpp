@@ -1,0 +1,51 @@
+// Reading a volume slice by slice from disk, so that host memory stays bounded by a few
+// slices however large the file (DESIGN §6): raw files and raw-encoded NRRD data through
+// memory maps of a window of slices, gzip-encoded NRRD data decompressed sequentially
+// (zlib). Other inputs (synthetic:NAME[:N], NRRD with line/byte skips or several data
+// files) are read whole and then served slice by slice.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <string>
+
+#include "clfractal/volume.hpp"
+#include "clfractal/volume_io.hpp"
+
+namespace clfractal {
+
+class SliceReader {
+public:
+    /// Opens `spec` like read_volume (same header checks and InputErrors: no such file,
+    /// truncated, bad header) without reading the data.
+    explicit SliceReader(const std::string& spec, const RawOptions& raw = {});
+    ~SliceReader();
+    SliceReader(const SliceReader&) = delete;
+    SliceReader& operator=(const SliceReader&) = delete;
+
+    const Dims& dims() const;
+    ValueType type() const;
+    const std::array<double, 3>& spacing() const;
+    std::size_t slice_bytes() const;
+    /// "mmap", "gzip" or "memory" (read whole).
+    const char* method() const;
+
+    /// Reads the next `count` slices into `dst` (count * slice_bytes() bytes), converted to
+    /// native endianness (float64 NRRD data to float32). Float data with NaN or Inf is an
+    /// InputError naming the file and the vertex; a short or corrupt file is an InputError.
+    void read(void* dst, std::size_t count);
+    /// The next slice read() returns.
+    std::size_t next_slice() const;
+    /// Back to slice 0 (gzip data is decompressed again).
+    void rewind();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// The value range of the whole file, read slice by slice (one pass, bounded memory);
+/// the reader is rewound afterwards.
+ValueRange value_range(SliceReader& reader);
+
+}  // namespace clfractal

@@ -1,0 +1,392 @@
+// Slice streaming, out-of-core LD and slice readers against the whole-volume results,
+// exactly (DESIGN §6).
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <vector>
+
+#include "clfractal/fd.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/slice_reader.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/stream.hpp"
+#include "clfractal/volume_io.hpp"
+#include "reference/span_reference.hpp"
+#include "test_util.hpp"
+
+namespace fs = std::filesystem;
+using namespace clfractal;
+using testutil::ctx;
+
+namespace {
+
+// The first n slices of v.
+Volume first_slices(const Volume& v, std::size_t n) {
+    Volume s(Dims{v.dims().nx, v.dims().ny, n}, v.type());
+    std::memcpy(s.data(), v.data(), s.size_bytes());
+    return s;
+}
+
+const unsigned char* slice_of(const Volume& v, std::size_t z) {
+    return static_cast<const unsigned char*>(v.data()) + z * v.dims().nx * v.dims().ny * value_size(v.type());
+}
+
+// Same float bits, NaN equal to NaN.
+bool same_field(const Volume& a, const Volume& b) {
+    if (a.dims() != b.dims()) return false;
+    const float* p = a.as<float>();
+    const float* q = b.as<float>();
+    for (std::size_t i = 0; i < a.vertices(); ++i)
+        if (!(p[i] == q[i] || (std::isnan(p[i]) && std::isnan(q[i])))) return false;
+    return true;
+}
+
+struct Case {
+    Dims d;
+    ValueType t;
+    long lo, hi;
+};
+
+const Case cases[] = {
+    {{7, 5, 23}, ValueType::uint8, 0, 255},   {{1, 6, 12}, ValueType::uint16, 0, 9},
+    {{5, 1, 19}, ValueType::int16, -4, 4},     {{2, 2, 11}, ValueType::float32, -6, 6},
+    {{13, 3, 37}, ValueType::int16, -300, 40}, {{6, 7, 29}, ValueType::float32, -20, 20},
+    {{3, 4, 1}, ValueType::uint8, 0, 3},
+};
+
+class TempDir {
+public:
+    TempDir() {
+        static int counter = 0;
+        path_ = fs::temp_directory_path() /
+                ("clfractal_stream_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path_, ec);
+    }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    fs::path path_;
+};
+
+void write_bytes(const std::string& path, const void* data, std::size_t n) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(static_cast<const char*>(data), std::streamsize(n));
+}
+
+// Reads the whole file through a SliceReader, `chunk` slices at a time.
+Volume read_by_slices(const std::string& spec, std::size_t chunk, const RawOptions& raw = {}) {
+    SliceReader r(spec, raw);
+    Volume v(r.dims(), r.type());
+    for (std::size_t z = 0; z < r.dims().nz; z += chunk) {
+        const std::size_t n = std::min(chunk, r.dims().nz - z);
+        r.read(static_cast<unsigned char*>(v.data()) + z * r.slice_bytes(), n);
+    }
+    CHECK(r.next_slice() == r.dims().nz);
+    return v;
+}
+
+bool same_bytes(const Volume& a, const Volume& b) {
+    return a.dims() == b.dims() && a.type() == b.type() &&
+           std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
+}
+
+}  // namespace
+
+TEST_SUITE("stream") {
+
+TEST_CASE("streamed counts equal whole-volume counts after every slice: all types, awkward sizes, levels 1..3") {
+    std::uint32_t seed = 11;
+    for (const Case& c : cases) {
+        const Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
+        const IsovalueSet iso = IsovalueSet::for_volume(v, 48);
+        for (int levels = 1; levels <= 3; ++levels) {
+            CAPTURE(dims_string(c.d));
+            CAPTURE(value_type_name(c.t));
+            CAPTURE(levels);
+            SpanStream stream(ctx(), c.d.nx, c.d.ny, c.t, iso, levels);
+            CHECK(stream.slices() == 0);
+            for (auto& curve : stream.counts().curves)
+                for (auto& level : curve.counts) CHECK(std::all_of(level.begin(), level.end(), [](auto n) { return n == 0; }));
+            for (std::size_t z = 0; z < c.d.nz; ++z) {
+                stream.push_slice(static_cast<const void*>(slice_of(v, z)));
+                const std::size_t n = z + 1;
+                // Every slice count around the batch boundaries, and a few more.
+                const std::size_t b = stream.batch_slices() - 1;
+                if (!(n <= 3 || n % b <= 1 || n % b == b - 1 || n == c.d.nz || n % 5 == 0)) continue;
+                CAPTURE(n);
+                const Volume part = first_slices(v, n);
+                const SpanResult got = stream.counts();
+                const SpanResult want =
+                    count_spans(ctx(), part, iso, SpanOptions{{SpanKind::cubes, SpanKind::edges}, levels, 0});
+                REQUIRE(got.curves.size() == 2);
+                for (int k = 0; k < 2; ++k) {
+                    CHECK(got.curves[k].kind == want.curves[k].kind);
+                    CHECK(got.curves[k].level_dims == want.curves[k].level_dims);
+                    CHECK(got.curves[k].counts == want.curves[k].counts);
+                }
+            }
+            // The whole stream against the plain reference too.
+            const SpanResult all = stream.counts();
+            for (int l = 0; l < levels; ++l) {
+                const Volume lv = ref::level(v, l);
+                CHECK(all.get(SpanKind::cubes).counts[l] == ref::cubes_histogram(lv, iso));
+                CHECK(all.get(SpanKind::edges).counts[l] == ref::edges_histogram(lv, iso));
+            }
+        }
+    }
+}
+
+TEST_CASE("many batches and deep pyramids: counts and curves equal the whole-volume ones") {
+    const Volume v = testutil::random_volume(Dims{9, 8, 77}, ValueType::uint8, 0, 40, 5);
+    const IsovalueSet iso = IsovalueSet::for_volume(v);
+    for (int levels : {2, 4, 5}) {
+        CAPTURE(levels);
+        SpanStream stream(ctx(), 9, 8, ValueType::uint8, iso, levels);
+        CHECK((stream.batch_slices() - 1) % (std::size_t(1) << (levels - 1)) == 0);
+        for (std::size_t z = 0; z < v.dims().nz; ++z) {
+            stream.push_slice(reinterpret_cast<const std::uint8_t*>(slice_of(v, z)));
+            if ((z + 1) % 19 != 0 && z + 1 != v.dims().nz) continue;
+            const Volume part = first_slices(v, z + 1);
+            const SpanResult want =
+                count_spans(ctx(), part, iso, SpanOptions{{SpanKind::cubes, SpanKind::edges}, levels, 0});
+            for (SpanKind kind : {SpanKind::cubes, SpanKind::edges}) {
+                const FdCurve got = stream.curve(kind), ref = fd_curve(ctx(), want, kind);
+                CHECK(got.counts == ref.counts);
+                CHECK(got.level_dims == ref.level_dims);
+                REQUIRE(got.fd.size() == ref.fd.size());
+                for (std::size_t j = 0; j < got.fd.size(); ++j)
+                    CHECK((got.fd[j] == ref.fd[j] || (std::isnan(got.fd[j]) && std::isnan(ref.fd[j]))));
+            }
+        }
+        CHECK(stream.counts().slabs > 1);
+    }
+}
+
+TEST_CASE("one kind only, and the stream's checks") {
+    const Volume v = testutil::random_volume(Dims{6, 5, 14}, ValueType::float32, -10, 10, 9);
+    const IsovalueSet iso = IsovalueSet::for_volume(v, 32);
+    SpanStream stream(ctx(), 6, 5, ValueType::float32, iso, 2, {SpanKind::edges});
+    for (std::size_t z = 0; z < v.dims().nz; ++z) stream.push_slice(reinterpret_cast<const float*>(slice_of(v, z)));
+    const SpanResult got = stream.counts();
+    REQUIRE(got.curves.size() == 1);
+    CHECK(got.curves[0].counts == count_spans(ctx(), v, iso, SpanOptions{{SpanKind::edges}, 2, 0}).curves[0].counts);
+
+    std::vector<std::uint8_t> wrong(30, 0);
+    CHECK_THROWS_AS(stream.push_slice(wrong.data()), std::logic_error);
+    std::vector<float> nan(30, 0.f);
+    nan[7] = std::numeric_limits<float>::quiet_NaN();
+    CHECK_THROWS_AS(stream.push_slice(nan.data()), InputError);
+    CHECK(stream.slices() == v.dims().nz);  // the bad slice was not added
+    CHECK_THROWS_AS(SpanStream(ctx(), 0, 5, ValueType::uint8, IsovalueSet::integers(0, 3)), InputError);
+}
+
+TEST_CASE("streamed LD equals the whole-volume field: all types, windows, batches, delay k/2") {
+    const Case ld_cases[] = {
+        {{9, 7, 23}, ValueType::uint8, 0, 10},   {{6, 11, 17}, ValueType::uint16, 0, 10},
+        {{5, 4, 20}, ValueType::int16, -5, 5},   {{8, 6, 15}, ValueType::float32, -5, 5},
+        {{4, 3, 3}, ValueType::uint8, 0, 10},    {{3, 3, 1}, ValueType::uint8, 0, 10},
+    };
+    std::uint32_t seed = 21;
+    for (const Case& c : ld_cases) {
+        const Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
+        for (int window : {2, 4, 8}) {
+            const Volume want = local_fractal_dimension(ctx(), v, 1.5, window);
+            for (std::size_t batch : {1, 3}) {
+                CAPTURE(dims_string(c.d));
+                CAPTURE(value_type_name(c.t));
+                CAPTURE(window);
+                CAPTURE(batch);
+                Volume got(c.d, ValueType::float32);
+                const std::size_t plane = c.d.nx * c.d.ny;
+                std::size_t expect_z = 0;
+                bool values_ok = true;
+                LocalStream stream(
+                    ctx(), c.d.nx, c.d.ny, c.t, 1.5, window,
+                    [&](std::size_t z, const float* ld, const void* values) {
+                        CHECK(z == expect_z++);
+                        std::memcpy(got.as<float>() + z * plane, ld, plane * sizeof(float));
+                        values_ok &= std::memcmp(values, slice_of(v, z), plane * value_size(c.t)) == 0;
+                    },
+                    batch);
+                CHECK(stream.delay() == std::size_t(window / 2) + batch - 1);
+                for (std::size_t z = 0; z < c.d.nz; ++z) {
+                    stream.push_slice(static_cast<const void*>(slice_of(v, z)));
+                    // Slice z - delay is out as soon as slice z is in (batch 1).
+                    if (batch == 1 && z >= stream.delay()) CHECK(stream.emitted() == z - stream.delay() + 1);
+                }
+                stream.finish();
+                CHECK(stream.emitted() == c.d.nz);
+                CHECK(values_ok);
+                CHECK(same_field(got, want));
+            }
+        }
+    }
+}
+
+TEST_CASE("out-of-core LD: tiny z-slabs give the in-core field exactly") {
+    std::uint32_t seed = 31;
+    for (ValueType t : {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32}) {
+        const Dims d{7, 9, 31};
+        const Volume v = testutil::random_volume(d, t, 0, 12, seed++);
+        for (int window : {2, 8}) {
+            CAPTURE(value_type_name(t));
+            CAPTURE(window);
+            const Volume want = local_fractal_dimension(ctx(), v, 6, window);
+            for (std::size_t slices : {1, 12, 20}) {
+                CAPTURE(slices);
+                testutil::TuningGuard guard;
+                ctx().tuning.slab_bytes = slices * d.nx * d.ny * value_size(t);
+                CHECK(same_field(local_fractal_dimension(ctx(), v, 6, window), want));
+            }
+        }
+    }
+    // Against the brute-force-checked OpenMP baseline as well.
+    const Volume v = testutil::random_volume(Dims{12, 5, 26}, ValueType::uint8, 0, 9, 3);
+    testutil::TuningGuard guard;
+    ctx().tuning.slab_bytes = 12 * 5 * 3;
+    const Volume got = local_fractal_dimension(ctx(), v, 4.5, 6), base = local_fractal_dimension_openmp(v, 4.5, 6);
+    std::size_t defined = 0;
+    for (std::size_t i = 0; i < v.vertices(); ++i) {
+        const float a = got.as<float>()[i], b = base.as<float>()[i];
+        CHECK(std::isnan(a) == std::isnan(b));
+        if (!std::isnan(a)) CHECK(std::fabs(a - b) <= 1e-6);
+        defined += !std::isnan(a);
+    }
+    CHECK(defined > v.vertices() / 2);
+}
+
+TEST_CASE("slice readers equal read_volume: raw, big-endian raw, NRRD raw/gzip, detached header, float64") {
+    TempDir dir;
+    std::uint32_t seed = 41;
+    for (ValueType t : {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32}) {
+        CAPTURE(value_type_name(t));
+        const Volume v = testutil::random_volume(Dims{11, 6, 9}, t, -100, 200, seed++);
+        const std::string raw = dir.file(std::string("v_11x6x9_") + value_type_name(t) + ".raw");
+        write_bytes(raw, v.data(), v.size_bytes());
+        const std::string nrrd = dir.file("v.nrrd"), gz = dir.file("v_gz.nrrd");
+        write_nrrd(v, nrrd);
+        write_nrrd(v, gz, true);
+        for (std::size_t chunk : {1, 4, 9}) {
+            CAPTURE(chunk);
+            CHECK(same_bytes(read_by_slices(raw, chunk), v));
+            CHECK(same_bytes(read_by_slices(nrrd, chunk), v));
+            CHECK(same_bytes(read_by_slices(gz, chunk), v));
+        }
+        CHECK(std::string(SliceReader(raw).method()) == "mmap");
+        CHECK(std::string(SliceReader(nrrd).method()) == "mmap");
+        CHECK(std::string(SliceReader(gz).method()) == "gzip");
+        SliceReader r(gz);
+        const ValueRange a = value_range(r), b = value_range(v);
+        CHECK(a.min == b.min);
+        CHECK(a.max == b.max);
+        CHECK(r.next_slice() == 0);
+
+        // Big-endian raw with --dims/--type.
+        if (value_size(t) > 1) {
+            Volume swapped = v;
+            auto* p = static_cast<unsigned char*>(swapped.data());
+            for (std::size_t i = 0; i < v.vertices(); ++i) std::reverse(p + i * value_size(t), p + (i + 1) * value_size(t));
+            const std::string be = dir.file("big.bin");
+            write_bytes(be, swapped.data(), swapped.size_bytes());
+            RawOptions opt;
+            opt.dims = v.dims();
+            opt.type = t;
+            opt.big_endian = true;
+            CHECK(same_bytes(read_by_slices(be, 4, opt), v));
+            CHECK(same_bytes(read_by_slices(be, 4, opt), read_volume(be, opt)));
+        }
+    }
+
+    // A detached header pointing at a raw file, and float64 data converted to float32.
+    const Volume f = testutil::random_volume(Dims{5, 4, 6}, ValueType::float32, -9, 9, 7);
+    std::vector<double> doubles(f.vertices());
+    for (std::size_t i = 0; i < f.vertices(); ++i) doubles[i] = double(f.as<float>()[i]);
+    write_bytes(dir.file("d.raw"), doubles.data(), doubles.size() * 8);
+    {
+        std::ofstream h(dir.file("d.nhdr"));
+        h << "NRRD0004\ntype: double\ndimension: 3\nsizes: 5 4 6\nencoding: raw\nendian: little\ndata file: d.raw\n";
+    }
+    CHECK(std::string(SliceReader(dir.file("d.nhdr")).method()) == "mmap");
+    CHECK(same_bytes(read_by_slices(dir.file("d.nhdr"), 2), f));
+    CHECK(same_bytes(read_by_slices(dir.file("d.nhdr"), 2), read_volume(dir.file("d.nhdr"))));
+
+    // synthetic: specs are read whole and served slice by slice.
+    CHECK(std::string(SliceReader("synthetic:sphere:12").method()) == "memory");
+    CHECK(same_bytes(read_by_slices("synthetic:sphere:12", 5), read_volume("synthetic:sphere:12")));
+}
+
+TEST_CASE("slice readers: bad inputs are input errors") {
+    TempDir dir;
+    CHECK_THROWS_AS(SliceReader(dir.file("missing.raw")), InputError);
+    std::vector<std::uint8_t> bytes(100, 1);
+    write_bytes(dir.file("short_5x5x5_uint8.raw"), bytes.data(), bytes.size());
+    CHECK_THROWS_AS(SliceReader(dir.file("short_5x5x5_uint8.raw")), InputError);
+    write_bytes(dir.file("noname.raw"), bytes.data(), bytes.size());
+    CHECK_THROWS_AS(SliceReader(dir.file("noname.raw")), InputError);
+
+    // A gzip stream cut short, and a corrupt one.
+    const Volume v = testutil::random_volume(Dims{16, 16, 16}, ValueType::uint8, 0, 255, 1);
+    write_nrrd(v, dir.file("g.nrrd"), true);
+    std::ifstream in(dir.file("g.nrrd"), std::ios::binary);
+    std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    {
+        std::ofstream out(dir.file("cut.nrrd"), std::ios::binary);
+        out.write(all.data(), std::streamsize(all.size() - all.size() / 3));
+    }
+    std::vector<std::uint8_t> dst(v.size_bytes());
+    CHECK_THROWS_AS(SliceReader(dir.file("cut.nrrd")).read(dst.data(), 16), InputError);
+    std::string corrupt = all;
+    for (std::size_t i = all.size() - 200; i < all.size() - 100; ++i) corrupt[i] = char(corrupt[i] ^ 0x5a);
+    {
+        std::ofstream out(dir.file("bad.nrrd"), std::ios::binary);
+        out.write(corrupt.data(), std::streamsize(corrupt.size()));
+    }
+    CHECK_THROWS_AS(SliceReader(dir.file("bad.nrrd")).read(dst.data(), 16), InputError);
+
+    // NaN in float data, named with its vertex.
+    Volume f(Dims{3, 3, 3}, ValueType::float32);
+    f.as<float>()[3 + 9 * 2] = std::numeric_limits<float>::quiet_NaN();
+    write_bytes(dir.file("nan_3x3x3_float32.raw"), f.data(), f.size_bytes());
+    SliceReader r(dir.file("nan_3x3x3_float32.raw"));
+    std::vector<float> s(27);
+    r.read(s.data(), 2);
+    try {
+        r.read(s.data(), 1);
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).find("NaN at vertex (0,1,2)") != std::string::npos);
+    }
+}
+
+TEST_CASE("a file streamed into SpanStream gives the counts of the file read whole") {
+    TempDir dir;
+    const Volume v = testutil::random_volume(Dims{10, 9, 25}, ValueType::uint16, 0, 300, 77);
+    const std::string gz = dir.file("s.nrrd");
+    write_nrrd(v, gz, true);
+    SliceReader r(gz);
+    const ValueRange range = value_range(r);
+    const IsovalueSet iso = IsovalueSet::integers(std::int64_t(range.min), std::int64_t(range.max));
+    SpanStream stream(ctx(), 10, 9, ValueType::uint16, iso, 3);
+    std::vector<std::uint16_t> slice(90);
+    for (std::size_t z = 0; z < 25; ++z) {
+        r.read(slice.data(), 1);
+        stream.push_slice(slice.data());
+    }
+    const SpanResult want = count_spans(ctx(), v, IsovalueSet::for_volume(v),
+                                        SpanOptions{{SpanKind::cubes, SpanKind::edges}, 3, 0});
+    const SpanResult got = stream.counts();
+    CHECK(got.curves[0].counts == want.curves[0].counts);
+    CHECK(got.curves[1].counts == want.curves[1].counts);
+}
+
+}  // TEST_SUITE
