@@ -25,7 +25,9 @@ fi
 # 1. find_package(clfractal): the examples directory as a project of its own.
 cmake -S "$src/examples" -B "$work/examples-build" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$work/examples-build" -j2 >/dev/null
-"$work/examples-build/example_c_api" | grep -q "mean" || { echo "FAIL: example_c_api (find_package)"; exit 1; }
+for e in c_api library_call; do
+  "$work/examples-build/$e" | grep -q "mean" || { echo "FAIL: example $e (find_package)"; exit 1; }
+done
 
 # 2. pkg-config: a C compiler and nothing else.
 export PKG_CONFIG_PATH=$libdir/pkgconfig
