@@ -267,3 +267,87 @@ TEST_CASE("bad arguments") {
 }
 
 }  // TEST_SUITE("smooth")
+
+TEST_SUITE("smooth_realdata") {
+
+// Every real volume in shared/data at a few isovalues (a fifth and two fifths into the value
+// range) and thresholds: the guarantees, and equality with the reference on the small ones.
+TEST_CASE("real volumes: the guarantees at a few isovalues and thresholds") {
+    const std::string dir = testutil::shared_data();
+    if (dir.empty()) {
+        MESSAGE("../shared/data is absent: real-volume smooth checks skipped");
+        return;
+    }
+    std::ifstream manifest(dir + "/MANIFEST.tsv");
+    std::string line;
+    std::getline(manifest, line);  // header
+    int volumes = 0, runs = 0;
+    while (std::getline(manifest, line)) {
+        const std::string file = line.substr(0, line.find('\t'));
+        if (file.empty()) continue;
+        const Volume v = read_volume(dir + "/" + file);
+        const ValueRange range = value_range(v);
+        const bool small = v.vertices() <= 300000, large = v.vertices() > 4000000;
+        std::vector<double> isovalues;
+        for (double t : {0.2, 0.4}) {
+            double s = range.min + t * (range.max - range.min);
+            if (is_integer(v.type())) s = std::round(s);
+            isovalues.push_back(s);
+            if (large) break;  // one isovalue for the largest volumes keeps the suite short
+        }
+        for (double iso : isovalues) {
+            struct Run {
+                double h;
+                SmoothVariant variant;
+            };
+            for (const Run& run : {Run{2.2, SmoothVariant::plain}, Run{2.5, SmoothVariant::plain},
+                                   Run{2.5, SmoothVariant::gaussian}}) {
+                CAPTURE(file);
+                CAPTURE(iso);
+                CAPTURE(run.h);
+                CAPTURE(std::string(smooth_variant_name(run.variant)));
+                if (small) {
+                    check_against_reference(v, iso, run.h, 8, run.variant, 1.0);
+                } else {
+                    const SmoothResult r = smooth_isosurface(ctx(), v, iso, run.h, 8, run.variant, 1.0, true);
+                    check_guarantees(v, r, ref::field_values(r.ld), iso, run.h);
+                }
+                ++runs;
+            }
+        }
+        ++volumes;
+    }
+    MESSAGE("real volumes checked: " << volumes << ", runs: " << runs);
+    CHECK(volumes >= 16);
+}
+
+// The figures of the README: intersected cubes and components (BFS) before and after, on two
+// noisy real volumes.
+TEST_CASE("real volumes: intersected cubes and components before and after") {
+    const std::string dir = testutil::shared_data();
+    if (dir.empty()) {
+        MESSAGE("../shared/data is absent: real-volume smooth figures skipped");
+        return;
+    }
+    struct Real {
+        const char* file;
+        double iso;
+    };
+    for (const Real& r : {Real{"seg3d_mr_160x232x160_uint8.raw", 60}, Real{"engine_256x256x128_uint8.raw", 100}}) {
+        const Volume v = read_volume(dir + "/" + r.file);
+        const std::uint64_t cubes = intersected_counts(ctx(), v, r.iso).cubes;
+        const std::uint64_t components = ref::components_bfs(v, r.iso);
+        for (double h : {2.2, 2.5})
+            for (SmoothVariant variant : {SmoothVariant::plain, SmoothVariant::gaussian}) {
+                const SmoothResult s = smooth_isosurface(ctx(), v, r.iso, h, 8, variant);
+                MESSAGE(std::string(r.file) << " s=" << r.iso << " h=" << h << " " << std::string(smooth_variant_name(variant))
+                               << ": intersected cubes " << cubes << " -> " << intersected_counts(ctx(), s.volume, r.iso).cubes
+                               << ", components " << components << " -> " << ref::components_bfs(s.volume, r.iso)
+                               << ", edges processed " << s.edges_processed << ", vertices changed "
+                               << s.vertices_changed);
+                CHECK(increased(v, s.volume) == 0);
+            }
+    }
+}
+
+}  // TEST_SUITE("smooth_realdata")
