@@ -84,6 +84,8 @@ void check_against_reference(const Volume& v, double iso, double h, int window, 
     std::size_t hot = 0;
     for (double x : ld) hot += x > h;
     CHECK(r.high_vertices == hot);
+    // Plain: each lowering moves one vertex from >= s to < s for good.
+    if (variant == SmoothVariant::plain) CHECK(r.vertices_changed == r.edges_lowered);
     check_guarantees(v, r, ld, iso, h);
 }
 
