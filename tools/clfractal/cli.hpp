@@ -55,4 +55,5 @@ StreamedSpans stream_spans(const std::string& volume, const clfractal::RawOption
 
 // Subcommands defined in their own files (cmd_*.cpp). Each adds itself to `app` and
 // appends what to run; its options live in heap state owned by the closure.
+void add_smooth_command(CLI::App& app, Commands& commands);
 }  // namespace cli
