@@ -102,6 +102,26 @@ expect 2 'clfractal: error: .*iso' -- "$bin" mesh synthetic:sphere:24 -o bad.ply
 [ ! -e bad.ply ] && pass || fail "a PLY was written for bad arguments"
 expect 2 'clfractal: error: .*cannot write' -- "$bin" -q mesh synthetic:sphere:24 --iso 128 -o no/such/dir/m.ply
 
+# smooth: Algorithm 2 writes a volume of the input's type; a threshold above every LD changes
+# nothing; meshes and previews of the result; bad arguments exit 2 and write nothing.
+expect 0 'edges +[0-9]+ high fractal at the start, [0-9]+ processed' -- "$bin" -q smooth synthetic:noisy-sphere:40 --iso 128 --threshold 2.5 -o sm.nrrd
+expect 0 'type +uint8' -- "$bin" info sm.nrrd
+expect 0 'cubes +([0-9]+) -> \1 intersected' -- "$bin" -q smooth synthetic:noisy-sphere:40 --iso 128 --threshold 50 -o same.nrrd
+expect 0 'vertices +0 changed' -- "$bin" -q smooth synthetic:noisy-sphere:40 --iso 128 --threshold 50 -o same.nrrd
+expect 0 'sm.ply \([0-9]+ vertices' -- "$bin" -q smooth synthetic:noisy-sphere:40 --iso 128 --threshold 2.4 --variant gaussian --tau 1.5 --window 6 -o smg.nrrd --mesh sm.ply --preview sm.png
+grep -aq '^property float ld' sm.ply && pass || fail "smooth --mesh PLY carries no ld property"
+[ -s sm.png ] && [ "$(head -c 4 sm.png | tail -c 3)" = "PNG" ] && pass || fail "smooth preview is not a PNG"
+expect 0 'variant gaussian' -- "$bin" -q smooth ml.nrrd --iso 0.5 --threshold 2.2 --variant gaussian -o smf.nrrd
+expect 0 'type +float32' -- "$bin" info smf.nrrd
+expect 2 'clfractal: error: .*variant' -- "$bin" smooth synthetic:sphere:20 --iso 100 --threshold 2.5 --variant blocky -o bad_sm.nrrd
+expect 2 'clfractal: error: .*window' -- "$bin" smooth synthetic:sphere:20 --iso 100 --threshold 2.5 --window 5 -o bad_sm.nrrd
+expect 2 'clfractal: error: .*tau' -- "$bin" smooth synthetic:sphere:20 --iso 100 --threshold 2.5 --variant gaussian --tau 0 -o bad_sm.nrrd
+expect 2 'clfractal: error: .*threshold' -- "$bin" smooth synthetic:sphere:20 --iso 100 -o bad_sm.nrrd
+expect 2 'clfractal: error: .*threshold' -- "$bin" smooth synthetic:sphere:20 --iso 100 --threshold inf -o bad_sm.nrrd
+expect 2 'clfractal: error: .*output' -- "$bin" smooth synthetic:sphere:20 --iso 100 --threshold 2.5
+[ ! -e bad_sm.nrrd ] && pass || fail "a volume was written for bad smooth arguments"
+expect 2 'clfractal: error: .*cannot write' -- "$bin" -q smooth synthetic:sphere:20 --iso 100 --threshold 2.5 -o no/such/dir/sm.nrrd
+
 # Bad input: one error line naming the file, exit 2, no output file left behind.
 head -c 999 /dev/urandom > short_10x10x10_uint8.raw
 expect 2 'clfractal: error: .*short_10x10x10_uint8.raw.*truncated' -- "$bin" fd short_10x10x10_uint8.raw --csv bad.csv
