@@ -280,6 +280,20 @@ TEST_CASE("out-of-core LD: tiny z-slabs give the in-core field exactly") {
             }
         }
     }
+    // 64-bit tables, copies instead of zero-copy, and the GPU kernel variants, in slabs.
+    {
+        const Volume v = testutil::random_volume(Dims{8, 6, 29}, ValueType::int16, -6, 6, 17);
+        const Volume want = local_fractal_dimension(ctx(), v, 0.5, 4);
+        testutil::TuningGuard guard;
+        ctx().tuning.slab_bytes = 9 * 8 * 6 * 2;
+        ctx().tuning.sat_max_32bit = 10;
+        ctx().tuning.zero_copy = false;
+        CHECK(same_field(local_fractal_dimension(ctx(), v, 0.5, 4), want));
+        ctx().tuning.local_variant = "vertices";
+        ctx().tuning.sat_variant = "workgroup";
+        ctx().tuning.sat_work_group = 4;
+        CHECK(same_field(local_fractal_dimension(ctx(), v, 0.5, 4), want));
+    }
     // Against the brute-force-checked OpenMP baseline as well.
     const Volume v = testutil::random_volume(Dims{12, 5, 26}, ValueType::uint8, 0, 9, 3);
     testutil::TuningGuard guard;
