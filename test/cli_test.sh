@@ -152,6 +152,7 @@ hdr = b'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 21 17 29\nencoding: gzip\n\n
 open('st.nrrd', 'wb').write(hdr + gzip.compress(data))
 open('st_cut.nrrd', 'wb').write(hdr + gzip.compress(data)[:300])
 open('st_plain.nrrd', 'wb').write(hdr + data)
+open('st2_13x11x9_uint8.raw', 'wb').write(bytes(random.randint(30, 90) for _ in range(13 * 11 * 9)))
 PY
 expect 0 'mean FD' -- "$bin" -q fd st_21x17x29_uint8.raw --levels 3 --csv whole.csv
 expect 0 'streamed, mmap' -- "$bin" -q fd st_21x17x29_uint8.raw --levels 3 --stream --csv streamed.csv
@@ -159,6 +160,10 @@ cmp -s whole.csv streamed.csv && pass || fail "fd --stream CSV differs from fd"
 expect 0 'streamed, gzip' -- "$bin" -q fd st.nrrd --levels 3 --stream --csv streamed_gz.csv
 cmp -s whole.csv streamed_gz.csv && pass || fail "fd --stream on gzip NRRD differs from fd"
 expect 0 'streamed, memory' -- "$bin" -q fd synthetic:sphere:20 --edge --stream
+# uint8 is streamed in one pass and cropped to the value range (30 .. 90 here).
+expect 0 'isovalues +61 \(30 \.\. 90\)' -- "$bin" -q fd st2_13x11x9_uint8.raw --edge --stream --csv st2_stream.csv
+expect 0 'mean FD' -- "$bin" -q fd st2_13x11x9_uint8.raw --edge --csv st2_whole.csv
+cmp -s st2_whole.csv st2_stream.csv && pass || fail "fd --stream (one pass, cropped) CSV differs from fd"
 expect 2 'clfractal: error: .*st_cut.nrrd.*gzip data truncated' -- "$bin" -q fd st_cut.nrrd --stream
 expect 2 'clfractal: error: .*st_plain.nrrd.*not gzip' -- "$bin" -q fd st_plain.nrrd --stream
 expect 2 'clfractal: error: .*short_10x10x10_uint8.raw.*truncated' -- "$bin" fd short_10x10x10_uint8.raw --stream

@@ -25,8 +25,13 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
         throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     StreamedSpans out{d, reader.type(), {}, reader.method()};
     IsovalueSet iso;
+    // uint8 without --isovalues: one pass, counting every value 0..255 and cropping the
+    // curves to the value range afterwards (the count at s does not depend on the set).
+    const bool crop = isovalues.empty() && reader.type() == ValueType::uint8;
     if (!isovalues.empty()) {
         iso = IsovalueSet::parse_range(isovalues, reader.type());
+    } else if (crop) {
+        iso = IsovalueSet::integers(0, 255);
     } else {
         // The default set needs the value range: one more pass over the file.
         progress("reading the value range of " + volume + " (" + out.method + ")");
@@ -41,13 +46,24 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
     // Read a batch of slices at a time; the stream copies each slice into its own batch.
     const std::size_t chunk = std::max<std::size_t>(1, std::min(d.nz, stream.batch_slices()));
     std::vector<unsigned char> buf(chunk * reader.slice_bytes());
+    unsigned char lo = 255, hi = 0;
     for (std::size_t z = 0; z < d.nz;) {
         const std::size_t n = std::min(chunk, d.nz - z);
         reader.read(buf.data(), n);
+        if (crop) {
+            const auto [a, b] = std::minmax_element(buf.begin(), buf.begin() + std::ptrdiff_t(n * reader.slice_bytes()));
+            lo = std::min(lo, *a);
+            hi = std::max(hi, *b);
+        }
         for (std::size_t i = 0; i < n; ++i) stream.push_slice(static_cast<const void*>(buf.data() + i * reader.slice_bytes()));
         z += n;
     }
     out.spans = stream.counts();
+    if (crop) {
+        out.spans.isovalues = IsovalueSet::integers(lo, hi);
+        for (SpanCurves& c : out.spans.curves)
+            for (auto& level : c.counts) level = std::vector<std::uint64_t>(level.begin() + lo, level.begin() + hi + 1);
+    }
     return out;
 }
 
