@@ -45,3 +45,5 @@ using Commands = std::vector<Command>;
 // Subcommands defined in their own files (cmd_*.cpp). Each adds itself to `app` and
 // appends what to run; its options live in heap state owned by the closure.
 }  // namespace cli
+
+void add_noise_command(CLI::App& app, cli::Commands& commands);
