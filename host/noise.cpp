@@ -306,13 +306,12 @@ std::vector<float> default_noise_isovalues(const std::string& shape, std::size_t
     return iso;
 }
 
-double estimate_gamma(const Volume& v, double iso) {
-    std::vector<double> spans;
+namespace {
+
+// Calls f(a, b) with the span [a, b] of every grid edge (all three axes), as doubles.
+template <class F> void for_each_edge(const Volume& v, const F& f) {
     const Dims d = v.dims();
     visit(v, [&](const auto* p) {
-        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-        // The comparison of DESIGN §1 in the data's type (integers: a < s <= b iff a < ceil(s) <= b).
-        const double s = std::is_floating_point_v<T> ? double(float(iso)) : std::ceil(iso);
         const std::size_t step[3] = {1, d.nx, d.nx * d.ny};
         for (std::size_t z = 0; z < d.nz; ++z)
             for (std::size_t y = 0; y < d.ny; ++y)
@@ -322,15 +321,38 @@ double estimate_gamma(const Volume& v, double iso) {
                     for (int axis = 0; axis < 3; ++axis) {
                         if (!inside[axis]) continue;
                         const double f0 = double(p[i]), f1 = double(p[i + step[axis]]);
-                        const double a = std::min(f0, f1), b = std::max(f0, f1);
-                        if (a < s && s <= b) spans.push_back(b - a);
+                        f(std::min(f0, f1), std::max(f0, f1));
                     }
                 }
+    });
+}
+
+}  // namespace
+
+double estimate_gamma(const Volume& v, double iso) {
+    // The comparison of DESIGN §1 in the data's type (integers: a < s <= b iff a < ceil(s) <= b).
+    const double s = v.type() == ValueType::float32 ? double(float(iso)) : std::ceil(iso);
+    std::vector<double> spans;
+    for_each_edge(v, [&](double a, double b) {
+        if (a < s && s <= b) spans.push_back(b - a);
     });
     if (spans.empty()) throw InputError("--iso " + std::to_string(iso) + ": no edge of " + v.name + " is intersected");
     const std::size_t mid = spans.size() / 2;
     std::nth_element(spans.begin(), spans.begin() + mid, spans.end());
-    return std::sqrt(2.0) * spans[mid];
+    double gamma = std::sqrt(2.0) * spans[mid];
+    for (int it = 0; it < 50 && gamma > 0; ++it) {
+        double sum = 0;
+        std::size_t n = 0;
+        for_each_edge(v, [&](double a, double b) {
+            if (std::abs(a - iso) <= gamma) sum += b - a, ++n;
+        });
+        const double next = n ? 2 * sum / double(n) : 0;
+        const bool done = std::abs(next - gamma) <= 1e-3 * gamma;
+        gamma = next;
+        if (done) break;
+    }
+    if (!(gamma > 0)) throw InputError("--iso " + std::to_string(iso) + ": the values of " + v.name + " near it are flat; give --gamma");
+    return gamma;
 }
 
 std::vector<NoisePoint> noise_experiment(Context& ctx, const Volume& clean, const std::vector<float>& isovalues,

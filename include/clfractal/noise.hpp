@@ -138,11 +138,13 @@ Volume noise_experiment_volume(const std::string& shape, std::size_t n, int poin
 /// Default isovalues of the experiment for a synthetic shape of size N (see the README).
 std::vector<float> default_noise_isovalues(const std::string& shape, std::size_t n);
 
-/// gamma estimated from the edge spans at isovalue `iso`: under the model the spans of the
-/// edges near the isosurface are uniform on [0, gamma], so those of the intersected edges
-/// (a < iso <= b) have density 2 delta / gamma^2 and median gamma / sqrt(2). The estimate is
-/// sqrt(2) times the median span of the intersected edges of all three axes (robust to the
-/// few very long spans at material boundaries). Throws InputError when no edge is intersected.
+/// gamma estimated from the edge spans near isovalue `iso`. The model assumes that the
+/// edges whose minimum value lies near the isovalue have spans uniform on [0, gamma] (mean
+/// gamma / 2). Starting from sqrt(2) times the median span of the intersected edges (their
+/// spans have density 2 delta / gamma^2 under the model, median gamma / sqrt(2)), it
+/// iterates gamma := 2 x the mean span of the edges (all three axes) whose minimum lies
+/// within gamma of `iso`, until it changes by less than 0.1% (at most 50 passes). Throws
+/// InputError when no edge is intersected or the values there are flat.
 double estimate_gamma(const Volume& v, double iso);
 
 struct NoisePoint {

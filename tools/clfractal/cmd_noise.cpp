@@ -153,7 +153,7 @@ int run_noise(const NoiseArgs& a) {
               << "noise       " << noise_kind_name(kind) << (kind == NoiseKind::uniform ? " [-mu, mu]" : ", standard deviation mu")
               << ", seed " << a.seed << ", added in float32\n"
               << "isovalues   " << isos.str() << " (dimensions averaged over them)\n"
-              << "gamma       " << gamma << (estimated ? "  (estimated: sqrt(2) x median span of the edges intersected at the isovalue)" : "") << "\n"
+              << "gamma       " << gamma << (estimated ? "  (estimated: 2 x mean span of the edges whose minimum lies within gamma of the isovalue)" : "") << "\n"
               << "device      " << ctx.description() << "\n"
               << "formula     " << (kind == NoiseKind::uniform ? "Theorem 1 (eqs. 3.2-3.4)" : "edge model with Gaussian noise, numerical integration")
               << "; box model: 8-vertex cube, Monte Carlo (" << a.box_samples << " samples)\n\n"
