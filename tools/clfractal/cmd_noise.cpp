@@ -1,6 +1,7 @@
 // clfractal noise: measured edge and box dimension against the noise formula (thesis
 // §3.2.1, Figs. 3.5-3.7; DESIGN §3).
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -66,28 +67,31 @@ std::string fixed(double x, int digits) {
 }
 
 void write_plot(const std::vector<NoisePoint>& pts, NoiseKind kind, const std::string& title, const std::string& path) {
+    // Index 0: the measured points; index 1: the models on 41 values of r (the box model
+    // from 2^15 Monte Carlo samples each, standard deviation about 0.001).
     std::ostringstream data;
-    for (const NoisePoint& p : pts)
-        data << p.r << " " << cli::fd_string(p.measured_edge_fd) << " " << cli::fd_string(p.measured_box_fd) << " "
-             << p.formula << " " << p.model_box << "\n";
     double rmax = 0;
-    for (const NoisePoint& p : pts) rmax = std::max(rmax, p.r);
+    for (const NoisePoint& p : pts) {
+        rmax = std::max(rmax, p.r);
+        data << p.r << " " << cli::fd_string(p.measured_edge_fd) << " " << cli::fd_string(p.measured_box_fd) << "\n";
+    }
+    data << "\n\n";
+    for (int k = 0; k <= 40 && rmax > 0; ++k) {
+        const double r = rmax * k / 40;
+        const double edge = kind == NoiseKind::uniform ? expected_edge_dimension(r) : expected_edge_dimension(r, kind);
+        data << r << " " << edge << " " << expected_box_dimension(r, kind, std::size_t(1) << 15) << "\n";
+    }
     std::ostringstream s;
     s << "set terminal pngcairo size 900,600 font 'sans,11'\n"
       << "set xlabel 'r = " << (kind == NoiseKind::uniform ? "mu" : "sigma") << " / gamma'\n"
       << "set ylabel 'fractal dimension'\nset yrange [1.9:3.05]\nset xrange [0:" << std::max(rmax, 0.01) << "]\n"
-      << "set grid\nset key bottom right\nset title " << std::quoted(title) << " noenhanced\nset samples 400\n";
-    if (kind == NoiseKind::uniform) {
-        // Theorem 1 (eqs. 3.2-3.4) as a gnuplot function.
-        s << "f(r) = r >= 1 ? log((32*r**3 + 8*r - 1) / (4*r**3 + 4*r - 1)) / log(2) : "
-             "r >= 0.5 ? log((32*r**3 + 8*r - 1) / (r**4 + 6*r**2)) / log(2) : log(8*(2*r**2 + 3) / (r**2 + 6)) / log(2)\n"
-          << "plot f(x) with lines lw 2 lc rgb '#222222' title 'formula (Theorem 1)', \\\n";
-    } else {
-        s << "plot '$DATA' using 1:4 with lines lw 2 lc rgb '#222222' title 'edge model, Gaussian (numeric)', \\\n";
-    }
-    s << "  '$DATA' using 1:5 with lines lw 1 dt 2 lc rgb '#a83232' title 'box model (8 vertices, Monte Carlo)', \\\n"
-      << "  '$DATA' using 1:2 with points pt 7 ps 1.2 lc rgb '#1f5fa8' title 'measured edge span dimension', \\\n"
-      << "  '$DATA' using 1:3 with points pt 5 ps 1.0 lc rgb '#c8641e' title 'measured box span dimension'\n";
+      << "set grid\nset key bottom right\nset title " << std::quoted(title) << " noenhanced\n"
+      << "plot '$DATA' index 1 using 1:2 with lines lw 2 lc rgb '#222222' title '"
+      << (kind == NoiseKind::uniform ? "formula (Theorem 1)" : "edge model, Gaussian noise (numerical integration)")
+      << "', \\\n"
+      << "  '$DATA' index 1 using 1:3 with lines lw 1 dt 2 lc rgb '#a83232' title 'box model (8 vertices, Monte Carlo)', \\\n"
+      << "  '$DATA' index 0 using 1:2 with points pt 7 ps 1.2 lc rgb '#1f5fa8' title 'measured edge span dimension', \\\n"
+      << "  '$DATA' index 0 using 1:3 with points pt 5 ps 1.0 lc rgb '#c8641e' title 'measured box span dimension'\n";
     plot_png(s.str(), data.str(), path);
 }
 
@@ -201,7 +205,10 @@ int run_noise(const NoiseArgs& a) {
     }
     if (!a.plot.empty())
         write_plot(pts, kind,
-                   (real ? a.volume + " at isovalue " + fixed(a.iso, 2) : data_name) + ", " + noise_kind_name(kind) + " noise",
+                   (real ? std::filesystem::path(a.volume).filename().string() + " at isovalue " + fixed(a.iso, 2) +
+                               ", gamma " + fixed(gamma, 2)
+                         : data_name) +
+                       ", " + noise_kind_name(kind) + " noise",
                    a.plot);
     return 0;
 }
