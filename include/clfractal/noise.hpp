@@ -96,15 +96,14 @@ double expected_box_dimension(double r, NoiseKind kind, std::size_t samples = st
 /// float32 and in [-1, 1).
 float uniform_noise_f32(std::uint64_t seed, std::uint64_t index);
 
-/// The standard normal draw of vertex `index` (Box-Muller from the draws 2 index and
-/// 2 index + 1 of the same generator, offset by 2^62 so the streams are apart):
+/// The standard normal draw of vertex `index`: Box-Muller from the draws 2 index and
+/// 2 index + 1 of the same generator (counters offset by 2^62, apart from the uniform ones):
 ///   u1 = ((bits1 >> 40) + 1) * 2^-24 in (0, 1],  u2 = (bits2 >> 40) * 2^-24 in [0, 1),
-///   z  = sqrt(-2 log(u1)) * cos(2 pi u2).
-/// On the host evaluated in double and rounded to float32; the device evaluates the same
-/// expression in float32 with OpenCL's log, sqrt and cospi, which are accurate to a few
-/// ulp: device values are a pure function of (seed, index) on a given device (every slab
-/// split and run gives the same bits) and within about 1e-5 of this function on every
-/// device.
+///   z  = sqrt(-2 ln u1) * cos(2 pi u2),
+/// evaluated with float32 additions and multiplications only (polynomial logarithm and
+/// cosine, Newton square root; kernels/noise.cl documents the steps) in the same order on
+/// the host and in the kernel, so every IEEE device gives the same bits as this function.
+/// Within 3e-6 of the double-precision Box-Muller value of the same u1, u2.
 float gaussian_noise_f32(std::uint64_t seed, std::uint64_t index);
 
 struct NoiseOptions {
@@ -124,8 +123,7 @@ struct NoiseOptions {
 /// negative or non-finite amplitude.
 Volume add_noise(Context& ctx, const Volume& v, const NoiseOptions& opt);
 
-/// The same on the host (the definition the device is compared against): uniform noise
-/// bit-identical, Gaussian noise within the tolerance above.
+/// The same on the host: the definition the device is compared against, bit for bit.
 Volume add_noise_host(const Volume& v, const NoiseOptions& opt);
 
 // ------------------------------------------------------------------ the experiment
