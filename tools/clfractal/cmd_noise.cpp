@@ -223,12 +223,12 @@ void add_noise_command(CLI::App& app, cli::Commands& commands) {
     c->add_option("--shape", a->shape, "points (distance to P points, default) or circle (tori)")
         ->check(CLI::IsMember({"points", "circle"}));
     c->add_option("--mu", a->mu, "noise amplitudes A,B,... or A:B:STEP (default 0:4:0.25 times gamma)");
-    c->add_option("--isovalues", a->isovalues, "isovalues A,B,... or A:B:STEP (default: see README; --volume: S)");
+    c->add_option("--isovalues", a->isovalues, "isovalues A,B,... or A:B:STEP (default: 10,12,...,20 (points) or 8,10,...,16 (circle) times N/128; with --volume: S)");
     c->add_option("--noise", a->noise, "uniform [-mu, mu] (default) or gaussian (mu = standard deviation)");
     c->add_option("--seed", a->seed, "seed of the noise and the points (default 1)");
     c->add_option("--volume", a->volume, "add noise to this volume instead (Figs. 3.6/3.7)");
     c->add_option("--iso", a->iso, "with --volume: the isovalue S");
-    c->add_option("--gamma", a->gamma, "with --volume: the gradient gamma (default: estimated from the edge spans at S)");
+    c->add_option("--gamma", a->gamma, "with --volume: the gradient gamma (default: estimated from the edge spans near S)");
     c->add_option("--box-samples", a->box_samples, "Monte Carlo samples of the box model (default 2^20)");
     c->add_option("--json", a->json_path, "write the points as JSON");
     c->add_option("--plot", a->plot, "draw measured vs formula to a PNG with gnuplot");
