@@ -57,3 +57,5 @@ StreamedSpans stream_spans(const std::string& volume, const clfractal::RawOption
 // appends what to run; its options live in heap state owned by the closure.
 void add_smooth_command(CLI::App& app, Commands& commands);
 }  // namespace cli
+
+void add_noise_command(CLI::App& app, cli::Commands& commands);
