@@ -14,6 +14,7 @@
 #include "clfractal/fd.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/span.hpp"
+#include "clfractal/stream.hpp"
 #include "clfractal/volume_io.hpp"
 
 using namespace clfractal;
@@ -29,6 +30,10 @@ struct clf_volume {
 
 struct clf_curve {
     FdCurve curve;
+};
+
+struct clf_stream {
+    std::unique_ptr<SpanStream> stream;
 };
 
 namespace {
@@ -228,6 +233,62 @@ void clf_curve_summary(const clf_curve* curve, uint64_t min_count, clf_summary* 
     out->std = s.std;
     out->weighted_mean = s.weighted_mean;
     out->kappa = s.kappa;
+}
+
+clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, clf_type type, const clf_curve_options* options,
+                             const double* range, clf_stream** out) {
+    if (!out) return fail(CLF_ERROR_INPUT, "clf_stream_create: out is NULL");
+    *out = nullptr;
+    return guarded([&] {
+        require(ctx != nullptr, "clf_stream_create: context is NULL");
+        clf_curve_options o;
+        clf_curve_options_default(&o);
+        if (options) o = *options;
+        if (o.levels < 2 || o.levels > 16) throw InputError("levels " + std::to_string(o.levels) + ": must be 2..16");
+        const ValueType t = to_value_type(type);
+        check_dims(Dims{nx, ny, 1}, "clf_stream_create");
+        if (range && !(std::isfinite(range[0]) && std::isfinite(range[1]) && range[0] <= range[1]))
+            throw InputError("clf_stream_create: range must be finite with min <= max");
+        IsovalueSet iso;
+        if (o.isovalues) {
+            require(!is_integer(t), "isovalues: integer data uses every integer of its range");
+            iso = IsovalueSet::floats(std::vector<float>(o.isovalues, o.isovalues + o.isovalue_count));
+        } else if (is_integer(t)) {
+            require(o.bins == 0, "bins: integer data uses every integer of its range");
+            const double lo = range ? range[0] : t == ValueType::int16 ? -32768 : 0;
+            const double hi = range ? range[1] : t == ValueType::uint8 ? 255 : t == ValueType::int16 ? 32767 : 65535;
+            iso = IsovalueSet::integers(std::int64_t(std::ceil(lo)), std::int64_t(std::floor(hi)));
+        } else {
+            require(range != nullptr, "clf_stream_create: float data needs a value range or an isovalue list");
+            iso = IsovalueSet::uniform(range[0], range[1], o.bins ? o.bins : 256);
+        }
+        auto st = std::make_unique<clf_stream>();
+        st->stream = std::make_unique<SpanStream>(*ctx->ctx, nx, ny, t, iso, o.levels);
+        *out = st.release();
+    });
+}
+
+void clf_stream_destroy(clf_stream* stream) { delete stream; }
+
+clf_status clf_stream_push_slice(clf_stream* stream, const void* slice) {
+    return guarded([&] {
+        require(stream && slice, "clf_stream_push_slice: stream or slice is NULL");
+        stream->stream->push_slice(slice);
+    });
+}
+
+size_t clf_stream_slices(const clf_stream* stream) { return stream ? stream->stream->slices() : 0; }
+
+clf_status clf_stream_curve(const clf_stream* stream, clf_kind kind, clf_curve** out) {
+    if (!out) return fail(CLF_ERROR_INPUT, "clf_stream_curve: out is NULL");
+    *out = nullptr;
+    return guarded([&] {
+        require(stream != nullptr, "clf_stream_curve: stream is NULL");
+        require(kind == CLF_BOX || kind == CLF_EDGE, "clf_stream_curve: kind must be CLF_BOX or CLF_EDGE");
+        auto c = std::make_unique<clf_curve>();
+        c->curve = stream->stream->curve(kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes);
+        *out = c.release();
+    });
 }
 
 clf_status clf_local_dimension(clf_context* ctx, const clf_volume* volume, double iso, int window, float* out) {

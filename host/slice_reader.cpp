@@ -291,6 +291,21 @@ struct SliceReader::Impl {
         close();
         open();
     }
+
+    void seek(std::size_t z) {
+        if (z > dims.nz) throw std::logic_error("SliceReader::seek past the last slice");
+        if (method != "gzip") {
+            next = z;
+            return;
+        }
+        // A gzip stream only goes forward: decompress and drop the slices before z.
+        if (z < next) rewind();
+        std::vector<unsigned char> scratch(slice_values() * file_value_size);
+        while (next < z) {
+            read_file_bytes(scratch.data(), 1);
+            ++next;
+        }
+    }
 };
 
 SliceReader::SliceReader(const std::string& spec, const RawOptions& raw) : impl_(std::make_unique<Impl>(spec, raw)) {}
@@ -303,6 +318,7 @@ const char* SliceReader::method() const { return impl_->method.c_str(); }
 void SliceReader::read(void* dst, std::size_t count) { impl_->read(dst, count); }
 std::size_t SliceReader::next_slice() const { return impl_->next; }
 void SliceReader::rewind() { impl_->rewind(); }
+void SliceReader::seek(std::size_t z) { impl_->seek(z); }
 
 struct NrrdSliceWriter::Impl {
     std::string path, tmp;

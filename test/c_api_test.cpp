@@ -122,6 +122,60 @@ TEST_CASE("an explicit float isovalue list and the LD field through the C ABI") 
     clf_volume_destroy(cv);
 }
 
+TEST_CASE("a stream through the C ABI gives the whole-volume curve after every slice") {
+    CContext cc;
+    for (ValueType t : {ValueType::uint8, ValueType::int16, ValueType::float32}) {
+        CAPTURE(value_type_name(t));
+        Volume v = testutil::random_volume({9, 7, 13}, t, t == ValueType::uint8 ? 0 : -30, 60, 17);
+        const ValueRange r = value_range(v);
+        const double range[2] = {r.min, r.max};
+        clf_curve_options o;
+        clf_curve_options_default(&o);
+        o.levels = 3;
+        o.bins = is_integer(t) ? 0 : 50;
+        clf_stream* st = nullptr;
+        REQUIRE(clf_stream_create(cc.c, 9, 7, c_type(t), &o, range, &st) == CLF_OK);
+        const std::size_t slice = 9 * 7 * value_size(t);
+        for (std::size_t z = 0; z < 13; ++z) {
+            REQUIRE(clf_stream_push_slice(st, static_cast<const unsigned char*>(v.data()) + z * slice) == CLF_OK);
+            CHECK(clf_stream_slices(st) == z + 1);
+            if (z < 1 || z % 4 != 0) continue;
+            Volume part(Dims{9, 7, z + 1}, t);
+            std::memcpy(part.data(), v.data(), (z + 1) * slice);
+            IsovalueSet iso = is_integer(t) ? IsovalueSet::integers(std::int64_t(r.min), std::int64_t(r.max))
+                                            : IsovalueSet::uniform(r.min, r.max, 50);
+            for (clf_kind kind : {CLF_BOX, CLF_EDGE}) {
+                const SpanKind k = kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes;
+                clf_curve* curve = nullptr;
+                REQUIRE(clf_stream_curve(st, kind, &curve) == CLF_OK);
+                REQUIRE(clf_curve_size(curve) == iso.size());
+                bool equal = true;
+                for (int l = 0; l < 3; ++l) {
+                    Volume lv = ref::level(part, l);
+                    auto expected = k == SpanKind::cubes ? ref::cubes_brute(lv, iso) : ref::edges_brute(lv, iso);
+                    for (std::size_t j = 0; j < iso.size(); ++j) equal &= clf_curve_count(curve, l, j) == expected[j];
+                }
+                CHECK(equal);
+                clf_curve_destroy(curve);
+            }
+        }
+        clf_stream_destroy(st);
+    }
+    // Float data without a range or list, NaN slices, bad levels: input errors.
+    clf_stream* st = reinterpret_cast<clf_stream*>(1);
+    CHECK(clf_stream_create(cc.c, 4, 4, CLF_FLOAT32, nullptr, nullptr, &st) == CLF_ERROR_INPUT);
+    CHECK(st == nullptr);
+    const double bad[2] = {5, 1};
+    CHECK(clf_stream_create(cc.c, 4, 4, CLF_UINT8, nullptr, bad, &st) == CLF_ERROR_INPUT);
+    const double ok[2] = {0, 1};
+    REQUIRE(clf_stream_create(cc.c, 2, 2, CLF_FLOAT32, nullptr, ok, &st) == CLF_OK);
+    const float nan_slice[4] = {0, 1, std::numeric_limits<float>::quiet_NaN(), 0};
+    CHECK(clf_stream_push_slice(st, nan_slice) == CLF_ERROR_INPUT);
+    CHECK(clf_stream_slices(st) == 0);
+    CHECK(clf_stream_push_slice(st, nullptr) == CLF_ERROR_INPUT);
+    clf_stream_destroy(st);
+}
+
 TEST_CASE("bad input through the C ABI: a status, a message, NULL handles, no exception") {
     CContext cc;
     clf_volume* cv = reinterpret_cast<clf_volume*>(1);

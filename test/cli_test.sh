@@ -168,6 +168,34 @@ expect 2 'clfractal: error: .*st_cut.nrrd.*gzip data truncated' -- "$bin" -q fd 
 expect 2 'clfractal: error: .*st_plain.nrrd.*not gzip' -- "$bin" -q fd st_plain.nrrd --stream
 expect 2 'clfractal: error: .*short_10x10x10_uint8.raw.*truncated' -- "$bin" fd short_10x10x10_uint8.raw --stream
 expect 2 'clfractal: error: .*--slab' -- "$bin" fd synthetic:sphere:20 --stream --slab 4
+# noise: measured dimensions beside the formula, JSON shape, plot, real-volume mode, errors.
+expect 0 'max \|edge FD - formula\|' -- "$bin" -q noise --size 40 --mu 0,1,2 --box-samples 2000 --json noise.json --plot noise.png
+python3 - <<'PY' && pass || fail "noise json"
+import json, math
+j = json.load(open("noise.json"))
+pts = j["points"]
+assert [p["mu"] for p in pts] == [0, 1, 2], pts
+for p in pts:
+    for k in ["mu", "r", "measured_edge_fd", "measured_box_fd", "formula", "model_box_fd", "isovalues"]:
+        assert k in p, k
+    assert p["r"] == p["mu"] and abs(p["measured_edge_fd"] - p["formula"]) < 0.1, p
+assert pts[0]["formula"] == 2 and abs(pts[1]["formula"] - math.log2(39 / 7)) < 1e-12
+assert j["noise"] == "uniform" and j["gamma"] == 1 and j["dims"] == [40, 40, 40]
+PY
+[ -s noise.png ] && [ "$(head -c 4 noise.png | tail -c 3)" = "PNG" ] && pass || fail "noise plot is not a PNG"
+expect 0 'Gaussian' -- "$bin" -q noise --size 24 --mu 0:1:0.5 --noise gaussian --box-samples 1000
+expect 0 'tori' -- "$bin" -q noise --size 24 --shape circle --mu 1 --isovalues 4,5 --box-samples 1000
+expect 0 '' -- "$bin" -q gen points --size 33 -o pts.nrrd
+expect 0 'gamma +(0\.9[5-9]|1\.0)[0-9]* +\(estimated' -- "$bin" -q noise --volume pts.nrrd --iso 6 --mu 0,1 --box-samples 1000
+expect 0 'gamma +2($|[^.0-9])' -- "$bin" -q noise --volume pts.nrrd --iso 6 --gamma 2 --box-samples 1000
+expect 2 'clfractal: error: .*--mu' -- "$bin" noise --mu 0,abc
+expect 2 'clfractal: error: .*--mu' -- "$bin" noise --mu=-1
+expect 2 'clfractal: error: .*--iso' -- "$bin" noise --iso 5
+expect 2 'clfractal: error: .*--volume.*--iso' -- "$bin" noise --volume pts.nrrd
+expect 2 'clfractal: error: .*--noise' -- "$bin" noise --noise pink
+expect 2 'clfractal: error: .*--size' -- "$bin" noise --size 4
+expect 2 'clfractal: error: .*shape' -- "$bin" noise --shape cube
+expect 2 'clfractal: error: .*no edge' -- "$bin" noise --volume pts.nrrd --iso 1000
 
 # local --stream: the field read and written slice by slice is the same file's data.
 expect 0 'mean LD' -- "$bin" -q local st_21x17x29_uint8.raw --iso 60 --window 4 -o ld_whole.nrrd

@@ -27,6 +27,17 @@ check 2 synthetic:noisy-sphere:48
 check 3 synthetic:noisy-sphere:37 --edge --levels 3
 check 2 synthetic:marschner-lobb:41 --levels 3
 check 3 synthetic:torus:5
+# Files: each rank reads only its own z-part (raw NRRD through mmap, gzip NRRD decompressed up to it).
+"$bin" -q gen marschner-lobb --size 45 --type uint16 -o ml.nrrd >/dev/null
+check 3 ml.nrrd --levels 3
+/usr/bin/python3 - <<'PY'
+import gzip
+raw = open("ml.nrrd", "rb").read()
+head, data = raw.split(b"\n\n", 1)
+head = head.replace(b"encoding: raw", b"encoding: gzip")
+open("ml_gz.nrrd", "wb").write(head + b"\n\n" + gzip.compress(data))
+PY
+check 2 ml_gz.nrrd --edge
 if [ -n "$data" ] && [ -f "$data/MANIFEST.tsv" ]; then
   check 2 "$data/fuel_cropped_64x33x32_uint8.raw" --edge
   check 2 "$data/hydrogen_3d_orbital_64x64x64_float32.raw" --levels 3

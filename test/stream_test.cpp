@@ -326,6 +326,20 @@ TEST_CASE("slice readers equal read_volume: raw, big-endian raw, NRRD raw/gzip, 
             CHECK(same_bytes(read_by_slices(nrrd, chunk), v));
             CHECK(same_bytes(read_by_slices(gz, chunk), v));
         }
+        // seek: any slice, forwards and backwards, for every reading method.
+        for (const std::string& path : {raw, nrrd, gz}) {
+            SliceReader r(path);
+            const std::size_t slice = r.slice_bytes();
+            std::vector<unsigned char> buf(2 * slice);
+            for (std::size_t z : {5, 2, 7, 0, 8}) {
+                CAPTURE(path); CAPTURE(z);
+                r.seek(z);
+                const std::size_t n = z + 2 <= 9 ? 2 : 1;
+                r.read(buf.data(), n);
+                CHECK(r.next_slice() == z + n);
+                CHECK(std::memcmp(buf.data(), static_cast<const unsigned char*>(v.data()) + z * slice, n * slice) == 0);
+            }
+        }
         CHECK(std::string(SliceReader(raw).method()) == "mmap");
         CHECK(std::string(SliceReader(nrrd).method()) == "mmap");
         CHECK(std::string(SliceReader(gz).method()) == "gzip");

@@ -37,6 +37,7 @@ typedef enum clf_kind { CLF_BOX = 0, CLF_EDGE = 1 } clf_kind;
 typedef struct clf_context clf_context; /* an OpenCL device with its compiled kernels */
 typedef struct clf_volume clf_volume;   /* a host volume */
 typedef struct clf_curve clf_curve;     /* a fractal dimension curve over isovalues */
+typedef struct clf_stream clf_stream;   /* a volume arriving slice by slice */
 
 /* Options of a curve. Zero-initialise and set what you need; clf_curve_options_default
  * gives box dimension, 2 levels (eq. 2.5), default isovalues (every integer of the value
@@ -102,6 +103,24 @@ double clf_curve_dimension_fit(const clf_curve* curve, size_t j);
 uint64_t clf_curve_count(const clf_curve* curve, int level, size_t j);
 /* Summary over the isovalues where D is defined and the level-1 count is >= min_count. */
 void clf_curve_summary(const clf_curve* curve, uint64_t min_count, clf_summary* out);
+
+/* ---- slice streaming (scanner pipelines): memory for a few slices only ---- */
+
+/* A stream of nx * ny slices of `type`, pushed in z order. Its isovalues: options->isovalues
+ * (float data), else every integer of `range` = {min, max} (integer data; NULL: the type's
+ * whole range), else options->bins (default 256) uniform values over `range` (float data:
+ * required, since the stream cannot know the values to come). options->levels as for
+ * curves; both kinds (box and edge) are counted. */
+clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, clf_type type, const clf_curve_options* options,
+                             const double* range, clf_stream** out);
+void clf_stream_destroy(clf_stream* stream);
+/* Adds the next slice: nx * ny values of the stream's type, x fastest. Float slices with
+ * NaN or Inf are rejected (CLF_ERROR_INPUT) and not added. */
+clf_status clf_stream_push_slice(clf_stream* stream, const void* slice);
+size_t clf_stream_slices(const clf_stream* stream);
+/* The curve of the slices pushed so far (at least 2 are needed for a cube), identical to
+ * clf_curve_compute on the volume of those slices; the stream goes on afterwards. */
+clf_status clf_stream_curve(const clf_stream* stream, clf_kind kind, clf_curve** out);
 
 /* ---- local fractal dimension (eq. 2.6) ---- */
 

@@ -38,6 +38,9 @@ public:
     std::size_t next_slice() const;
     /// Back to slice 0 (gzip data is decompressed again).
     void rewind();
+    /// The next read() starts at slice z (raw and NRRD raw data: at once; gzip data is
+    /// decompressed up to z; an MPI rank reads only its own z-part this way).
+    void seek(std::size_t z);
 
 private:
     struct Impl;

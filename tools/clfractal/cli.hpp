@@ -60,3 +60,5 @@ int cmd_local_stream(const std::string& volume, const clfractal::RawOptions& raw
 // appends what to run; its options live in heap state owned by the closure.
 void add_smooth_command(CLI::App& app, Commands& commands);
 }  // namespace cli
+
+void add_noise_command(CLI::App& app, cli::Commands& commands);

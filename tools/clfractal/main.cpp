@@ -489,6 +489,7 @@ int main(int argc, char** argv) {
     // Subcommands that live in their own files (cmd_*.cpp).
     cli::Commands commands;
     cli::add_smooth_command(app, commands);
+    add_noise_command(app, commands);
 
     try {
         app.parse(argc, argv);

@@ -20,6 +20,7 @@
 
 #include "cli.hpp"
 #include "clfractal/fd.hpp"
+#include "clfractal/slice_reader.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
 #include "output.hpp"
@@ -36,34 +37,41 @@ struct Args {
     cli::RawArgs raw;
 };
 
-// The part of `v` between slices z0 and z1 - 1 (a copy), for ranks that read a whole file.
-Volume slices_of(const Volume& v, std::size_t z0, std::size_t z1) {
-    Volume part(Dims{v.dims().nx, v.dims().ny, z1 - z0}, v.type(), v.name);
-    const std::size_t slice = v.dims().nx * v.dims().ny * value_size(v.type());
-    std::memcpy(part.data(), static_cast<const unsigned char*>(v.data()) + z0 * slice, (z1 - z0) * slice);
-    return part;
-}
-
 int run(const Args& a, int rank, int size) {
-    Volume v = read_volume(a.volume, a.raw.options());
+    // Each rank opens the file and reads only the slices of its own z-part (raw and NRRD
+    // raw data through memory maps; gzip data is decompressed up to the part).
+    SliceReader reader(a.volume, a.raw.options());
+    const Dims dims = reader.dims();
+    const ValueType type = reader.type();
     if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
-    if (a.bins && is_integer(v.type()))
+    if (a.bins && is_integer(type))
         throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
-    const auto parts = split_slices(v.dims().nz, a.levels, std::size_t(size));
+    const auto parts = split_slices(dims.nz, a.levels, std::size_t(size));
     const bool has_part = std::size_t(rank) < parts.size();
+    const std::size_t z_begin = has_part ? parts[rank].first : 0, z_end = has_part ? parts[rank].second : 0;
 
-    // The isovalue set needs the global value range: each rank takes its part's, reduced.
+    // The isovalue set needs the global value range: each rank takes its part's (one pass
+    // over its slices, a batch at a time), reduced with MPI_Allreduce.
     double lo = INFINITY, hi = -INFINITY;
+    const std::size_t batch = std::max<std::size_t>(1, (std::size_t(64) << 20) / reader.slice_bytes());
+    std::vector<unsigned char> buf;
     if (has_part) {
-        ValueRange r = value_range(slices_of(v, parts[rank].first, parts[rank].second));
-        lo = r.min;
-        hi = r.max;
+        reader.seek(z_begin);
+        for (std::size_t z = z_begin; z < z_end;) {
+            const std::size_t n = std::min(batch, z_end - z);
+            Volume slab(Dims{dims.nx, dims.ny, n}, type);
+            reader.read(slab.data(), n);
+            const ValueRange r = value_range(slab);
+            lo = std::min(lo, r.min);
+            hi = std::max(hi, r.max);
+            z += n;
+        }
     }
     double local[2] = {-lo, hi}, global[2];
     MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
     IsovalueSet iso;
-    if (!a.isovalues.empty()) iso = IsovalueSet::parse_range(a.isovalues, v.type());
-    else if (is_integer(v.type())) iso = IsovalueSet::integers(std::int64_t(-global[0]), std::int64_t(global[1]));
+    if (!a.isovalues.empty()) iso = IsovalueSet::parse_range(a.isovalues, type);
+    else if (is_integer(type)) iso = IsovalueSet::integers(std::int64_t(-global[0]), std::int64_t(global[1]));
     else iso = IsovalueSet::uniform(-global[0], global[1], a.bins ? a.bins : 256);
 
     const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
@@ -73,9 +81,24 @@ int run(const Args& a, int rank, int size) {
     double seconds = 0;
     if (has_part) {
         SpanOptions opt{{kind}, a.levels, 0};
-        opt.z_begin = parts[rank].first;
-        opt.z_end = parts[rank].second;
-        spans = count_spans(ctx, v, iso, opt);
+        opt.z_begin = z_begin;
+        opt.z_end = z_end;
+        SpanCounter counter(ctx, iso, type, dims, opt);
+        const std::size_t depth = counter.slab_slices();
+        buf.resize(depth * reader.slice_bytes());
+        // Slabs share their last slice with the next one: read it once, keep it in front.
+        reader.seek(z_begin);
+        std::size_t z0 = z_begin, have = 0;
+        while (true) {
+            const std::size_t nzs = std::min(depth, z_end - z0);
+            reader.read(buf.data() + have * reader.slice_bytes(), nzs - have);
+            counter.add_slab(buf.data(), z0, nzs);
+            if (z0 + nzs == z_end) break;
+            std::memmove(buf.data(), buf.data() + (nzs - 1) * reader.slice_bytes(), reader.slice_bytes());
+            have = 1;
+            z0 += nzs - 1;
+        }
+        spans = counter.finish();
         seconds = spans.seconds;
         for (int l = 0; l < a.levels; ++l)
             std::copy(spans.curves[0].counts[l].begin(), spans.curves[0].counts[l].end(),
@@ -93,15 +116,15 @@ int run(const Args& a, int rank, int size) {
     SpanCurves c;
     c.kind = kind;
     for (int l = 0; l < a.levels; ++l) {
-        c.level_dims.push_back(level_dims(v.dims(), l));
+        c.level_dims.push_back(level_dims(dims, l));
         c.counts.emplace_back(total.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()),
                               total.begin() + std::ptrdiff_t(std::size_t(l + 1) * iso.size()));
     }
     sum.curves.push_back(c);
     FdCurve f = fd_curve(ctx, sum, kind);
     FdSummary s = summarize(f.fd, f.counts[0], f.counts[1]);
-    std::cout << std::fixed << std::setprecision(4) << "volume      " << a.volume << "  " << dims_string(v.dims())
-              << " " << value_type_name(v.type()) << "\n"
+    std::cout << std::fixed << std::setprecision(4) << "volume      " << a.volume << "  " << dims_string(dims) << " "
+              << value_type_name(type) << "\n"
               << "ranks       " << size << " (" << parts.size() << " with a z-part), device of rank 0: "
               << ctx.description() << "\n"
               << "dimension   fractal " << (a.edge ? "edge" : "box") << " span dimension, levels 0.."

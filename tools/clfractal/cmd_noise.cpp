@@ -1,0 +1,237 @@
+// clfractal noise: measured edge and box dimension against the noise formula (thesis
+// §3.2.1, Figs. 3.5-3.7; DESIGN §3).
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "clfractal/noise.hpp"
+#include "clfractal/volume_io.hpp"
+#include "cli.hpp"
+#include "output.hpp"
+
+using namespace clfractal;
+using json = nlohmann::json;
+
+namespace {
+
+struct NoiseArgs {
+    std::size_t size = 128;
+    int points = 10;
+    std::string shape = "points", mu, isovalues, noise = "uniform", volume, json_path, plot;
+    double iso = std::nan(""), gamma = std::nan("");
+    std::uint64_t seed = 1;
+    std::size_t box_samples = std::size_t(1) << 20;
+    cli::RawArgs raw;
+};
+
+// "A,B,C" or "A:B:STEP" (A, A+STEP, ... <= B, with a little slack for rounding).
+std::vector<double> parse_list(const std::string& option, const std::string& spec) {
+    const auto number = [&](const std::string& s) {
+        std::size_t used = 0;
+        double x = 0;
+        try {
+            x = std::stod(s, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used != s.size() || s.empty() || !std::isfinite(x))
+            throw InputError(option + " " + spec + ": '" + s + "' is not a number");
+        return x;
+    };
+    std::vector<double> out;
+    if (spec.find(':') != std::string::npos) {
+        std::vector<std::string> parts;
+        std::stringstream ss(spec);
+        for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+        if (parts.size() != 3) throw InputError(option + " " + spec + ": a range is A:B:STEP");
+        const double a = number(parts[0]), b = number(parts[1]), step = number(parts[2]);
+        if (!(step > 0) || b < a) throw InputError(option + " " + spec + ": needs STEP > 0 and A <= B");
+        if ((b - a) / step > 100000) throw InputError(option + " " + spec + ": more than 100000 values");
+        for (long k = 0; a + k * step <= b + 1e-9 * step; ++k) out.push_back(a + k * step);
+    } else {
+        std::stringstream ss(spec);
+        for (std::string p; std::getline(ss, p, ',');) out.push_back(number(p));
+    }
+    if (out.empty()) throw InputError(option + ": the list is empty");
+    return out;
+}
+
+std::string fixed(double x, int digits) {
+    if (std::isnan(x)) return "n/a";
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(digits) << x;
+    return s.str();
+}
+
+void write_plot(const std::vector<NoisePoint>& pts, NoiseKind kind, const std::string& title, const std::string& path) {
+    // Index 0: the measured points; index 1: the models on 41 values of r (the box model
+    // from 2^15 Monte Carlo samples each, standard deviation about 0.001).
+    std::ostringstream data;
+    double rmax = 0;
+    for (const NoisePoint& p : pts) {
+        rmax = std::max(rmax, p.r);
+        data << p.r << " " << cli::fd_string(p.measured_edge_fd) << " " << cli::fd_string(p.measured_box_fd) << "\n";
+    }
+    data << "\n\n";
+    for (int k = 0; k <= 40 && rmax > 0; ++k) {
+        const double r = rmax * k / 40;
+        const double edge = kind == NoiseKind::uniform ? expected_edge_dimension(r) : expected_edge_dimension(r, kind);
+        data << r << " " << edge << " " << expected_box_dimension(r, kind, std::size_t(1) << 15) << "\n";
+    }
+    std::ostringstream s;
+    s << "set terminal pngcairo size 900,600 font 'sans,11'\n"
+      << "set xlabel 'r = " << (kind == NoiseKind::uniform ? "mu" : "sigma") << " / gamma'\n"
+      << "set ylabel 'fractal dimension'\nset yrange [1.9:3.05]\nset xrange [0:" << std::max(rmax, 0.01) << "]\n"
+      << "set grid\nset key bottom right\nset title " << std::quoted(title) << " noenhanced\n"
+      << "plot '$DATA' index 1 using 1:2 with lines lw 2 lc rgb '#222222' title '"
+      << (kind == NoiseKind::uniform ? "formula (Theorem 1)" : "edge model, Gaussian noise (numerical integration)")
+      << "', \\\n"
+      << "  '$DATA' index 1 using 1:3 with lines lw 1 dt 2 lc rgb '#a83232' title 'box model (8 vertices, Monte Carlo)', \\\n"
+      << "  '$DATA' index 0 using 1:2 with points pt 7 ps 1.2 lc rgb '#1f5fa8' title 'measured edge span dimension', \\\n"
+      << "  '$DATA' index 0 using 1:3 with points pt 5 ps 1.0 lc rgb '#c8641e' title 'measured box span dimension'\n";
+    plot_png(s.str(), data.str(), path);
+}
+
+int run_noise(const NoiseArgs& a) {
+    const NoiseKind kind = parse_noise_kind(a.noise);
+    const bool real = !a.volume.empty();
+    if (!real && !std::isnan(a.iso)) throw InputError("--iso: only with --volume");
+    if (!real && !std::isnan(a.gamma)) throw InputError("--gamma: only with --volume (synthetic data has gamma 1)");
+    if (real && std::isnan(a.iso)) throw InputError("--volume: needs --iso S");
+    if (!real && (a.size < 8 || a.size > 1024)) throw InputError("--size " + std::to_string(a.size) + ": must be 8..1024");
+    if (a.points < 1 || a.points > 10000) throw InputError("--points " + std::to_string(a.points) + ": must be 1..10000");
+    if (!std::isnan(a.gamma) && !(a.gamma > 0 && std::isfinite(a.gamma)))
+        throw InputError("--gamma: must be a finite number > 0");
+    if (a.box_samples < 1) throw InputError("--box-samples: must be at least 1");
+
+    Volume clean;
+    double gamma = 1;
+    bool estimated = false;
+    std::string data_name;
+    std::vector<float> iso;
+    if (real) {
+        clean = read_volume(a.volume, a.raw.options());
+        if (!std::isfinite(a.iso)) throw InputError("--iso: must be a finite number");
+        gamma = a.gamma;
+        if (std::isnan(gamma)) {
+            gamma = estimate_gamma(clean, a.iso);
+            estimated = true;
+        }
+        data_name = a.volume;
+        iso = {float(a.iso)};
+    } else {
+        clean = noise_experiment_volume(a.shape, a.size, a.points, a.seed);
+        data_name = a.shape == "points" ? "distance to " + std::to_string(a.points) + " random points, N = " + std::to_string(a.size)
+                                        : "distance to a circle of radius N/4 (tori), N = " + std::to_string(a.size);
+        iso = default_noise_isovalues(a.shape, a.size);
+    }
+    if (!a.isovalues.empty()) {
+        iso.clear();
+        for (double s : parse_list("--isovalues", a.isovalues)) iso.push_back(float(s));
+    }
+    std::sort(iso.begin(), iso.end());
+    iso.erase(std::unique(iso.begin(), iso.end()), iso.end());
+    std::vector<double> amplitudes;
+    if (!a.mu.empty()) {
+        amplitudes = parse_list("--mu", a.mu);
+        for (double m : amplitudes)
+            if (m < 0) throw InputError("--mu " + a.mu + ": amplitudes must be >= 0");
+    } else {
+        for (int k = 0; k <= 16; ++k) amplitudes.push_back(gamma * 0.25 * k);  // r = 0, 0.25, ..., 4
+    }
+
+    Context& ctx = Context::shared();
+    cli::progress(std::string(noise_kind_name(kind)) + " noise, " + std::to_string(amplitudes.size()) +
+                  " amplitudes, on " + ctx.description());
+    const std::vector<NoisePoint> pts =
+        noise_experiment(ctx, clean, iso, amplitudes, kind, gamma, a.seed, a.box_samples,
+                         [](const std::string& s) { cli::progress(s); });
+
+    std::ostringstream isos;
+    for (std::size_t j = 0; j < iso.size(); ++j) isos << (j ? " " : "") << iso[j];
+    std::cout << "data        " << data_name << " (" << dims_string(clean.dims()) << " "
+              << value_type_name(clean.type()) << ")\n"
+              << "noise       " << noise_kind_name(kind) << (kind == NoiseKind::uniform ? " [-mu, mu]" : ", standard deviation mu")
+              << ", seed " << a.seed << ", added in float32\n"
+              << "isovalues   " << isos.str() << " (dimensions averaged over them)\n"
+              << "gamma       " << gamma << (estimated ? "  (estimated: 2 x mean span of the edges whose minimum lies within gamma of the isovalue)" : "") << "\n"
+              << "device      " << ctx.description() << "\n"
+              << "formula     " << (kind == NoiseKind::uniform ? "Theorem 1 (eqs. 3.2-3.4)" : "edge model with Gaussian noise, numerical integration")
+              << "; box model: 8-vertex cube, Monte Carlo (" << a.box_samples << " samples)\n\n"
+              << "      mu       r   edge FD   formula     diff    box FD  box model     diff\n";
+    double worst = 0, worst_box = 0;
+    for (const NoisePoint& p : pts) {
+        const double diff = p.measured_edge_fd - p.formula, diff_box = p.measured_box_fd - p.model_box;
+        if (!std::isnan(diff)) worst = std::max(worst, std::abs(diff));
+        if (!std::isnan(diff_box)) worst_box = std::max(worst_box, std::abs(diff_box));
+        std::cout << std::setw(8) << fixed(p.amplitude, 3) << std::setw(8) << fixed(p.r, 3) << std::setw(10)
+                  << fixed(p.measured_edge_fd, 4) << std::setw(10) << fixed(p.formula, 4) << std::setw(9)
+                  << fixed(diff, 4) << std::setw(10) << fixed(p.measured_box_fd, 4) << std::setw(11)
+                  << fixed(p.model_box, 4) << std::setw(9) << fixed(diff_box, 4) << "\n";
+    }
+    std::cout << "\nmax |edge FD - formula| " << fixed(worst, 4) << "\nmax |box FD - box model| " << fixed(worst_box, 4)
+              << "\n";
+
+    if (!a.json_path.empty()) {
+        json rows = json::array();
+        for (const NoisePoint& p : pts) {
+            json per = json::array();
+            for (std::size_t j = 0; j < iso.size(); ++j)
+                per.push_back({{"isovalue", iso[j]}, {"edge_fd", cli::fd_json(p.edge_fd[j])}, {"box_fd", cli::fd_json(p.box_fd[j])}});
+            rows.push_back({{"mu", p.amplitude},
+                            {"r", p.r},
+                            {"measured_edge_fd", cli::fd_json(p.measured_edge_fd)},
+                            {"measured_box_fd", cli::fd_json(p.measured_box_fd)},
+                            {"formula", p.formula},
+                            {"model_box_fd", p.model_box},
+                            {"isovalues", per}});
+        }
+        json j{{"points", rows},
+               {"data", data_name},
+               {"dims", {clean.dims().nx, clean.dims().ny, clean.dims().nz}},
+               {"noise", noise_kind_name(kind)},
+               {"seed", a.seed},
+               {"gamma", gamma},
+               {"gamma_estimated", estimated},
+               {"isovalues", iso},
+               {"box_samples", a.box_samples},
+               {"max_abs_edge_error", worst},
+               {"max_abs_box_error", worst_box},
+               {"device", ctx.description()}};
+        write_file_atomic(a.json_path, j.dump(1) + "\n");
+    }
+    if (!a.plot.empty())
+        write_plot(pts, kind,
+                   (real ? std::filesystem::path(a.volume).filename().string() + " at isovalue " + fixed(a.iso, 2) +
+                               ", gamma " + fixed(gamma, 2)
+                         : data_name) +
+                       ", " + noise_kind_name(kind) + " noise",
+                   a.plot);
+    return 0;
+}
+
+}  // namespace
+
+void add_noise_command(CLI::App& app, cli::Commands& commands) {
+    auto a = std::make_shared<NoiseArgs>();
+    auto* c = app.add_subcommand("noise", "measured edge/box dimension vs the noise formula (thesis Fig. 3.5)");
+    c->add_option("--size", a->size, "N of the synthetic N^3 grid (default 128)");
+    c->add_option("--points", a->points, "P random points of the 'points' shape (default 10)");
+    c->add_option("--shape", a->shape, "points (distance to P points, default) or circle (tori)")
+        ->check(CLI::IsMember({"points", "circle"}));
+    c->add_option("--mu", a->mu, "noise amplitudes A,B,... or A:B:STEP (default 0:4:0.25 times gamma)");
+    c->add_option("--isovalues", a->isovalues, "isovalues A,B,... or A:B:STEP (default: 10,12,...,20 (points) or 8,10,...,16 (circle) times N/128; with --volume: S)");
+    c->add_option("--noise", a->noise, "uniform [-mu, mu] (default) or gaussian (mu = standard deviation)");
+    c->add_option("--seed", a->seed, "seed of the noise and the points (default 1)");
+    c->add_option("--volume", a->volume, "add noise to this volume instead (Figs. 3.6/3.7)");
+    c->add_option("--iso", a->iso, "with --volume: the isovalue S");
+    c->add_option("--gamma", a->gamma, "with --volume: the gradient gamma (default: estimated from the edge spans near S)");
+    c->add_option("--box-samples", a->box_samples, "Monte Carlo samples of the box model (default 2^20)");
+    c->add_option("--json", a->json_path, "write the points as JSON");
+    c->add_option("--plot", a->plot, "draw measured vs formula to a PNG with gnuplot");
+    a->raw.add(c);
+    commands.push_back({c, [a] { return run_noise(*a); }});
+}
