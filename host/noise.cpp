@@ -12,22 +12,17 @@
 #include "clfractal/span.hpp"
 #include "clfractal/synthetic.hpp"
 
+#include "counter_rng.hpp"
+
 namespace clfractal {
 
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
-
-constexpr std::uint64_t splitmix64_mix(std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
+using detail::pi;
+using detail::splitmix64_mix;
 
 // Draw `counter` of the stream of a scrambled seed (as uniform_noise in synthetic.cpp).
-std::uint64_t noise_bits(std::uint64_t mixed_seed, std::uint64_t counter) {
-    return splitmix64_mix(mixed_seed + (counter + 1) * 0x9E3779B97F4A7C15ull);
-}
+constexpr auto noise_bits = detail::counter_bits;
 
 constexpr std::uint64_t gaussian_stream = std::uint64_t(1) << 62;
 

@@ -8,17 +8,13 @@
 #include <limits>
 #include <type_traits>
 
+#include "counter_rng.hpp"
+
 namespace clfractal {
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
-
-/// splitmix64's output function (Steele, Lea, Flood 2014).
-constexpr std::uint64_t splitmix64_mix(std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
+using detail::pi;
+using detail::splitmix64_mix;
 
 /// Rounds to nearest and clamps to the integer types' range; float32 is a plain cast.
 template <class T> T convert(double value) {
@@ -65,7 +61,7 @@ Volume generate(const std::string& name, std::size_t n, ValueType type, std::uin
 // mix(seed) scrambles the seed so that nearby seeds give unrelated streams; kernels may
 // compute it once on the host. The integer form lets devices without fp64 reproduce it.
 double uniform_noise(std::uint64_t seed, std::uint64_t index) {
-    const std::uint64_t bits = splitmix64_mix(splitmix64_mix(seed) + (index + 1) * 0x9E3779B97F4A7C15ull);
+    const std::uint64_t bits = detail::counter_bits(splitmix64_mix(seed), index);
     const std::int64_t k = static_cast<std::int64_t>(bits >> 11) - (std::int64_t(1) << 52);
     return static_cast<double>(k) * 0x1p-52;
 }
