@@ -1,0 +1,372 @@
+// Denoising filters (DESIGN §1 "Filters"; thesis chapter 4 and §6.3): 3×3×3 median,
+// separable Gaussian, 3D bilateral, each plain or masked by the local fractal dimension.
+//
+// Defines: -DT=uchar|ushort|short|float the value type; -DINTEGER_VALUES for the integer
+// types (results rounded to nearest even and saturated to the type); -DRADIUS=r for the
+// Gaussian and bilateral kernels; -DMASKED for the fractal-targeted kernels, which take the
+// LD field `ld` of the output slices and a float threshold `h`, and filter only where
+// ld > h (NaN never qualifies), copying the input elsewhere.
+//
+// Slabs: `in` holds nz_in slices, the output slices are z_begin .. z_begin + nz_out - 1 of
+// `in` and go to `out` from its slice 0. Clamp-to-edge is applied at the borders of `in`:
+// the host gives each slab a halo of the radius (or the true volume border), so a slab's
+// results equal the in-core run's.
+//
+// Two variants of each kernel (Tuning::filter_variant, from Tuning::local_variant):
+//  - *_rows (CPUs): local size 1, a few work-items per core, each walking a contiguous
+//    share of the output x-rows; the interior of each row is a loop over x with fixed
+//    offsets, which the compiler vectorises; the two border columns clamp.
+//  - *_vertices (GPUs): one work-item per output vertex, global size (nx, ny, nz_out)
+//    exactly; neighbours come through the caches (a 3×3×3 median reads 27 values a
+//    work-item, all of them shared with its neighbours).
+
+#ifdef INTEGER_VALUES
+#define TO_T(v) CONVERT_SAT(v)
+#if defined(T_IS_uchar)
+#define CONVERT_SAT(v) convert_uchar_sat_rte(v)
+#elif defined(T_IS_ushort)
+#define CONVERT_SAT(v) convert_ushort_sat_rte(v)
+#else
+#define CONVERT_SAT(v) convert_short_sat_rte(v)
+#endif
+#else
+#define TO_T(v) (v)
+#endif
+
+#ifndef RADIUS
+#define RADIUS 1
+#endif
+
+inline int clamp_index(int i, int n) { return clamp(i, 0, n - 1); }
+
+#ifdef MASKED
+#define MASK_ARGS , __global const float* restrict ld, float h
+#define SELECTED(i) (ld[i] > h)
+#else
+#define MASK_ARGS
+#define SELECTED(i) true
+#endif
+
+// ------------------------------------------------------------------ median
+
+// Compare-exchange: a := min, b := max.
+#define CX(a, b) { const T t_ = min(a, b); b = max(a, b); a = t_; }
+
+// Forgetful selection (Paeth; McGuire's 3×3 median), written out as a fixed network of
+// 153 compare-exchanges on constant indices (the compiler keeps v in registers and drops the
+// halves that are never used): keep 15 candidates, move their minimum and maximum aside with
+// compare-exchanges (pairs, then a min chain and a max chain), replace them by the next
+// value, and so on; after 13 rounds the median of the 27 values is the middle of the last 3.
+// Generated once from that description and checked against sorting (test/filter_test.cpp
+// checks every kernel against std::nth_element).
+inline T median27(T* v) {
+    CX(v[0], v[14]); CX(v[1], v[13]); CX(v[2], v[12]); CX(v[3], v[11]); CX(v[4], v[10]); CX(v[5], v[9]); CX(v[6], v[8]);
+    CX(v[0], v[1]); CX(v[0], v[2]); CX(v[0], v[3]); CX(v[0], v[4]); CX(v[0], v[5]); CX(v[0], v[6]); CX(v[0], v[7]); CX(v[7], v[14]);
+    CX(v[8], v[14]); CX(v[9], v[14]); CX(v[10], v[14]); CX(v[11], v[14]); CX(v[12], v[14]); CX(v[13], v[14]); CX(v[1], v[15]);
+    CX(v[2], v[13]); CX(v[3], v[12]); CX(v[4], v[11]); CX(v[5], v[10]); CX(v[6], v[9]); CX(v[7], v[8]); CX(v[1], v[2]); CX(v[1], v[3]);
+    CX(v[1], v[4]); CX(v[1], v[5]); CX(v[1], v[6]); CX(v[1], v[7]); CX(v[8], v[15]); CX(v[9], v[15]); CX(v[10], v[15]);
+    CX(v[11], v[15]); CX(v[12], v[15]); CX(v[13], v[15]); CX(v[2], v[16]); CX(v[3], v[13]); CX(v[4], v[12]); CX(v[5], v[11]);
+    CX(v[6], v[10]); CX(v[7], v[9]); CX(v[2], v[3]); CX(v[2], v[4]); CX(v[2], v[5]); CX(v[2], v[6]); CX(v[2], v[7]); CX(v[2], v[8]);
+    CX(v[8], v[16]); CX(v[9], v[16]); CX(v[10], v[16]); CX(v[11], v[16]); CX(v[12], v[16]); CX(v[13], v[16]); CX(v[3], v[17]);
+    CX(v[4], v[13]); CX(v[5], v[12]); CX(v[6], v[11]); CX(v[7], v[10]); CX(v[8], v[9]); CX(v[3], v[4]); CX(v[3], v[5]); CX(v[3], v[6]);
+    CX(v[3], v[7]); CX(v[3], v[8]); CX(v[9], v[17]); CX(v[10], v[17]); CX(v[11], v[17]); CX(v[12], v[17]); CX(v[13], v[17]);
+    CX(v[4], v[18]); CX(v[5], v[13]); CX(v[6], v[12]); CX(v[7], v[11]); CX(v[8], v[10]); CX(v[4], v[5]); CX(v[4], v[6]);
+    CX(v[4], v[7]); CX(v[4], v[8]); CX(v[4], v[9]); CX(v[9], v[18]); CX(v[10], v[18]); CX(v[11], v[18]); CX(v[12], v[18]);
+    CX(v[13], v[18]); CX(v[5], v[19]); CX(v[6], v[13]); CX(v[7], v[12]); CX(v[8], v[11]); CX(v[9], v[10]); CX(v[5], v[6]);
+    CX(v[5], v[7]); CX(v[5], v[8]); CX(v[5], v[9]); CX(v[10], v[19]); CX(v[11], v[19]); CX(v[12], v[19]); CX(v[13], v[19]);
+    CX(v[6], v[20]); CX(v[7], v[13]); CX(v[8], v[12]); CX(v[9], v[11]); CX(v[6], v[7]); CX(v[6], v[8]); CX(v[6], v[9]);
+    CX(v[6], v[10]); CX(v[10], v[20]); CX(v[11], v[20]); CX(v[12], v[20]); CX(v[13], v[20]); CX(v[7], v[21]); CX(v[8], v[13]);
+    CX(v[9], v[12]); CX(v[10], v[11]); CX(v[7], v[8]); CX(v[7], v[9]); CX(v[7], v[10]); CX(v[11], v[21]); CX(v[12], v[21]);
+    CX(v[13], v[21]); CX(v[8], v[22]); CX(v[9], v[13]); CX(v[10], v[12]); CX(v[8], v[9]); CX(v[8], v[10]); CX(v[8], v[11]);
+    CX(v[11], v[22]); CX(v[12], v[22]); CX(v[13], v[22]); CX(v[9], v[23]); CX(v[10], v[13]); CX(v[11], v[12]); CX(v[9], v[10]);
+    CX(v[9], v[11]); CX(v[12], v[23]); CX(v[13], v[23]); CX(v[10], v[24]); CX(v[11], v[13]); CX(v[10], v[11]); CX(v[10], v[12]);
+    CX(v[12], v[24]); CX(v[13], v[24]); CX(v[11], v[25]); CX(v[12], v[13]); CX(v[11], v[12]); CX(v[13], v[25]); CX(v[12], v[26]);
+    CX(v[12], v[13]); CX(v[13], v[26]);
+    return v[13];
+}
+
+// The 27 neighbours of (x, y, z) for x with x - 1 and x + 1 given (clamped by the caller).
+#define GATHER27(rows, xm, x, xp, v)                                                    \
+    for (int r_ = 0; r_ < 9; ++r_) {                                                     \
+        v[3 * r_] = rows[r_][xm];                                                         \
+        v[3 * r_ + 1] = rows[r_][x];                                                      \
+        v[3 * r_ + 2] = rows[r_][xp];                                                     \
+    }
+
+// Pointers to the 9 input rows (y + dy, z + dz), clamped, of output row (y, z).
+#define NINE_ROWS(in, rows, y, zin, nx, ny, nz_in)                                        \
+    __global const T* rows[9];                                                            \
+    for (int dz = -1; dz <= 1; ++dz)                                                      \
+        for (int dy = -1; dy <= 1; ++dy)                                                  \
+            rows[3 * (dz + 1) + dy + 1] =                                                 \
+                in + ((size_t)clamp_index(zin + dz, nz_in) * (size_t)ny + (size_t)clamp_index(y + dy, ny)) * (size_t)nx;
+
+__kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
+                          __global T* restrict out MASK_ARGS) {
+    const size_t item = get_global_id(0), items = get_global_size(0);
+    const size_t nrows = (size_t)ny * (size_t)nz_out;
+    const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
+    for (size_t r = r0; r < r1; ++r) {
+        const int y = (int)(r % (size_t)ny), z = (int)(r / (size_t)ny);
+        NINE_ROWS(in, rows, y, z_begin + z, nx, ny, nz_in);
+        __global T* o = out + r * (size_t)nx;
+        __global const T* c = rows[4];  // the row itself
+#ifdef MASKED
+        __global const float* m = ld + r * (size_t)nx;
+#define ROW_SELECTED(x) (m[x] > h)
+#else
+#define ROW_SELECTED(x) true
+#endif
+        // Border columns clamp; the interior has fixed offsets.
+        for (int x = 0; x < nx; x += max(1, nx - 1)) {
+            T v[27];
+            GATHER27(rows, max(x - 1, 0), x, min(x + 1, nx - 1), v);
+            o[x] = ROW_SELECTED(x) ? median27(v) : c[x];
+        }
+#ifdef MASKED
+        // Blocks of 16 columns without a selected vertex are copied; others are computed in
+        // full (vectorised) and merged.
+        for (int x0 = 1; x0 < nx - 1; x0 += 16) {
+            const int x1 = min(x0 + 16, nx - 1);
+            int any = 0;
+            for (int x = x0; x < x1; ++x) any |= m[x] > h;
+            if (!any) {
+                for (int x = x0; x < x1; ++x) o[x] = c[x];
+                continue;
+            }
+            for (int x = x0; x < x1; ++x) {
+                T v[27];
+                GATHER27(rows, x - 1, x, x + 1, v);
+                const T f = median27(v);
+                o[x] = m[x] > h ? f : c[x];
+            }
+        }
+#else
+        for (int x = 1; x < nx - 1; ++x) {
+            T v[27];
+            GATHER27(rows, x - 1, x, x + 1, v);
+            o[x] = median27(v);
+        }
+#endif
+#undef ROW_SELECTED
+    }
+}
+
+__kernel void median_vertices(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
+                              __global T* restrict out MASK_ARGS) {
+    const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
+    const size_t o = ((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + (size_t)x;
+    NINE_ROWS(in, rows, y, z_begin + z, nx, ny, nz_in);
+    if (!SELECTED(o)) {
+        out[o] = rows[4][x];
+        return;
+    }
+    T v[27];
+    GATHER27(rows, max(x - 1, 0), x, min(x + 1, nx - 1), v);
+    out[o] = median27(v);
+}
+
+// ------------------------------------------------------------------ Gaussian
+
+// Three passes with normalised weights w[0..2 RADIUS] (w[RADIUS + i] for offset i), float
+// accumulation: z (input type -> float), y (float -> float), x (float -> output type,
+// rounded and saturated for integer types; masked: selected vertices only). Each pass
+// accumulates in offset order -RADIUS .. RADIUS.
+
+// Output rows (y, z) of the pass over z: reads `in` (nz_in slices of T).
+__kernel void gauss_z_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
+                           __constant float* w, __global float* restrict out) {
+    const size_t item = get_global_id(0), items = get_global_size(0);
+    const size_t nrows = (size_t)ny * (size_t)nz_out;
+    const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
+    for (size_t r = r0; r < r1; ++r) {
+        const int y = (int)(r % (size_t)ny), z = (int)(r / (size_t)ny);
+        __global const T* p[2 * RADIUS + 1];
+        for (int k = -RADIUS; k <= RADIUS; ++k)
+            p[k + RADIUS] = in + ((size_t)clamp_index(z_begin + z + k, nz_in) * (size_t)ny + (size_t)y) * (size_t)nx;
+        __global float* o = out + r * (size_t)nx;
+        for (int x = 0; x < nx; ++x) {
+            float acc = 0;
+            for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * (float)p[k][x];
+            o[x] = acc;
+        }
+    }
+}
+
+__kernel void gauss_y_rows(__global const float* restrict in, int nx, int ny, int nz, __constant float* w,
+                           __global float* restrict out) {
+    const size_t item = get_global_id(0), items = get_global_size(0);
+    const size_t nrows = (size_t)ny * (size_t)nz;
+    const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
+    for (size_t r = r0; r < r1; ++r) {
+        const int y = (int)(r % (size_t)ny), z = (int)(r / (size_t)ny);
+        __global const float* p[2 * RADIUS + 1];
+        for (int k = -RADIUS; k <= RADIUS; ++k)
+            p[k + RADIUS] = in + ((size_t)z * (size_t)ny + (size_t)clamp_index(y + k, ny)) * (size_t)nx;
+        __global float* o = out + r * (size_t)nx;
+        for (int x = 0; x < nx; ++x) {
+            float acc = 0;
+            for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * p[k][x];
+            o[x] = acc;
+        }
+    }
+}
+
+// `orig` is the input (nz_in slices of T) for the unselected vertices of the masked kernel.
+__kernel void gauss_x_rows(__global const float* restrict in, int nx, int ny, int nz, __constant float* w,
+                           __global T* restrict out, __global const T* restrict orig, int z_begin MASK_ARGS) {
+    const size_t item = get_global_id(0), items = get_global_size(0);
+    const size_t nrows = (size_t)ny * (size_t)nz;
+    const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
+    for (size_t r = r0; r < r1; ++r) {
+        __global const float* p = in + r * (size_t)nx;
+        __global T* o = out + r * (size_t)nx;
+#ifdef MASKED
+        __global const T* c = orig + ((size_t)z_begin * (size_t)ny) * (size_t)nx + r * (size_t)nx;
+        __global const float* m = ld + r * (size_t)nx;
+#endif
+        // Columns [0, x_in0) and [x_in1, nx) clamp; the interior has fixed offsets.
+#ifdef MASKED
+#define STORE_X(x, acc) o[x] = m[x] > h ? TO_T(acc) : c[x]
+#else
+#define STORE_X(x, acc) o[x] = TO_T(acc)
+#endif
+        const int x_in0 = min(RADIUS, nx), x_in1 = max(x_in0, nx - RADIUS);
+        for (int x = 0; x < nx; ++x) {
+            if (x == x_in0) x = x_in1;
+            if (x >= nx) break;
+            float acc = 0;
+            for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * p[clamp_index(x + k, nx)];
+            STORE_X(x, acc);
+        }
+        for (int x = x_in0; x < x_in1; ++x) {
+            float acc = 0;
+            for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * p[x + k];
+            STORE_X(x, acc);
+        }
+    }
+}
+
+// One work-item per vertex: global size (nx, ny, nz_out) exactly.
+__kernel void gauss_z_vertices(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
+                               __constant float* w, __global float* restrict out) {
+    const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
+    float acc = 0;
+    for (int k = -RADIUS; k <= RADIUS; ++k)
+        acc += w[k + RADIUS] *
+               (float)in[((size_t)clamp_index(z_begin + z + k, nz_in) * (size_t)ny + (size_t)y) * (size_t)nx + x];
+    out[((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + x] = acc;
+}
+
+__kernel void gauss_y_vertices(__global const float* restrict in, int nx, int ny, int nz, __constant float* w,
+                               __global float* restrict out) {
+    const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
+    float acc = 0;
+    for (int k = -RADIUS; k <= RADIUS; ++k)
+        acc += w[k + RADIUS] * in[((size_t)z * (size_t)ny + (size_t)clamp_index(y + k, ny)) * (size_t)nx + x];
+    out[((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + x] = acc;
+}
+
+__kernel void gauss_x_vertices(__global const float* restrict in, int nx, int ny, int nz, __constant float* w,
+                               __global T* restrict out, __global const T* restrict orig, int z_begin MASK_ARGS) {
+    const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
+    const size_t row = ((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx;
+    float acc = 0;
+    for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * in[row + clamp_index(x + k, nx)];
+#ifdef MASKED
+    out[row + x] = ld[row + x] > h ? TO_T(acc) : orig[(size_t)z_begin * (size_t)ny * (size_t)nx + row + x];
+#else
+    out[row + x] = TO_T(acc);
+#endif
+}
+
+// ------------------------------------------------------------------ bilateral
+
+// out(v) = sum_w ws(|w - v|) wr(f(w) - f(v)) f(w) / sum_w ws wr over the cube of radius
+// RADIUS around v, clamp-to-edge (a clamped neighbour counts with the weight of its
+// position), with ws(d) = exp(-d^2 / (2 sigma_s^2)) tabulated in `ws` (index
+// (dz + R)(2R + 1)^2 + (dy + R)(2R + 1) + dx + R) and, for the plain filter,
+// wr(t) = exp(-t^2 * inv_2sr2), inv_2sr2 = 1 / (2 sigma_r^2).
+//
+// LD-guided variant (-DLD_GUIDED; thesis §6.3): the range scale follows the local fractal
+// dimension of v: sigma_r(v) = sigma_r * clamp(LD(v) - 2, 0, 1). Where LD(v) <= 2 or is
+// undefined the value is kept; in the noisiest regions (LD -> 3) the filter approaches the
+// plain bilateral filter with sigma_r. `ld` then holds LD of the output slices.
+inline float bilateral_at(__global const T* in, int nx, int ny, int nz_in, int x, int y, int zin,
+                          __constant float* ws, float inv_2sr2) {
+    const float c = (float)in[((size_t)zin * (size_t)ny + (size_t)y) * (size_t)nx + x];
+    float num = 0, den = 0;
+    int k = 0;
+    for (int dz = -RADIUS; dz <= RADIUS; ++dz) {
+        const size_t zo = (size_t)clamp_index(zin + dz, nz_in) * (size_t)ny;
+        for (int dy = -RADIUS; dy <= RADIUS; ++dy) {
+            __global const T* row = in + (zo + (size_t)clamp_index(y + dy, ny)) * (size_t)nx;
+            for (int dx = -RADIUS; dx <= RADIUS; ++dx, ++k) {
+                const float f = (float)row[clamp_index(x + dx, nx)];
+                const float d = f - c;
+                const float wgt = ws[k] * exp(-d * d * inv_2sr2);
+                num += wgt * f;
+                den += wgt;
+            }
+        }
+    }
+    return num / den;  // den >= ws[centre] = 1
+}
+
+#ifdef LD_GUIDED
+#define BILATERAL_ARGS , __global const float* restrict ld
+#else
+#define BILATERAL_ARGS MASK_ARGS
+#endif
+
+// The range term of vertex i (output-slab index); returns false where v keeps its value.
+inline bool range_term(size_t i, float inv_2sr2, float* out_inv BILATERAL_ARGS) {
+#ifdef LD_GUIDED
+    if (isnan(ld[i]) || !(ld[i] > 2.0f)) return false;
+    const float t = min(ld[i] - 2.0f, 1.0f);
+    *out_inv = inv_2sr2 / (t * t);
+    return true;
+#else
+    *out_inv = inv_2sr2;
+    return SELECTED(i);
+#endif
+}
+
+__kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
+                             __constant float* ws, float inv_2sr2, __global T* restrict out BILATERAL_ARGS) {
+    const size_t item = get_global_id(0), items = get_global_size(0);
+    const size_t nrows = (size_t)ny * (size_t)nz_out;
+    const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
+    for (size_t r = r0; r < r1; ++r) {
+        const int y = (int)(r % (size_t)ny), z = (int)(r / (size_t)ny);
+        __global const T* c = in + ((size_t)(z_begin + z) * (size_t)ny + (size_t)y) * (size_t)nx;
+        for (int x = 0; x < nx; ++x) {
+            const size_t i = r * (size_t)nx + (size_t)x;
+            float inv;
+#ifdef LD_GUIDED
+            const bool on = range_term(i, inv_2sr2, &inv, ld);
+#elif defined(MASKED)
+            const bool on = range_term(i, inv_2sr2, &inv, ld, h);
+#else
+            const bool on = range_term(i, inv_2sr2, &inv);
+#endif
+            out[i] = on ? TO_T(bilateral_at(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv)) : c[x];
+        }
+    }
+}
+
+__kernel void bilateral_vertices(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
+                                 __constant float* ws, float inv_2sr2, __global T* restrict out BILATERAL_ARGS) {
+    const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
+    const size_t i = ((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + (size_t)x;
+    float inv;
+#ifdef LD_GUIDED
+    const bool on = range_term(i, inv_2sr2, &inv, ld);
+#elif defined(MASKED)
+    const bool on = range_term(i, inv_2sr2, &inv, ld, h);
+#else
+    const bool on = range_term(i, inv_2sr2, &inv);
+#endif
+    out[i] = on ? TO_T(bilateral_at(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv))
+                : in[((size_t)(z_begin + z) * (size_t)ny + (size_t)y) * (size_t)nx + x];
+}
