@@ -37,6 +37,31 @@
 #define RADIUS 1
 #endif
 
+// Vectors of VEC = 16 neighbouring x (the CPU kernels): TV the value vector, FV float16,
+// IV the int16 that relational functions return, SEL_CAST the select() mask for TV.
+#define VEC 16
+#define FV float16
+#define IV int16
+#define VLOAD vload16
+#define VSTORE vstore16
+#if defined(T_IS_uchar)
+#define TV uchar16
+#define SEL_CAST(m) convert_char16(m)
+#define CONVERT_SAT_V(v) convert_uchar16_sat_rte(v)
+#elif defined(T_IS_ushort)
+#define TV ushort16
+#define SEL_CAST(m) convert_short16(m)
+#define CONVERT_SAT_V(v) convert_ushort16_sat_rte(v)
+#elif defined(T_IS_short)
+#define TV short16
+#define SEL_CAST(m) convert_short16(m)
+#define CONVERT_SAT_V(v) convert_short16_sat_rte(v)
+#else
+#define TV float16
+#define SEL_CAST(m) (m)
+#define CONVERT_SAT_V(v) (v)
+#endif
+
 inline int clamp_index(int i, int n) { return clamp(i, 0, n - 1); }
 
 #ifdef MASKED
@@ -59,29 +84,39 @@ inline int clamp_index(int i, int n) { return clamp(i, 0, n - 1); }
 // value, and so on; after 13 rounds the median of the 27 values is the middle of the last 3.
 // Generated once from that description and checked against sorting (test/filter_test.cpp
 // checks every kernel against std::nth_element).
-inline T median27(T* v) {
-    CX(v[0], v[14]); CX(v[1], v[13]); CX(v[2], v[12]); CX(v[3], v[11]); CX(v[4], v[10]); CX(v[5], v[9]); CX(v[6], v[8]);
-    CX(v[0], v[1]); CX(v[0], v[2]); CX(v[0], v[3]); CX(v[0], v[4]); CX(v[0], v[5]); CX(v[0], v[6]); CX(v[0], v[7]); CX(v[7], v[14]);
-    CX(v[8], v[14]); CX(v[9], v[14]); CX(v[10], v[14]); CX(v[11], v[14]); CX(v[12], v[14]); CX(v[13], v[14]); CX(v[1], v[15]);
-    CX(v[2], v[13]); CX(v[3], v[12]); CX(v[4], v[11]); CX(v[5], v[10]); CX(v[6], v[9]); CX(v[7], v[8]); CX(v[1], v[2]); CX(v[1], v[3]);
-    CX(v[1], v[4]); CX(v[1], v[5]); CX(v[1], v[6]); CX(v[1], v[7]); CX(v[8], v[15]); CX(v[9], v[15]); CX(v[10], v[15]);
-    CX(v[11], v[15]); CX(v[12], v[15]); CX(v[13], v[15]); CX(v[2], v[16]); CX(v[3], v[13]); CX(v[4], v[12]); CX(v[5], v[11]);
-    CX(v[6], v[10]); CX(v[7], v[9]); CX(v[2], v[3]); CX(v[2], v[4]); CX(v[2], v[5]); CX(v[2], v[6]); CX(v[2], v[7]); CX(v[2], v[8]);
-    CX(v[8], v[16]); CX(v[9], v[16]); CX(v[10], v[16]); CX(v[11], v[16]); CX(v[12], v[16]); CX(v[13], v[16]); CX(v[3], v[17]);
-    CX(v[4], v[13]); CX(v[5], v[12]); CX(v[6], v[11]); CX(v[7], v[10]); CX(v[8], v[9]); CX(v[3], v[4]); CX(v[3], v[5]); CX(v[3], v[6]);
-    CX(v[3], v[7]); CX(v[3], v[8]); CX(v[9], v[17]); CX(v[10], v[17]); CX(v[11], v[17]); CX(v[12], v[17]); CX(v[13], v[17]);
-    CX(v[4], v[18]); CX(v[5], v[13]); CX(v[6], v[12]); CX(v[7], v[11]); CX(v[8], v[10]); CX(v[4], v[5]); CX(v[4], v[6]);
-    CX(v[4], v[7]); CX(v[4], v[8]); CX(v[4], v[9]); CX(v[9], v[18]); CX(v[10], v[18]); CX(v[11], v[18]); CX(v[12], v[18]);
-    CX(v[13], v[18]); CX(v[5], v[19]); CX(v[6], v[13]); CX(v[7], v[12]); CX(v[8], v[11]); CX(v[9], v[10]); CX(v[5], v[6]);
-    CX(v[5], v[7]); CX(v[5], v[8]); CX(v[5], v[9]); CX(v[10], v[19]); CX(v[11], v[19]); CX(v[12], v[19]); CX(v[13], v[19]);
-    CX(v[6], v[20]); CX(v[7], v[13]); CX(v[8], v[12]); CX(v[9], v[11]); CX(v[6], v[7]); CX(v[6], v[8]); CX(v[6], v[9]);
-    CX(v[6], v[10]); CX(v[10], v[20]); CX(v[11], v[20]); CX(v[12], v[20]); CX(v[13], v[20]); CX(v[7], v[21]); CX(v[8], v[13]);
-    CX(v[9], v[12]); CX(v[10], v[11]); CX(v[7], v[8]); CX(v[7], v[9]); CX(v[7], v[10]); CX(v[11], v[21]); CX(v[12], v[21]);
-    CX(v[13], v[21]); CX(v[8], v[22]); CX(v[9], v[13]); CX(v[10], v[12]); CX(v[8], v[9]); CX(v[8], v[10]); CX(v[8], v[11]);
-    CX(v[11], v[22]); CX(v[12], v[22]); CX(v[13], v[22]); CX(v[9], v[23]); CX(v[10], v[13]); CX(v[11], v[12]); CX(v[9], v[10]);
-    CX(v[9], v[11]); CX(v[12], v[23]); CX(v[13], v[23]); CX(v[10], v[24]); CX(v[11], v[13]); CX(v[10], v[11]); CX(v[10], v[12]);
-    CX(v[12], v[24]); CX(v[13], v[24]); CX(v[11], v[25]); CX(v[12], v[13]); CX(v[11], v[12]); CX(v[13], v[25]); CX(v[12], v[26]);
+#define MEDIAN27_NETWORK(CX, v) \
+    CX(v[0], v[14]); CX(v[1], v[13]); CX(v[2], v[12]); CX(v[3], v[11]); CX(v[4], v[10]); CX(v[5], v[9]); CX(v[6], v[8]); \
+    CX(v[0], v[1]); CX(v[0], v[2]); CX(v[0], v[3]); CX(v[0], v[4]); CX(v[0], v[5]); CX(v[0], v[6]); CX(v[0], v[7]); CX(v[7], v[14]); \
+    CX(v[8], v[14]); CX(v[9], v[14]); CX(v[10], v[14]); CX(v[11], v[14]); CX(v[12], v[14]); CX(v[13], v[14]); CX(v[1], v[15]); \
+    CX(v[2], v[13]); CX(v[3], v[12]); CX(v[4], v[11]); CX(v[5], v[10]); CX(v[6], v[9]); CX(v[7], v[8]); CX(v[1], v[2]); CX(v[1], v[3]); \
+    CX(v[1], v[4]); CX(v[1], v[5]); CX(v[1], v[6]); CX(v[1], v[7]); CX(v[8], v[15]); CX(v[9], v[15]); CX(v[10], v[15]); \
+    CX(v[11], v[15]); CX(v[12], v[15]); CX(v[13], v[15]); CX(v[2], v[16]); CX(v[3], v[13]); CX(v[4], v[12]); CX(v[5], v[11]); \
+    CX(v[6], v[10]); CX(v[7], v[9]); CX(v[2], v[3]); CX(v[2], v[4]); CX(v[2], v[5]); CX(v[2], v[6]); CX(v[2], v[7]); CX(v[2], v[8]); \
+    CX(v[8], v[16]); CX(v[9], v[16]); CX(v[10], v[16]); CX(v[11], v[16]); CX(v[12], v[16]); CX(v[13], v[16]); CX(v[3], v[17]); \
+    CX(v[4], v[13]); CX(v[5], v[12]); CX(v[6], v[11]); CX(v[7], v[10]); CX(v[8], v[9]); CX(v[3], v[4]); CX(v[3], v[5]); CX(v[3], v[6]); \
+    CX(v[3], v[7]); CX(v[3], v[8]); CX(v[9], v[17]); CX(v[10], v[17]); CX(v[11], v[17]); CX(v[12], v[17]); CX(v[13], v[17]); \
+    CX(v[4], v[18]); CX(v[5], v[13]); CX(v[6], v[12]); CX(v[7], v[11]); CX(v[8], v[10]); CX(v[4], v[5]); CX(v[4], v[6]); \
+    CX(v[4], v[7]); CX(v[4], v[8]); CX(v[4], v[9]); CX(v[9], v[18]); CX(v[10], v[18]); CX(v[11], v[18]); CX(v[12], v[18]); \
+    CX(v[13], v[18]); CX(v[5], v[19]); CX(v[6], v[13]); CX(v[7], v[12]); CX(v[8], v[11]); CX(v[9], v[10]); CX(v[5], v[6]); \
+    CX(v[5], v[7]); CX(v[5], v[8]); CX(v[5], v[9]); CX(v[10], v[19]); CX(v[11], v[19]); CX(v[12], v[19]); CX(v[13], v[19]); \
+    CX(v[6], v[20]); CX(v[7], v[13]); CX(v[8], v[12]); CX(v[9], v[11]); CX(v[6], v[7]); CX(v[6], v[8]); CX(v[6], v[9]); \
+    CX(v[6], v[10]); CX(v[10], v[20]); CX(v[11], v[20]); CX(v[12], v[20]); CX(v[13], v[20]); CX(v[7], v[21]); CX(v[8], v[13]); \
+    CX(v[9], v[12]); CX(v[10], v[11]); CX(v[7], v[8]); CX(v[7], v[9]); CX(v[7], v[10]); CX(v[11], v[21]); CX(v[12], v[21]); \
+    CX(v[13], v[21]); CX(v[8], v[22]); CX(v[9], v[13]); CX(v[10], v[12]); CX(v[8], v[9]); CX(v[8], v[10]); CX(v[8], v[11]); \
+    CX(v[11], v[22]); CX(v[12], v[22]); CX(v[13], v[22]); CX(v[9], v[23]); CX(v[10], v[13]); CX(v[11], v[12]); CX(v[9], v[10]); \
+    CX(v[9], v[11]); CX(v[12], v[23]); CX(v[13], v[23]); CX(v[10], v[24]); CX(v[11], v[13]); CX(v[10], v[11]); CX(v[10], v[12]); \
+    CX(v[12], v[24]); CX(v[13], v[24]); CX(v[11], v[25]); CX(v[12], v[13]); CX(v[11], v[12]); CX(v[13], v[25]); CX(v[12], v[26]); \
     CX(v[12], v[13]); CX(v[13], v[26]);
+
+inline T median27(T* v) {
+    MEDIAN27_NETWORK(CX, v);
+    return v[13];
+}
+
+// The same on VEC neighbouring x at once (TV = T vector of width VEC).
+#define CXV(a, b) { const TV t_ = min(a, b); b = max(a, b); a = t_; }
+inline TV median27_vec(TV* v) {
+    MEDIAN27_NETWORK(CXV, v);
     return v[13];
 }
 
@@ -101,6 +136,26 @@ inline T median27(T* v) {
             rows[3 * (dz + 1) + dy + 1] =                                                 \
                 in + ((size_t)clamp_index(zin + dz, nz_in) * (size_t)ny + (size_t)clamp_index(y + dy, ny)) * (size_t)nx;
 
+// The medians of columns x0 .. x0 + VEC - 1 (all interior: 1 <= x0, x0 + VEC <= nx - 1).
+inline TV median_vec(__global const T* const* rows, int x0) {
+    TV v[27];
+    for (int r = 0; r < 9; ++r) {
+        v[3 * r] = VLOAD(0, rows[r] + x0 - 1);
+        v[3 * r + 1] = VLOAD(0, rows[r] + x0);
+        v[3 * r + 2] = VLOAD(0, rows[r] + x0 + 1);
+    }
+    return median27_vec(v);
+}
+
+inline T median_scalar(__global const T* const* rows, int x, int nx) {
+    T v[27];
+    GATHER27(rows, max(x - 1, 0), x, min(x + 1, nx - 1), v);
+    return median27(v);
+}
+
+// Output row r = y + ny z of the slab: VEC columns at a time in the interior, the rest one by
+// one. Masked: blocks of VEC columns without a selected vertex are copied, others computed and
+// merged.
 __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
                           __global T* restrict out MASK_ARGS) {
     const size_t item = get_global_id(0), items = get_global_size(0);
@@ -113,42 +168,35 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
         __global const T* c = rows[4];  // the row itself
 #ifdef MASKED
         __global const float* m = ld + r * (size_t)nx;
-#define ROW_SELECTED(x) (m[x] > h)
-#else
-#define ROW_SELECTED(x) true
 #endif
-        // Border columns clamp; the interior has fixed offsets.
-        for (int x = 0; x < nx; x += max(1, nx - 1)) {
-            T v[27];
-            GATHER27(rows, max(x - 1, 0), x, min(x + 1, nx - 1), v);
-            o[x] = ROW_SELECTED(x) ? median27(v) : c[x];
-        }
+        int x = 0;
+        for (; x < nx; ++x) {
+            if (x >= 1 && x + VEC <= nx - 1) break;  // the vector loop takes over
 #ifdef MASKED
-        // Blocks of 16 columns without a selected vertex are copied; others are computed in
-        // full (vectorised) and merged.
-        for (int x0 = 1; x0 < nx - 1; x0 += 16) {
-            const int x1 = min(x0 + 16, nx - 1);
-            int any = 0;
-            for (int x = x0; x < x1; ++x) any |= m[x] > h;
-            if (!any) {
-                for (int x = x0; x < x1; ++x) o[x] = c[x];
+            o[x] = m[x] > h ? median_scalar(rows, x, nx) : c[x];
+#else
+            o[x] = median_scalar(rows, x, nx);
+#endif
+        }
+        for (; x + VEC <= nx - 1; x += VEC) {
+#ifdef MASKED
+            const IV sel = isgreater(vload16(0, m + x), (FV)h);
+            if (!any(sel)) {
+                VSTORE(VLOAD(0, c + x), 0, o + x);
                 continue;
             }
-            for (int x = x0; x < x1; ++x) {
-                T v[27];
-                GATHER27(rows, x - 1, x, x + 1, v);
-                const T f = median27(v);
-                o[x] = m[x] > h ? f : c[x];
-            }
-        }
+            VSTORE(select(VLOAD(0, c + x), median_vec(rows, x), SEL_CAST(sel)), 0, o + x);
 #else
-        for (int x = 1; x < nx - 1; ++x) {
-            T v[27];
-            GATHER27(rows, x - 1, x, x + 1, v);
-            o[x] = median27(v);
-        }
+            VSTORE(median_vec(rows, x), 0, o + x);
 #endif
-#undef ROW_SELECTED
+        }
+        for (; x < nx; ++x) {
+#ifdef MASKED
+            o[x] = m[x] > h ? median_scalar(rows, x, nx) : c[x];
+#else
+            o[x] = median_scalar(rows, x, nx);
+#endif
+        }
     }
 }
 
@@ -173,6 +221,8 @@ __kernel void median_vertices(__global const T* restrict in, int nx, int ny, int
 // rounded and saturated for integer types; masked: selected vertices only). Each pass
 // accumulates in offset order -RADIUS .. RADIUS.
 
+// The rows variants work on VEC columns at a time, the last nx % VEC one by one.
+
 // Output rows (y, z) of the pass over z: reads `in` (nz_in slices of T).
 __kernel void gauss_z_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
                            __constant float* w, __global float* restrict out) {
@@ -185,7 +235,13 @@ __kernel void gauss_z_rows(__global const T* restrict in, int nx, int ny, int nz
         for (int k = -RADIUS; k <= RADIUS; ++k)
             p[k + RADIUS] = in + ((size_t)clamp_index(z_begin + z + k, nz_in) * (size_t)ny + (size_t)y) * (size_t)nx;
         __global float* o = out + r * (size_t)nx;
-        for (int x = 0; x < nx; ++x) {
+        int x = 0;
+        for (; x + VEC <= nx; x += VEC) {
+            FV acc = 0;
+            for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * convert_float16(VLOAD(0, p[k] + x));
+            vstore16(acc, 0, o + x);
+        }
+        for (; x < nx; ++x) {
             float acc = 0;
             for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * (float)p[k][x];
             o[x] = acc;
@@ -204,7 +260,13 @@ __kernel void gauss_y_rows(__global const float* restrict in, int nx, int ny, in
         for (int k = -RADIUS; k <= RADIUS; ++k)
             p[k + RADIUS] = in + ((size_t)z * (size_t)ny + (size_t)clamp_index(y + k, ny)) * (size_t)nx;
         __global float* o = out + r * (size_t)nx;
-        for (int x = 0; x < nx; ++x) {
+        int x = 0;
+        for (; x + VEC <= nx; x += VEC) {
+            FV acc = 0;
+            for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * vload16(0, p[k] + x);
+            vstore16(acc, 0, o + x);
+        }
+        for (; x < nx; ++x) {
             float acc = 0;
             for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * p[k][x];
             o[x] = acc;
@@ -224,26 +286,35 @@ __kernel void gauss_x_rows(__global const float* restrict in, int nx, int ny, in
 #ifdef MASKED
         __global const T* c = orig + ((size_t)z_begin * (size_t)ny) * (size_t)nx + r * (size_t)nx;
         __global const float* m = ld + r * (size_t)nx;
-#endif
-        // Columns [0, x_in0) and [x_in1, nx) clamp; the interior has fixed offsets.
-#ifdef MASKED
 #define STORE_X(x, acc) o[x] = m[x] > h ? TO_T(acc) : c[x]
 #else
 #define STORE_X(x, acc) o[x] = TO_T(acc)
 #endif
-        const int x_in0 = min(RADIUS, nx), x_in1 = max(x_in0, nx - RADIUS);
-        for (int x = 0; x < nx; ++x) {
-            if (x == x_in0) x = x_in1;
-            if (x >= nx) break;
+        // Columns x with x - RADIUS >= 0 and x + RADIUS + VEC <= nx go VEC at a time; the
+        // others clamp, one by one.
+        int x = 0;
+        for (; x < nx; ++x) {
+            if (x >= RADIUS && x + RADIUS + VEC <= nx) break;
             float acc = 0;
             for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * p[clamp_index(x + k, nx)];
             STORE_X(x, acc);
         }
-        for (int x = x_in0; x < x_in1; ++x) {
+        for (; x + RADIUS + VEC <= nx; x += VEC) {
+            FV acc = 0;
+            for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * vload16(0, p + x + k);
+#ifdef MASKED
+            const IV sel = isgreater(vload16(0, m + x), (FV)h);
+            VSTORE(select(VLOAD(0, c + x), CONVERT_SAT_V(acc), SEL_CAST(sel)), 0, o + x);
+#else
+            VSTORE(CONVERT_SAT_V(acc), 0, o + x);
+#endif
+        }
+        for (; x < nx; ++x) {
             float acc = 0;
-            for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * p[x + k];
+            for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * p[clamp_index(x + k, nx)];
             STORE_X(x, acc);
         }
+#undef STORE_X
     }
 }
 

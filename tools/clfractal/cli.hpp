@@ -44,4 +44,5 @@ using Commands = std::vector<Command>;
 
 // Subcommands defined in their own files (cmd_*.cpp). Each adds itself to `app` and
 // appends what to run; its options live in heap state owned by the closure.
+void add_filter_command(CLI::App& app, Commands& commands);
 }  // namespace cli

@@ -469,6 +469,7 @@ int main(int argc, char** argv) {
 
     // Subcommands that live in their own files (cmd_*.cpp).
     cli::Commands commands;
+    cli::add_filter_command(app, commands);
 
     try {
         app.parse(argc, argv);
