@@ -16,7 +16,10 @@
 //
 // Fractal-targeted filtering (thesis §4.3): the filter's value only where the local fractal
 // dimension LD(v) (local.hpp) for isovalue s and window k is > h (NaN never qualifies), the
-// input value elsewhere. The result reports the share of vertices selected and changed.
+// input value elsewhere. The result reports the share of vertices selected and changed. The
+// median kernels compute only the blocks of 16 columns that hold a selected vertex, the
+// bilateral kernels only the selected vertices; the Gaussian's separable passes run in full
+// and the last one selects.
 //
 // LD-guided bilateral filter (thesis §6.3: "could we improve [bilateral filtering] by using
 // the fractal dimension instead of the gradient?"): the bilateral filter above with a range
@@ -29,6 +32,10 @@
 // Volumes larger than the device's largest allocation (or Tuning::slab_bytes when set) are
 // filtered in z-slabs with a halo of the radius; the results are identical to the in-core
 // run. The LD field of the targeted filters is computed in-core (local.hpp).
+//
+// Kernels (kernels/filter.cl) follow Tuning::local_variant: "rows" (CPUs: whole x-rows per
+// work-item, 16 columns at a time in vector types) or "vertices" (GPUs: one work-item per
+// vertex, neighbours through the caches; no local-memory tiles yet).
 #pragma once
 #include <cstddef>
 
