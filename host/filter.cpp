@@ -5,7 +5,9 @@
 #include <climits>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <set>
+#include <tuple>
 #include <sstream>
 
 #include "clfractal/local.hpp"
@@ -125,7 +127,7 @@ public:
             if (mask_ == Mask::threshold) k.setArg(next + 1, h);
         };
         auto go = [&](cl::Kernel& k) {
-            if (first_.insert(&k).second) ctx_.warm_up(k, global, local);
+            if (first_launch(k)) ctx_.warm_up(k, global, local);
             else ctx_.launch(k, global, local);
         };
         if (spec_.kind == FilterKind::median) {
@@ -172,6 +174,15 @@ public:
     }
 
 private:
+    // True the first time this process launches kernel `k` (name and options) on this
+    // context: PoCL finishes compiling at the first launch, which counts as compilation.
+    bool first_launch(const cl::Kernel& k) {
+        static std::mutex mutex;
+        static std::set<std::tuple<const void*, std::string, std::string>> seen;
+        std::lock_guard<std::mutex> lock(mutex);
+        return seen.emplace(ctx_.context()(), k.getInfo<CL_KERNEL_FUNCTION_NAME>(), options_).second;
+    }
+
     static void set_slab_args(cl::Kernel& k, const cl::Buffer& in, int nx, int ny, int nz_in, int z_begin,
                               int nz_out) {
         k.setArg(0, in);
@@ -194,7 +205,6 @@ private:
     cl::Buffer weights_;
     Buffer<float> tmp_a_, tmp_b_;
     std::size_t tmp_size_ = 0;
-    std::set<const cl::Kernel*> first_;
 };
 
 // Output slices per slab: all of them when the volume fits, else as many as fit with the

@@ -403,6 +403,31 @@ inline bool range_term(size_t i, float inv_2sr2, float* out_inv BILATERAL_ARGS) 
 #endif
 }
 
+// bilateral_at for VEC neighbouring columns x0 .. x0 + VEC - 1, all with x0 - RADIUS >= 0
+// and x0 + VEC + RADIUS <= nx; `inv` the range term per column.
+inline FV bilateral_vec(__global const T* in, int nx, int ny, int nz_in, int x0, int y, int zin,
+                        __constant float* ws, FV inv) {
+    const FV c = convert_float16(VLOAD(0, in + ((size_t)zin * (size_t)ny + (size_t)y) * (size_t)nx + x0));
+    FV num = 0, den = 0;
+    int k = 0;
+    for (int dz = -RADIUS; dz <= RADIUS; ++dz) {
+        const size_t zo = (size_t)clamp_index(zin + dz, nz_in) * (size_t)ny;
+        for (int dy = -RADIUS; dy <= RADIUS; ++dy) {
+            __global const T* row = in + (zo + (size_t)clamp_index(y + dy, ny)) * (size_t)nx + x0;
+            for (int dx = -RADIUS; dx <= RADIUS; ++dx, ++k) {
+                const FV f = convert_float16(VLOAD(0, row + dx));
+                const FV d = f - c;
+                const FV wgt = ws[k] * exp(-d * d * inv);
+                num += wgt * f;
+                den += wgt;
+            }
+        }
+    }
+    return num / den;
+}
+
+// Output rows of the slab: VEC columns at a time where the cube stays inside the row (blocks
+// without a selected vertex copied), the border columns one by one.
 __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
                              __constant float* ws, float inv_2sr2, __global T* restrict out BILATERAL_ARGS) {
     const size_t item = get_global_id(0), items = get_global_size(0);
@@ -411,7 +436,40 @@ __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int 
     for (size_t r = r0; r < r1; ++r) {
         const int y = (int)(r % (size_t)ny), z = (int)(r / (size_t)ny);
         __global const T* c = in + ((size_t)(z_begin + z) * (size_t)ny + (size_t)y) * (size_t)nx;
-        for (int x = 0; x < nx; ++x) {
+        __global T* o = out + r * (size_t)nx;
+        int x = 0;
+        for (;; ++x) {
+            if (x >= RADIUS && x + VEC + RADIUS <= nx) {
+                // The interior, VEC columns at a time.
+                for (; x + VEC + RADIUS <= nx; x += VEC) {
+#if defined(LD_GUIDED)
+                    const FV l = vload16(0, ld + r * (size_t)nx + x);
+                    const IV sel = isgreater(l, (FV)2.0f);
+                    if (!any(sel)) {
+                        VSTORE(VLOAD(0, c + x), 0, o + x);
+                        continue;
+                    }
+                    const FV t = select((FV)1.0f, fmin(l - 2.0f, 1.0f), sel);
+                    const FV inv = inv_2sr2 / (t * t);
+#elif defined(MASKED)
+                    const IV sel = isgreater(vload16(0, ld + r * (size_t)nx + x), (FV)h);
+                    if (!any(sel)) {
+                        VSTORE(VLOAD(0, c + x), 0, o + x);
+                        continue;
+                    }
+                    const FV inv = inv_2sr2;
+#else
+                    const FV inv = inv_2sr2;
+#endif
+                    const TV f = CONVERT_SAT_V(bilateral_vec(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv));
+#if defined(LD_GUIDED) || defined(MASKED)
+                    VSTORE(select(VLOAD(0, c + x), f, SEL_CAST(sel)), 0, o + x);
+#else
+                    VSTORE(f, 0, o + x);
+#endif
+                }
+            }
+            if (x >= nx) break;
             const size_t i = r * (size_t)nx + (size_t)x;
             float inv;
 #ifdef LD_GUIDED
@@ -421,7 +479,7 @@ __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int 
 #else
             const bool on = range_term(i, inv_2sr2, &inv);
 #endif
-            out[i] = on ? TO_T(bilateral_at(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv)) : c[x];
+            o[x] = on ? TO_T(bilateral_at(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv)) : c[x];
         }
     }
 }

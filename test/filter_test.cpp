@@ -259,7 +259,7 @@ TEST_CASE("LD-guided bilateral filter against the reference") {
         for (ValueType t : types) {
             CAPTURE(variant);
             CAPTURE(value_type_name(t));
-            Volume v = testutil::random_volume({15, 12, 10}, t, 0, 20, 11);
+            Volume v = testutil::random_volume({37, 12, 10}, t, 0, 20, 11);
             const double iso = is_integer(t) ? 10 : 5;
             const Volume ld = local_fractal_dimension(ctx(), v, iso, 4);
             const TargetedResult r = ld_bilateral_filter(ctx(), v, 1, 6, iso, 4);
