@@ -87,18 +87,21 @@ class Runner {
 public:
     Runner(Context& ctx, ValueType type, const Dims& d, const FilterSpec& spec, Mask mask)
         : ctx_(ctx), type_(type), d_(d), spec_(spec), mask_(mask) {
-        const std::string& variant = ctx.tuning.local_variant;
-        if (variant != "rows" && variant != "vertices") throw std::logic_error("unknown filter variant '" + variant + "'");
+        const std::string& variant = ctx.tuning.filter_variant;
+        if (variant != "rows" && variant != "vertices" && variant != "tiled")
+            throw std::logic_error("unknown filter variant '" + variant + "'");
         rows_ = variant == "rows";
+        tiled_ = variant == "tiled" && spec.kind == FilterKind::median;
         items_ = ctx.tuning.row_items ? ctx.tuning.row_items : 4 * ctx.compute_units();
         const std::string t = opencl_type_name(type);
         options_ = defines({{"T", t}, {"RADIUS", std::to_string(spec.radius())}}) + " -DT_IS_" + t;
         if (is_integer(type)) options_ += " -DINTEGER_VALUES";
+        if (tiled_) options_ += " " + defines({{"TILE_X", std::to_string(tile_x)}, {"TILE_Y", std::to_string(tile_y)}});
         if (mask == Mask::threshold) options_ += " -DMASKED";
         if (mask == Mask::ld_guided) options_ += " -DLD_GUIDED";
         const std::string suffix = rows_ ? "_rows" : "_vertices";
         if (spec.kind == FilterKind::median) {
-            main_ = ctx.kernel("filter", "median" + suffix, options_);
+            main_ = ctx.kernel("filter", tiled_ ? "median_tiled" : "median" + suffix, options_);
         } else if (spec.kind == FilterKind::gaussian) {
             gz_ = ctx.kernel("filter", "gauss_z" + suffix, options_);
             gy_ = ctx.kernel("filter", "gauss_y" + suffix, options_);
@@ -119,8 +122,12 @@ public:
     void run(const cl::Buffer& in, int nz_in, int z_begin, int nz_out, const cl::Buffer& out, const cl::Buffer* ld,
              float h) {
         const int nx = int(d_.nx), ny = int(d_.ny);
-        const cl::NDRange global = rows_ ? cl::NDRange(items_) : cl::NDRange(d_.nx, d_.ny, std::size_t(nz_out));
-        const cl::NDRange local = rows_ ? cl::NDRange(1) : cl::NullRange;
+        auto round_up = [](std::size_t n, std::size_t m) { return (n + m - 1) / m * m; };
+        const cl::NDRange global =
+            rows_ ? cl::NDRange(items_)
+                  : tiled_ ? cl::NDRange(round_up(d_.nx, tile_x), round_up(d_.ny, tile_y), std::size_t(nz_out))
+                           : cl::NDRange(d_.nx, d_.ny, std::size_t(nz_out));
+        const cl::NDRange local = rows_ ? cl::NDRange(1) : tiled_ ? cl::NDRange(tile_x, tile_y, 1) : cl::NullRange;
         auto mask_args = [&](cl::Kernel& k, int next) {
             if (mask_ == Mask::none) return;
             k.setArg(next, *ld);
@@ -198,7 +205,10 @@ private:
     Dims d_;
     FilterSpec spec_;
     Mask mask_;
-    bool rows_ = true;
+    // Work-group of the tiled median: a 16 x 8 tile of one slice (with its 1-voxel border,
+    // three slices of 18 x 10 values in local memory).
+    static constexpr std::size_t tile_x = 16, tile_y = 8;
+    bool rows_ = true, tiled_ = false;
     std::size_t items_ = 1;
     std::string options_;
     cl::Kernel main_, gz_, gy_;

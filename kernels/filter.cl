@@ -12,13 +12,14 @@
 // the host gives each slab a halo of the radius (or the true volume border), so a slab's
 // results equal the in-core run's.
 //
-// Two variants of each kernel (Tuning::filter_variant, from Tuning::local_variant):
+// Variants (Tuning::filter_variant):
 //  - *_rows (CPUs): local size 1, a few work-items per core, each walking a contiguous
 //    share of the output x-rows; the interior of each row is a loop over x with fixed
 //    offsets, which the compiler vectorises; the two border columns clamp.
 //  - *_vertices (GPUs): one work-item per output vertex, global size (nx, ny, nz_out)
 //    exactly; neighbours come through the caches (a 3×3×3 median reads 27 values a
-//    work-item, all of them shared with its neighbours).
+//    work-item, all of them shared with its neighbours);
+//  - median_tiled (GPUs, -DTILE_X -DTILE_Y): the median through local-memory tiles.
 
 #ifdef INTEGER_VALUES
 #define TO_T(v) CONVERT_SAT(v)
@@ -213,6 +214,39 @@ __kernel void median_vertices(__global const T* restrict in, int nx, int ny, int
     GATHER27(rows, max(x - 1, 0), x, min(x + 1, nx - 1), v);
     out[o] = median27(v);
 }
+
+#ifdef TILE_X
+// Work-group (TILE_X, TILE_Y, 1), global size (nx, ny) rounded up to it, nz_out: each group
+// loads its tile of three slices with a 1-vertex border (clamped) into local memory once, and
+// every work-item reads its 27 values from there (GPUs: 27 reads of local memory instead of 27
+// of global memory per vertex).
+__kernel __attribute__((reqd_work_group_size(TILE_X, TILE_Y, 1)))
+void median_tiled(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
+                  __global T* restrict out MASK_ARGS) {
+    __local T tile[3][TILE_Y + 2][TILE_X + 2];
+    const int lx = get_local_id(0), ly = get_local_id(1);
+    const int x0 = (int)get_group_id(0) * TILE_X - 1, y0 = (int)get_group_id(1) * TILE_Y - 1;
+    const int z = get_global_id(2), zin = z_begin + z;
+    for (int i = ly * TILE_X + lx; i < 3 * (TILE_Y + 2) * (TILE_X + 2); i += TILE_X * TILE_Y) {
+        const int tx = i % (TILE_X + 2), ty = (i / (TILE_X + 2)) % (TILE_Y + 2), tz = i / ((TILE_X + 2) * (TILE_Y + 2));
+        tile[tz][ty][tx] = in[((size_t)clamp_index(zin + tz - 1, nz_in) * (size_t)ny +
+                               (size_t)clamp_index(y0 + ty, ny)) * (size_t)nx + (size_t)clamp_index(x0 + tx, nx)];
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const int x = get_global_id(0), y = get_global_id(1);
+    if (x >= nx || y >= ny) return;
+    const size_t o = ((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + (size_t)x;
+    if (!SELECTED(o)) {
+        out[o] = tile[1][ly + 1][lx + 1];
+        return;
+    }
+    T v[27];
+    for (int dz = 0; dz < 3; ++dz)
+        for (int dy = 0; dy < 3; ++dy)
+            for (int dx = 0; dx < 3; ++dx) v[9 * dz + 3 * dy + dx] = tile[dz][ly + dy][lx + dx];
+    out[o] = median27(v);
+}
+#endif
 
 // ------------------------------------------------------------------ Gaussian
 

@@ -84,16 +84,16 @@ Volume test_volume(const Dims& d, ValueType t, std::uint32_t seed) {
     }
 }
 
-const char* variants[] = {"rows", "vertices"};
+const char* variants[] = {"rows", "vertices", "tiled"};
 
 }  // namespace
 
 TEST_SUITE("filter") {
 
-TEST_CASE("median equals the reference exactly: every type, awkward sizes, both variants") {
+TEST_CASE("median equals the reference exactly: every type, awkward sizes, every variant") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.local_variant = variant;
+        ctx().tuning.filter_variant = variant;
         std::uint32_t seed = 1;
         for (const Dims& d : sizes)
             for (ValueType t : types) {
@@ -112,7 +112,7 @@ TEST_CASE("median equals the reference exactly: every type, awkward sizes, both 
 TEST_CASE("Gaussian within tolerance of the exact result") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.local_variant = variant;
+        ctx().tuning.filter_variant = variant;
         std::uint32_t seed = 100;
         for (const Dims& d : sizes)
             for (ValueType t : types)
@@ -132,7 +132,7 @@ TEST_CASE("Gaussian within tolerance of the exact result") {
 TEST_CASE("bilateral within tolerance of the exact result") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.local_variant = variant;
+        ctx().tuning.filter_variant = variant;
         std::uint32_t seed = 200;
         for (const Dims& d : sizes)
             for (ValueType t : types) {
@@ -153,7 +153,7 @@ TEST_CASE("slabs with a halo equal the in-core run") {
     const Dims d{9, 7, 23};
     for (const char* variant : variants)
         for (ValueType t : types) {
-            ctx().tuning.local_variant = variant;
+            ctx().tuning.filter_variant = variant;
             CAPTURE(variant);
             CAPTURE(value_type_name(t));
             Volume v = testutil::random_volume(d, t, 0, 30, 7);
@@ -180,7 +180,7 @@ TEST_CASE("slabs with a halo equal the in-core run") {
 TEST_CASE("targeted filter changes exactly the vertices with LD > h") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.local_variant = variant;
+        ctx().tuning.filter_variant = variant;
         std::uint32_t seed = 300;
         for (ValueType t : types)
             for (const Dims& d : {Dims{17, 13, 11}, Dims{2, 9, 8}, Dims{24, 24, 24}}) {
@@ -255,7 +255,7 @@ TEST_CASE("the threshold is compared exactly as a double") {
 TEST_CASE("LD-guided bilateral filter against the reference") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.local_variant = variant;
+        ctx().tuning.filter_variant = variant;
         for (ValueType t : types) {
             CAPTURE(variant);
             CAPTURE(value_type_name(t));

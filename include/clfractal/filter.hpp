@@ -33,9 +33,10 @@
 // filtered in z-slabs with a halo of the radius; the results are identical to the in-core
 // run. The LD field of the targeted filters is computed in-core (local.hpp).
 //
-// Kernels (kernels/filter.cl) follow Tuning::local_variant: "rows" (CPUs: whole x-rows per
-// work-item, 16 columns at a time in vector types) or "vertices" (GPUs: one work-item per
-// vertex, neighbours through the caches; no local-memory tiles yet).
+// Kernels (kernels/filter.cl) follow Tuning::filter_variant: "rows" (CPUs: whole x-rows per
+// work-item, 16 columns at a time in vector types), "vertices" (one work-item per vertex,
+// neighbours through the caches) or "tiled" (GPUs: the median through local-memory tiles of
+// 16 x 8 x 3 plus border; Gaussian and bilateral as "vertices").
 #pragma once
 #include <cstddef>
 
