@@ -165,6 +165,7 @@ Context::Context(cl::Device device) : device_(std::move(device)) {
     tuning.work_group = std::min<std::size_t>(256, max_work_group_);
     tuning.sat_variant = is_cpu() ? "sequential" : "workgroup";
     tuning.local_variant = is_cpu() ? "rows" : "vertices";
+    tuning.filter_variant = is_cpu() ? "rows" : "tiled";
     tuning.sat_work_group = std::min<std::size_t>(256, max_work_group_);
 }
 

@@ -209,6 +209,25 @@ PY
 expect 2 'clfractal: error: .*--mesh' -- "$bin" -q local st.nrrd --iso 60 --stream -o x.nrrd --mesh x.ply
 expect 2 'clfractal: error: .*window' -- "$bin" -q local st.nrrd --iso 60 --window 3 --stream -o x.nrrd
 [ ! -e x.nrrd ] && pass || fail "local --stream left an output after an error"
+# filter: output in the input's type, before/after at the isovalue, targeted share, errors.
+expect 0 'changed' -- "$bin" -q filter synthetic:noisy-sphere:24 --median -o med.nrrd
+expect 0 'uint8' -- "$bin" info med.nrrd
+expect 0 'FD' -- "$bin" -q filter synthetic:noisy-sphere:24 --gaussian 1 --iso 128 -o gauss.nrrd
+expect 0 'selected .*LD > 2.4' -- "$bin" -q filter synthetic:noisy-sphere:24 --median --fractal --iso 128 --threshold 2.4 --window 4 -o frac.nrrd
+expect 0 'changed +0 vertices' -- "$bin" -q filter synthetic:noisy-sphere:24 --median --fractal --iso 128 --threshold 1000 -o none.nrrd
+expect 0 'LD-guided' -- "$bin" -q filter synthetic:noisy-sphere:24 --bilateral 1,20 --ld-guided --iso 128 -o ldb.nrrd
+expect 0 'float32' -- "$bin" -q filter ml.nrrd --bilateral 1,0.2 -o mlb.nrrd
+expect 0 'float32' -- "$bin" info mlb.nrrd
+expect 2 'clfractal: error: .*exactly one' -- "$bin" filter synthetic:sphere:20 -o bad.nrrd
+expect 2 'clfractal: error: .*exactly one' -- "$bin" filter synthetic:sphere:20 --median --gaussian 1 -o bad.nrrd
+expect 2 'clfractal: error: .*--gaussian' -- "$bin" filter synthetic:sphere:20 --gaussian -1 -o bad.nrrd
+expect 2 'clfractal: error: .*--bilateral' -- "$bin" filter synthetic:sphere:20 --bilateral 1 -o bad.nrrd
+expect 2 'clfractal: error: .*--iso' -- "$bin" filter synthetic:sphere:20 --median --fractal --threshold 2.3 -o bad.nrrd
+expect 2 'clfractal: error: .*--threshold' -- "$bin" filter synthetic:sphere:20 --median --fractal --iso 100 -o bad.nrrd
+expect 2 'clfractal: error: .*window' -- "$bin" filter synthetic:sphere:20 --median --fractal --iso 100 --threshold 2.3 --window 3 -o bad.nrrd
+expect 2 'clfractal: error: .*--ld-guided' -- "$bin" filter synthetic:sphere:20 --median --ld-guided --iso 100 -o bad.nrrd
+expect 2 'clfractal: error: .*short_10x10x10_uint8.raw' -- "$bin" filter short_10x10x10_uint8.raw --median -o bad.nrrd
+[ ! -e bad.nrrd ] && pass || fail "a NRRD was written for bad filter arguments"
 
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

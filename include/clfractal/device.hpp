@@ -76,6 +76,10 @@ struct Tuning {
     /// Local-dimension kernels (local.hpp): "rows" (CPUs: a few work-items, each walking
     /// whole x-rows) or "vertices" (GPUs: one work-item per vertex).
     std::string local_variant;
+    /// Filter kernels (filter.hpp): "rows" (CPUs: whole x-rows, 16 columns at a time),
+    /// "vertices" (one work-item per vertex) or "tiled" (GPUs: the median through
+    /// local-memory tiles, the other filters per vertex).
+    std::string filter_variant;
     /// Work-items of the row-walking variants (sat "sequential", local "rows"); 0 = 4 x CUs.
     std::size_t row_items = 0;
     /// Largest count total kept in 32-bit tables; above it tables are 64-bit. Tests

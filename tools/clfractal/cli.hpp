@@ -59,6 +59,7 @@ int cmd_local_stream(const std::string& volume, const clfractal::RawOptions& raw
 // Subcommands defined in their own files (cmd_*.cpp). Each adds itself to `app` and
 // appends what to run; its options live in heap state owned by the closure.
 void add_smooth_command(CLI::App& app, Commands& commands);
+void add_filter_command(CLI::App& app, Commands& commands);
 }  // namespace cli
 
 void add_noise_command(CLI::App& app, cli::Commands& commands);

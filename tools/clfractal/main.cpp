@@ -490,6 +490,7 @@ int main(int argc, char** argv) {
     cli::Commands commands;
     cli::add_smooth_command(app, commands);
     add_noise_command(app, commands);
+    cli::add_filter_command(app, commands);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,431 @@
+#include "clfractal/filter.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <set>
+#include <tuple>
+#include <sstream>
+
+#include "clfractal/local.hpp"
+
+namespace clfractal {
+
+int FilterSpec::radius() const {
+    switch (kind) {
+    case FilterKind::median: return 1;
+    case FilterKind::gaussian: return int(std::ceil(3 * sigma));
+    default: return int(std::ceil(2 * sigma_s));
+    }
+}
+
+std::string FilterSpec::describe() const {
+    std::ostringstream s;
+    switch (kind) {
+    case FilterKind::median: s << "median 3x3x3"; break;
+    case FilterKind::gaussian: s << "gaussian sigma " << sigma << " (radius " << radius() << ")"; break;
+    default: s << "bilateral sigma_s " << sigma_s << " sigma_r " << sigma_r << " (radius " << radius() << ")";
+    }
+    return s.str();
+}
+
+void FilterSpec::check() const {
+    auto positive = [](double x, const char* what) {
+        if (!std::isfinite(x) || x <= 0) throw InputError(std::string(what) + ": must be a finite number > 0");
+    };
+    if (kind == FilterKind::gaussian) {
+        positive(sigma, "--gaussian SIGMA");
+        if (sigma > 32.0 / 3) throw InputError("--gaussian SIGMA: at most 10.67 (radius ceil(3 sigma) <= 32)");
+    } else if (kind == FilterKind::bilateral) {
+        positive(sigma_s, "--bilateral SIGMA_S");
+        positive(sigma_r, "--bilateral SIGMA_R");
+        if (sigma_s > 5) throw InputError("--bilateral SIGMA_S: at most 5 (radius ceil(2 sigma_s) <= 10)");
+    }
+}
+
+float float_threshold(double h) {
+    if (std::isnan(h)) throw InputError("--threshold: must be a number");
+    if (h >= double(std::numeric_limits<float>::max())) return std::numeric_limits<float>::infinity();
+    if (h < -double(std::numeric_limits<float>::max())) return -std::numeric_limits<float>::infinity();
+    float f = float(h);
+    if (double(f) > h) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+
+namespace {
+
+using clock = std::chrono::steady_clock;
+double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
+
+// Normalised Gaussian weights w[r + i] = exp(-i^2 / (2 sigma^2)) / sum, i = -r..r.
+std::vector<float> gaussian_weights(double sigma, int r) {
+    std::vector<double> w(2 * r + 1);
+    double sum = 0;
+    for (int i = -r; i <= r; ++i) sum += w[i + r] = std::exp(-double(i) * i / (2 * sigma * sigma));
+    std::vector<float> out(w.size());
+    for (std::size_t i = 0; i < w.size(); ++i) out[i] = float(w[i] / sum);
+    return out;
+}
+
+// Spatial bilateral weights over the cube of radius r, x fastest.
+std::vector<float> spatial_weights(double sigma_s, int r) {
+    std::vector<float> w;
+    for (int dz = -r; dz <= r; ++dz)
+        for (int dy = -r; dy <= r; ++dy)
+            for (int dx = -r; dx <= r; ++dx)
+                w.push_back(float(std::exp(-double(dx * dx + dy * dy + dz * dz) / (2 * sigma_s * sigma_s))));
+    return w;
+}
+
+enum class Mask { none, threshold, ld_guided };
+
+// Compiles and launches the kernels of one filter on one slab.
+class Runner {
+public:
+    Runner(Context& ctx, ValueType type, const Dims& d, const FilterSpec& spec, Mask mask)
+        : ctx_(ctx), type_(type), d_(d), spec_(spec), mask_(mask) {
+        const std::string& variant = ctx.tuning.filter_variant;
+        if (variant != "rows" && variant != "vertices" && variant != "tiled")
+            throw std::logic_error("unknown filter variant '" + variant + "'");
+        rows_ = variant == "rows";
+        tiled_ = variant == "tiled" && spec.kind == FilterKind::median;
+        items_ = ctx.tuning.row_items ? ctx.tuning.row_items : 4 * ctx.compute_units();
+        const std::string t = opencl_type_name(type);
+        options_ = defines({{"T", t}, {"RADIUS", std::to_string(spec.radius())}}) + " -DT_IS_" + t;
+        if (is_integer(type)) options_ += " -DINTEGER_VALUES";
+        if (tiled_) options_ += " " + defines({{"TILE_X", std::to_string(tile_x)}, {"TILE_Y", std::to_string(tile_y)}});
+        if (mask == Mask::threshold) options_ += " -DMASKED";
+        if (mask == Mask::ld_guided) options_ += " -DLD_GUIDED";
+        const std::string suffix = rows_ ? "_rows" : "_vertices";
+        if (spec.kind == FilterKind::median) {
+            main_ = ctx.kernel("filter", tiled_ ? "median_tiled" : "median" + suffix, options_);
+        } else if (spec.kind == FilterKind::gaussian) {
+            gz_ = ctx.kernel("filter", "gauss_z" + suffix, options_);
+            gy_ = ctx.kernel("filter", "gauss_y" + suffix, options_);
+            main_ = ctx.kernel("filter", "gauss_x" + suffix, options_);
+            const auto w = gaussian_weights(spec.sigma, spec.radius());
+            weights_ = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, w.size() * sizeof(float),
+                                  const_cast<float*>(w.data()));
+        } else {
+            main_ = ctx.kernel("filter", "bilateral" + suffix, options_);
+            const auto w = spatial_weights(spec.sigma_s, spec.radius());
+            weights_ = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, w.size() * sizeof(float),
+                                  const_cast<float*>(w.data()));
+        }
+    }
+
+    // Filters output slices z_begin .. z_begin + nz_out - 1 of `in` (nz_in slices) into
+    // `out`; `ld` (nz_out slices) and `h` for the masked kernels.
+    void run(const cl::Buffer& in, int nz_in, int z_begin, int nz_out, const cl::Buffer& out, const cl::Buffer* ld,
+             float h) {
+        const int nx = int(d_.nx), ny = int(d_.ny);
+        auto round_up = [](std::size_t n, std::size_t m) { return (n + m - 1) / m * m; };
+        const cl::NDRange global =
+            rows_ ? cl::NDRange(items_)
+                  : tiled_ ? cl::NDRange(round_up(d_.nx, tile_x), round_up(d_.ny, tile_y), std::size_t(nz_out))
+                           : cl::NDRange(d_.nx, d_.ny, std::size_t(nz_out));
+        const cl::NDRange local = rows_ ? cl::NDRange(1) : tiled_ ? cl::NDRange(tile_x, tile_y, 1) : cl::NullRange;
+        auto mask_args = [&](cl::Kernel& k, int next) {
+            if (mask_ == Mask::none) return;
+            k.setArg(next, *ld);
+            if (mask_ == Mask::threshold) k.setArg(next + 1, h);
+        };
+        auto go = [&](cl::Kernel& k) {
+            if (first_launch(k)) ctx_.warm_up(k, global, local);
+            else ctx_.launch(k, global, local);
+        };
+        if (spec_.kind == FilterKind::median) {
+            set_slab_args(main_, in, nx, ny, nz_in, z_begin, nz_out);
+            main_.setArg(6, out);
+            mask_args(main_, 7);
+            go(main_);
+        } else if (spec_.kind == FilterKind::gaussian) {
+            const std::size_t n = d_.nx * d_.ny * std::size_t(nz_out);
+            if (tmp_size_ < n) {
+                tmp_a_ = Buffer<float>(ctx_, n);
+                tmp_b_ = Buffer<float>(ctx_, n);
+                tmp_size_ = n;
+            }
+            set_slab_args(gz_, in, nx, ny, nz_in, z_begin, nz_out);
+            gz_.setArg(6, weights_);
+            gz_.setArg(7, tmp_a_.get());
+            go(gz_);
+            gy_.setArg(0, tmp_a_.get());
+            gy_.setArg(1, nx);
+            gy_.setArg(2, ny);
+            gy_.setArg(3, nz_out);
+            gy_.setArg(4, weights_);
+            gy_.setArg(5, tmp_b_.get());
+            go(gy_);
+            main_.setArg(0, tmp_b_.get());
+            main_.setArg(1, nx);
+            main_.setArg(2, ny);
+            main_.setArg(3, nz_out);
+            main_.setArg(4, weights_);
+            main_.setArg(5, out);
+            main_.setArg(6, in);
+            main_.setArg(7, z_begin);
+            mask_args(main_, 8);
+            go(main_);
+        } else {
+            set_slab_args(main_, in, nx, ny, nz_in, z_begin, nz_out);
+            main_.setArg(6, weights_);
+            main_.setArg(7, cl_float(1.0 / (2 * spec_.sigma_r * spec_.sigma_r)));
+            main_.setArg(8, out);
+            mask_args(main_, 9);
+            go(main_);
+        }
+    }
+
+private:
+    // True the first time this process launches kernel `k` (name and options) on this
+    // context: PoCL finishes compiling at the first launch, which counts as compilation.
+    bool first_launch(const cl::Kernel& k) {
+        static std::mutex mutex;
+        static std::set<std::tuple<const void*, std::string, std::string>> seen;
+        std::lock_guard<std::mutex> lock(mutex);
+        return seen.emplace(ctx_.context()(), k.getInfo<CL_KERNEL_FUNCTION_NAME>(), options_).second;
+    }
+
+    static void set_slab_args(cl::Kernel& k, const cl::Buffer& in, int nx, int ny, int nz_in, int z_begin,
+                              int nz_out) {
+        k.setArg(0, in);
+        k.setArg(1, nx);
+        k.setArg(2, ny);
+        k.setArg(3, nz_in);
+        k.setArg(4, z_begin);
+        k.setArg(5, nz_out);
+    }
+
+    Context& ctx_;
+    ValueType type_;
+    Dims d_;
+    FilterSpec spec_;
+    Mask mask_;
+    // Work-group of the tiled median: a 16 x 8 tile of one slice (with its 1-voxel border,
+    // three slices of 18 x 10 values in local memory).
+    static constexpr std::size_t tile_x = 16, tile_y = 8;
+    bool rows_ = true, tiled_ = false;
+    std::size_t items_ = 1;
+    std::string options_;
+    cl::Kernel main_, gz_, gy_;
+    cl::Buffer weights_;
+    Buffer<float> tmp_a_, tmp_b_;
+    std::size_t tmp_size_ = 0;
+};
+
+// Output slices per slab: all of them when the volume fits, else as many as fit with the
+// halo (Tuning::slab_bytes bounds the input slab with its halo when set).
+std::size_t slab_slices(const Context& ctx, const Dims& d, ValueType type, const FilterSpec& spec, Mask mask) {
+    if (d.nx > std::size_t(INT_MAX) || d.ny > std::size_t(INT_MAX) || d.nz > std::size_t(INT_MAX))
+        throw InputError("volume: axes longer than 2^31 - 1 vertices are not supported");
+    const std::size_t r = std::size_t(spec.radius());
+    const std::size_t slice = d.nx * d.ny, vs = value_size(type);
+    std::size_t fit;
+    if (ctx.tuning.slab_bytes) {
+        const std::size_t in_slices = ctx.tuning.slab_bytes / std::max<std::size_t>(1, slice * vs);
+        fit = in_slices > 2 * r ? in_slices - 2 * r : 1;
+    } else {
+        // Per output slice: input and output values, two float temporaries (Gaussian) and
+        // the LD field (masked); every buffer within the largest allocation, all of them
+        // within half the device's memory.
+        const std::size_t floats = (spec.kind == FilterKind::gaussian ? 2 : 0) + (mask != Mask::none ? 1 : 0);
+        const std::size_t per_slice = slice * (2 * vs + 4 * floats);
+        const std::size_t biggest = slice * std::max<std::size_t>(vs, floats ? 4 : vs);
+        fit = std::min(ctx.max_alloc() / std::max<std::size_t>(1, biggest),
+                       ctx.global_mem() / 2 / std::max<std::size_t>(1, per_slice));
+        fit = fit > 2 * r ? fit - 2 * r : 0;
+        if (fit == 0)
+            throw InputError("volume: a slab of " + std::to_string(2 * r + 1) + " slices of " +
+                             std::to_string(d.nx) + "x" + std::to_string(d.ny) + " does not fit the device's memory");
+    }
+    return std::min(fit, d.nz);
+}
+
+// A buffer over host memory (CPU devices) or a device copy of it.
+cl::Buffer host_buffer(Context& ctx, const void* p, std::size_t bytes, cl_mem_flags flags, bool copy_in) {
+    if (ctx.tuning.zero_copy)
+        return cl::Buffer(ctx.context(), flags | CL_MEM_USE_HOST_PTR, bytes, const_cast<void*>(p));
+    cl::Buffer b(ctx.context(), flags, bytes);
+    if (copy_in) ctx.queue().enqueueWriteBuffer(b, CL_TRUE, 0, bytes, p);
+    return b;
+}
+
+// The result buffer `b` of `bytes` into host memory `p`.
+void fetch(Context& ctx, const cl::Buffer& b, void* p, std::size_t bytes) {
+    if (ctx.tuning.zero_copy) {
+        // Mapping makes the device's writes visible in host memory (a no-op on CPUs).
+        void* m = ctx.queue().enqueueMapBuffer(b, CL_TRUE, CL_MAP_READ, 0, bytes);
+        ctx.queue().enqueueUnmapMemObject(b, m);
+    } else {
+        ctx.queue().enqueueReadBuffer(b, CL_TRUE, 0, bytes, p);
+    }
+}
+
+// Waits for the queue, ignoring errors: no kernel may still use host memory of ours when
+// an exception leaves.
+template <class F> void guarded(Context& ctx, F&& f) {
+    try {
+        with_cl_errors(f);
+        ctx.queue().finish();
+    } catch (...) {
+        try {
+            ctx.queue().finish();
+        } catch (...) {
+        }
+        throw;
+    }
+}
+
+// Filters `v` into `out` slab by slab; `ld` (float32, same dims) for the masked filters.
+void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& spec, Mask mask, const Volume* ld,
+                  float h) {
+    const Dims d = v.dims();
+    const std::size_t S = slab_slices(ctx, d, v.type(), spec, mask);
+    const std::size_t r = std::size_t(spec.radius()), slice = d.nx * d.ny, vs = value_size(v.type());
+    const auto* src = static_cast<const unsigned char*>(v.data());
+    auto* dst = static_cast<unsigned char*>(out.data());
+    guarded(ctx, [&] {
+        Runner runner(ctx, v.type(), d, spec, mask);
+        for (std::size_t z0 = 0; z0 < d.nz; z0 += S) {
+            const std::size_t z1 = std::min(d.nz, z0 + S);
+            const std::size_t zi0 = z0 > r ? z0 - r : 0, zi1 = std::min(d.nz, z1 + r);
+            cl::Buffer in = host_buffer(ctx, src + zi0 * slice * vs, (zi1 - zi0) * slice * vs, CL_MEM_READ_ONLY, true);
+            cl::Buffer o = host_buffer(ctx, dst + z0 * slice * vs, (z1 - z0) * slice * vs, CL_MEM_WRITE_ONLY, false);
+            cl::Buffer m;
+            if (ld)
+                m = host_buffer(ctx, ld->as<float>() + z0 * slice, (z1 - z0) * slice * sizeof(float), CL_MEM_READ_ONLY,
+                                true);
+            runner.run(in, int(zi1 - zi0), int(z0 - zi0), int(z1 - z0), o, ld ? &m : nullptr, h);
+            fetch(ctx, o, dst + z0 * slice * vs, (z1 - z0) * slice * vs);
+            ctx.queue().finish();
+        }
+    });
+}
+
+void check_volume(const Volume& v) {
+    check_dims(v.dims(), "volume");
+    if (v.vertices() == 0) throw InputError("volume: empty");
+}
+
+Volume like(const Volume& v) {
+    Volume out(v.dims(), v.type(), v.name);
+    out.spacing = v.spacing;
+    return out;
+}
+
+std::size_t count_changed(const Volume& a, const Volume& b) {
+    std::size_t changed = 0;
+    visit(a, [&](const auto* p) {
+        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
+        const T* q = b.as<T>();
+        const long long n = (long long)a.vertices();
+#pragma omp parallel for reduction(+ : changed) schedule(static)
+        for (long long i = 0; i < n; ++i) changed += p[i] != q[i];
+    });
+    return changed;
+}
+
+std::size_t count_selected(const float* ld, std::size_t n, float h) {
+    std::size_t selected = 0;
+#pragma omp parallel for reduction(+ : selected) schedule(static)
+    for (long long i = 0; i < (long long)n; ++i) selected += ld[i] > h;
+    return selected;
+}
+
+TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec, Mask mask, double iso, double h,
+                          int window) {
+    check_volume(v);
+    spec.check();
+    const float hf = mask == Mask::ld_guided ? 2.0f : float_threshold(h);
+    TargetedResult res;
+    res.volume = like(v);
+    const Dims d = v.dims();
+    auto t = clock::now();
+    std::size_t S = 0;
+    try {
+        S = slab_slices(ctx, d, v.type(), spec, mask);
+    } catch (const InputError&) {
+        S = 0;
+    }
+    if (S < d.nz) {
+        // Too large for one slab: the LD field in-core on its own, the filter by slabs.
+        const Volume ld = local_fractal_dimension(ctx, v, iso, window);
+        res.ld_seconds = seconds_since(t);
+        t = clock::now();
+        filter_slabs(ctx, v, res.volume, spec, mask, &ld, hf);
+        res.selected = count_selected(ld.as<float>(), ld.vertices(), hf);
+    } else {
+        // One upload: the LD field and the filter read the same device values.
+        guarded(ctx, [&] {
+            Buffer<unsigned char> values(ctx, v.size_bytes(), CL_MEM_READ_ONLY);
+            values.write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
+            Buffer<float> ld = local_fractal_dimension(ctx, values, v.type(), d, iso, window);
+            ctx.queue().finish();
+            res.ld_seconds = seconds_since(t);
+            t = clock::now();
+            Runner runner(ctx, v.type(), d, spec, mask);
+            cl::Buffer o = host_buffer(ctx, res.volume.data(), v.size_bytes(), CL_MEM_WRITE_ONLY, false);
+            runner.run(values.get(), int(d.nz), 0, int(d.nz), o, &ld.get(), hf);
+            fetch(ctx, o, res.volume.data(), v.size_bytes());
+            const float* p = static_cast<const float*>(
+                ctx.queue().enqueueMapBuffer(ld.get(), CL_TRUE, CL_MAP_READ, 0, ld.bytes()));
+            res.selected = count_selected(p, v.vertices(), hf);
+            ctx.queue().enqueueUnmapMemObject(ld.get(), const_cast<float*>(p));
+        });
+    }
+    res.changed = count_changed(v, res.volume);
+    res.filter_seconds = seconds_since(t);
+    res.selected_share = double(res.selected) / double(v.vertices());
+    res.changed_share = double(res.changed) / double(v.vertices());
+    return res;
+}
+
+}  // namespace
+
+Volume apply_filter(Context& ctx, const Volume& v, const FilterSpec& spec) {
+    check_volume(v);
+    spec.check();
+    Volume out = like(v);
+    filter_slabs(ctx, v, out, spec, Mask::none, nullptr, 0);
+    return out;
+}
+
+Volume median_filter(Context& ctx, const Volume& v) { return apply_filter(ctx, v, FilterSpec::median()); }
+
+Volume gaussian_filter(Context& ctx, const Volume& v, double sigma) {
+    return apply_filter(ctx, v, FilterSpec::gaussian(sigma));
+}
+
+Volume bilateral_filter(Context& ctx, const Volume& v, double sigma_s, double sigma_r) {
+    return apply_filter(ctx, v, FilterSpec::bilateral(sigma_s, sigma_r));
+}
+
+Volume masked_filter(Context& ctx, const Volume& v, const FilterSpec& spec, const Volume& ld, double h,
+                     bool ld_guided) {
+    check_volume(v);
+    spec.check();
+    if (ld.type() != ValueType::float32 || ld.dims() != v.dims())
+        throw InputError("LD field: must be float32 of the volume's dims " + dims_string(v.dims()));
+    if (ld_guided && spec.kind != FilterKind::bilateral)
+        throw std::logic_error("masked_filter: the LD-guided variant is a bilateral filter");
+    Volume out = like(v);
+    filter_slabs(ctx, v, out, spec, ld_guided ? Mask::ld_guided : Mask::threshold, &ld,
+                 ld_guided ? 2.0f : float_threshold(h));
+    return out;
+}
+
+TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, double iso, double h,
+                               int window) {
+    return masked_run(ctx, v, spec, Mask::threshold, iso, h, window);
+}
+
+TargetedResult ld_bilateral_filter(Context& ctx, const Volume& v, double sigma_s, double sigma_r, double iso,
+                                   int window) {
+    return masked_run(ctx, v, FilterSpec::bilateral(sigma_s, sigma_r), Mask::ld_guided, iso, 0, window);
+}
+
+}  // namespace clfractal
