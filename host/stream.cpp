@@ -4,6 +4,7 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "clfractal/local.hpp"
 #include "clfractal/pyramid.hpp"
@@ -211,5 +212,70 @@ std::size_t LocalStream::slices() const { return impl_->received; }
 std::size_t LocalStream::emitted() const { return impl_->next_out; }
 std::size_t LocalStream::delay() const { return impl_->half + impl_->batch - 1; }
 ValueType LocalStream::type() const { return impl_->type; }
+
+struct TargetedFilterStream::Impl {
+    Context& ctx;
+    std::size_t nx, ny;
+    ValueType type;
+    FilterSpec spec;
+    double h;
+    Sink sink;
+    std::size_t radius, slice_bytes, selected = 0, changed = 0;
+    std::unique_ptr<LocalStream> local;
+
+    Impl(Context& c, std::size_t x, std::size_t y, ValueType t, const FilterSpec& f, double iso, double threshold,
+         int window, Sink out)
+        : ctx(c), nx(x), ny(y), type(t), spec(f), h(threshold), sink(std::move(out)),
+          slice_bytes(checked_slice_bytes(x, y, t)) {
+        spec.check();
+        if (!sink) throw std::logic_error("TargetedFilterStream: no sink");
+        if (!std::isfinite(h)) throw InputError("--threshold: must be a finite number");
+        radius = std::size_t(spec.radius());
+        if (window >= 2 && radius > std::size_t(window / 2))
+            throw InputError("filter radius " + std::to_string(radius) + " exceeds k/2 = " + std::to_string(window / 2) +
+                             ": a streamed targeted filter sees k/2 slices around each output slice");
+        local = std::make_unique<LocalStream>(
+            c, x, y, t, iso, window, [this](std::size_t z, const float* ld, const void*) { emit(z, ld); });
+    }
+
+    // Output slice z: the filter of the slab of input slices z - r .. z + r (clamped to the
+    // volume, as the whole-volume filter clamps), masked by LD slice z only.
+    void emit(std::size_t z, const float* ld) {
+        const std::size_t depth = 2 * radius + 1, plane = nx * ny;
+        Volume slab(Dims{nx, ny, depth}, type);
+        Volume mask(Dims{nx, ny, depth}, ValueType::float32);
+        std::fill(mask.as<float>(), mask.as<float>() + mask.vertices(), std::numeric_limits<float>::quiet_NaN());
+        std::memcpy(mask.as<float>() + radius * plane, ld, plane * sizeof(float));
+        const void* last = nullptr;
+        for (std::size_t i = 0; i < depth; ++i) {
+            const long zi = long(z) + long(i) - long(radius);
+            const void* src = zi < 0 ? local->input_slice(0) : local->input_slice(std::size_t(zi));
+            if (!src) src = last;  // past the volume's last slice: clamp to it
+            last = src;
+            std::memcpy(static_cast<unsigned char*>(slab.data()) + i * slice_bytes, src, slice_bytes);
+        }
+        const Volume out = masked_filter(ctx, slab, spec, mask, h);
+        const auto* filtered = static_cast<const unsigned char*>(out.data()) + radius * slice_bytes;
+        const auto* input = static_cast<const unsigned char*>(slab.data()) + radius * slice_bytes;
+        const float hf = float_threshold(h);
+        const std::size_t size = value_size(type);
+        for (std::size_t i = 0; i < plane; ++i) {
+            if (ld[i] > hf) ++selected;
+            if (std::memcmp(filtered + i * size, input + i * size, size) != 0) ++changed;
+        }
+        sink(z, filtered, ld);
+    }
+};
+
+TargetedFilterStream::TargetedFilterStream(Context& ctx, std::size_t nx, std::size_t ny, ValueType type,
+                                           const FilterSpec& spec, double iso, double h, int window, Sink sink)
+    : impl_(std::make_unique<Impl>(ctx, nx, ny, type, spec, iso, h, window, std::move(sink))) {}
+TargetedFilterStream::~TargetedFilterStream() = default;
+void TargetedFilterStream::push_slice(const void* slice) { impl_->local->push_slice(slice); }
+void TargetedFilterStream::finish() { impl_->local->finish(); }
+std::size_t TargetedFilterStream::slices() const { return impl_->local->slices(); }
+std::size_t TargetedFilterStream::emitted() const { return impl_->local->emitted(); }
+std::size_t TargetedFilterStream::selected() const { return impl_->selected; }
+std::size_t TargetedFilterStream::changed() const { return impl_->changed; }
 
 }  // namespace clfractal

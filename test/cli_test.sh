@@ -228,6 +228,17 @@ expect 2 'clfractal: error: .*window' -- "$bin" filter synthetic:sphere:20 --med
 expect 2 'clfractal: error: .*--ld-guided' -- "$bin" filter synthetic:sphere:20 --median --ld-guided --iso 100 -o bad.nrrd
 expect 2 'clfractal: error: .*short_10x10x10_uint8.raw' -- "$bin" filter short_10x10x10_uint8.raw --median -o bad.nrrd
 [ ! -e bad.nrrd ] && pass || fail "a NRRD was written for bad filter arguments"
+# filter --fractal --stream: slice by slice, the same values as the whole-volume run.
+"$bin" -q gen noisy-sphere --size 30 -o ns30.nrrd >/dev/null
+expect 0 'streamed 30 slices' -- "$bin" -q filter ns30.nrrd --median --fractal --iso 128 --threshold 2.4 -o fs.nrrd --stream
+"$bin" -q filter ns30.nrrd --median --fractal --iso 128 --threshold 2.4 -o fw.nrrd >fw.out
+/usr/bin/python3 - <<'PY' && pass || fail "filter --stream data differs from the whole-volume filter"
+a, b = (open(f, "rb").read().split(b"\n\n", 1)[1] for f in ("fs.nrrd", "fw.nrrd"))
+assert a == b and len(a) == 30 ** 3
+PY
+expect 2 'clfractal: error: --stream: only with --fractal' -- "$bin" filter ns30.nrrd --median --stream -o x.nrrd
+expect 2 'clfractal: error: filter radius 3 exceeds k/2 = 2' -- "$bin" filter ns30.nrrd --gaussian 1 --fractal --iso 128 --threshold 2 --window 4 --stream -o x.nrrd
+[ ! -e x.nrrd ] && pass || fail "a NRRD was written for a refused --stream"
 
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "clfractal/fd.hpp"
+#include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "clfractal/span.hpp"
@@ -508,6 +509,63 @@ TEST_CASE("real volumes streamed from disk give the whole-volume counts") {
         ++checked;
     }
     MESSAGE("real volumes streamed: " << checked);
+}
+
+}  // TEST_SUITE
+
+TEST_SUITE("stream") {
+
+TEST_CASE("streamed targeted filter equals targeted_filter on the whole volume") {
+    struct Run {
+        Dims d;
+        ValueType t;
+        FilterSpec spec;
+        int window;
+        double h;
+    };
+    const Run runs[] = {
+        {{13, 11, 17}, ValueType::uint8, FilterSpec::median(), 8, 2.3},
+        {{9, 7, 12}, ValueType::uint16, FilterSpec::median(), 2, 2.0},
+        {{8, 9, 10}, ValueType::int16, FilterSpec::gaussian(1.0), 8, 2.2},
+        {{10, 6, 11}, ValueType::float32, FilterSpec::gaussian(0.6), 4, 2.4},
+        {{7, 5, 2}, ValueType::uint8, FilterSpec::median(), 4, 2.0},
+        {{6, 6, 1}, ValueType::float32, FilterSpec::median(), 8, 2.0},
+    };
+    std::uint32_t seed = 90;
+    std::size_t runs_changed = 0;
+    for (const Run& r : runs) {
+        CAPTURE(value_type_name(r.t)); CAPTURE(r.d.nz); CAPTURE(r.window); CAPTURE(r.spec.describe());
+        const bool unsigned_type = r.t == ValueType::uint8 || r.t == ValueType::uint16;
+        const Volume v = testutil::random_volume(r.d, r.t, unsigned_type ? 0 : -6, 6, seed++);
+        const double iso = 1.5;
+        const TargetedResult whole = targeted_filter(ctx(), v, r.spec, iso, r.h, r.window);
+        Volume streamed(r.d, r.t);
+        const std::size_t slice = r.d.nx * r.d.ny * value_size(r.t);
+        std::vector<std::size_t> order;
+        TargetedFilterStream stream(ctx(), r.d.nx, r.d.ny, r.t, r.spec, iso, r.h, r.window,
+                                    [&](std::size_t z, const void* out, const float*) {
+                                        order.push_back(z);
+                                        std::memcpy(static_cast<unsigned char*>(streamed.data()) + z * slice, out, slice);
+                                    });
+        for (std::size_t z = 0; z < r.d.nz; ++z) {
+            stream.push_slice(static_cast<const unsigned char*>(v.data()) + z * slice);
+            // Output slice z' leaves once slice z' + k/2 is in.
+            const std::size_t half = std::size_t(r.window / 2);
+            CHECK(stream.emitted() == (z + 1 > half ? z + 1 - half : 0));
+        }
+        stream.finish();
+        REQUIRE(order.size() == r.d.nz);
+        for (std::size_t z = 0; z < r.d.nz; ++z) CHECK(order[z] == z);
+        CHECK(std::memcmp(streamed.data(), whole.volume.data(), v.size_bytes()) == 0);
+        CHECK(stream.selected() == whole.selected);
+        CHECK(stream.changed() == whole.changed);
+        runs_changed += whole.changed > 0 && whole.changed < v.vertices();
+    }
+    CHECK(runs_changed >= 4);  // the mask matters: some vertices change, not all
+    // A radius beyond k/2 cannot be streamed.
+    CHECK_THROWS_AS(TargetedFilterStream(ctx(), 4, 4, ValueType::uint8, FilterSpec::gaussian(1.0), 1, 2, 2,
+                                         [](std::size_t, const void*, const float*) {}),
+                    InputError);
 }
 
 }  // TEST_SUITE

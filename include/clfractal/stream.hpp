@@ -14,6 +14,7 @@
 
 #include "clfractal/device.hpp"
 #include "clfractal/fd.hpp"
+#include "clfractal/filter.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume.hpp"
 
@@ -108,6 +109,34 @@ public:
     /// Input slices an output slice waits for after its own: k/2 + batch - 1.
     std::size_t delay() const;
     ValueType type() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// The fractal-targeted filter (filter.hpp: the filter's value where LD(v) > h, the input
+/// value elsewhere) of a volume fed slice by slice in z order: output slice z, in the input's
+/// type, is emitted once input slice z + k/2 has arrived (and the rest at finish()), with the
+/// same values as targeted_filter on the whole volume. Built on LocalStream; the filter's
+/// radius must be at most k/2 (the median's is 1; a Gaussian's ceil(3 sigma)).
+class TargetedFilterStream {
+public:
+    /// Receives output slice z (nx * ny values of the stream's type) and its LD slice. Both
+    /// pointers are valid during the call only.
+    using Sink = std::function<void(std::size_t z, const void* filtered, const float* ld)>;
+    TargetedFilterStream(Context& ctx, std::size_t nx, std::size_t ny, ValueType type, const FilterSpec& spec,
+                         double iso, double h, int window, Sink sink);
+    ~TargetedFilterStream();
+    TargetedFilterStream(const TargetedFilterStream&) = delete;
+    TargetedFilterStream& operator=(const TargetedFilterStream&) = delete;
+    void push_slice(const void* slice);
+    /// Ends the volume: emits the remaining output slices.
+    void finish();
+    std::size_t slices() const;    ///< input slices pushed
+    std::size_t emitted() const;   ///< output slices emitted
+    std::size_t selected() const;  ///< vertices emitted so far with LD > h
+    std::size_t changed() const;   ///< vertices emitted so far whose value changed
 
 private:
     struct Impl;

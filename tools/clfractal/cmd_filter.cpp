@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "clfractal/filter.hpp"
+#include "clfractal/slice_reader.hpp"
+#include "clfractal/stream.hpp"
 #include "clfractal/span.hpp"
 #include "cli.hpp"
 
@@ -17,7 +19,7 @@ namespace {
 
 struct FilterArgs {
     std::string volume, output, bilateral;
-    bool median = false, fractal = false, ld_guided = false;
+    bool median = false, fractal = false, ld_guided = false, stream = false;
     double gaussian = 0, iso = NAN, threshold = NAN;
     int window = 8;
     cli::RawArgs raw;
@@ -65,6 +67,62 @@ std::string fd_text(double d) {
     return s.str();
 }
 
+// --fractal --stream: the file read slice by slice, the filtered slices written as they
+// leave the stream (k/2 slices behind), cubes and FD at S counted by two SpanStreams.
+int run_filter_stream(const FilterArgs& a, const FilterSpec& spec) {
+    SliceReader reader(a.volume, a.raw.options());
+    const Dims d = reader.dims();
+    const ValueType t = reader.type();
+    Context& ctx = Context::shared();
+    cli::progress(spec.describe() + " where LD > " + std::to_string(a.threshold) + ", slice by slice (" +
+                  reader.method() + "), " + dims_string(d) + " " + value_type_name(t) + " on " + ctx.description());
+    const IsovalueSet iso = is_integer(t) ? IsovalueSet::integers(std::int64_t(std::ceil(a.iso)),
+                                                                  std::int64_t(std::ceil(a.iso)))
+                                          : IsovalueSet::floats({float(a.iso)});
+    SpanStream before(ctx, d.nx, d.ny, t, iso, 2, {SpanKind::cubes}), after(ctx, d.nx, d.ny, t, iso, 2, {SpanKind::cubes});
+    const auto t0 = std::chrono::steady_clock::now();
+    NrrdSliceWriter writer(a.output, d, t, reader.spacing());
+    TargetedFilterStream stream(ctx, d.nx, d.ny, t, spec, a.iso, a.threshold, a.window,
+                                [&](std::size_t, const void* filtered, const float*) {
+                                    writer.write(filtered, 1);
+                                    after.push_slice(filtered);
+                                });
+    std::vector<unsigned char> slice(reader.slice_bytes());
+    for (std::size_t z = 0; z < d.nz; ++z) {
+        reader.read(slice.data(), 1);
+        before.push_slice(static_cast<const void*>(slice.data()));
+        stream.push_slice(slice.data());
+    }
+    stream.finish();
+    writer.close();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto at = [](const SpanStream& s) {
+        AtIso m;
+        const SpanResult r = s.counts();
+        m.cubes = r.curves[0].counts[0][0];
+        m.cubes_sub = r.curves[0].counts[1][0];
+        if (m.cubes && m.cubes_sub) m.fd = std::log2(double(m.cubes) / double(m.cubes_sub));
+        return m;
+    };
+    const AtIso b = at(before), f = at(after);
+    const double n = double(d.vertices());
+    std::cout << "volume      " << a.volume << "  " << dims_string(d) << " " << value_type_name(t) << "\n"
+              << "filter      " << spec.describe() << ", fractal-targeted: where LD > " << a.threshold
+              << " (isovalue " << a.iso << ", window " << a.window << "), streamed " << stream.slices()
+              << " slices (" << reader.method() << ")\n"
+              << "device      " << ctx.description() << "\n"
+              << std::fixed << std::setprecision(2) << "selected    " << stream.selected() << " vertices ("
+              << 100 * double(stream.selected()) / n << "%) with LD > " << a.threshold << "\n"
+              << "changed     " << stream.changed() << " vertices (" << 100 * double(stream.changed()) / n << "%)\n"
+              << "isovalue    " << a.iso << "     before      after\n"
+              << "  cubes     " << std::setw(12) << b.cubes << " " << std::setw(10) << f.cubes << "\n"
+              << "  FD        " << std::setw(12) << fd_text(b.fd) << " " << std::setw(10) << fd_text(f.fd) << "\n"
+              << std::defaultfloat << std::setprecision(4) << "time        " << seconds << " s, kernels compiled in "
+              << ctx.compile_seconds() << " s\n"
+              << "wrote       " << a.output << " (" << value_type_name(t) << ")\n";
+    return 0;
+}
+
 int run_filter(const FilterArgs& a, CLI::App* app) {
     const FilterSpec spec = parse_spec(a, app);
     if (a.fractal && a.ld_guided) throw InputError("filter: --fractal and --ld-guided exclude each other");
@@ -74,6 +132,8 @@ int run_filter(const FilterArgs& a, CLI::App* app) {
     if (!a.fractal && !std::isnan(a.threshold)) throw InputError("--threshold: only with --fractal");
     if (a.ld_guided && spec.kind != FilterKind::bilateral) throw InputError("--ld-guided: only with --bilateral");
     if (!std::isnan(a.iso) && !std::isfinite(a.iso)) throw InputError("--iso: must be a finite number");
+    if (a.stream && !a.fractal) throw InputError("--stream: only with --fractal (the targeted filter streams)");
+    if (a.stream) return run_filter_stream(a, spec);
 
     Volume v = read_volume(a.volume, a.raw.options());
     Context& ctx = Context::shared();
@@ -157,6 +217,8 @@ void add_filter_command(CLI::App& app, Commands& commands) {
     c->add_option("--threshold", a->threshold, "LD threshold H of --fractal");
     c->add_option("--window", a->window, "LD window k (even, default 8)");
     c->add_option("-o,--output", a->output, "output .nrrd (the input's type)")->required();
+    c->add_flag("--stream", a->stream,
+                "with --fractal: read, filter and write slice by slice (memory for a few slices; radius <= k/2)");
     a->raw.add(c);
     commands.push_back({c, [a, c] { return run_filter(*a, c); }});
 }
