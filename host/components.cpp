@@ -135,7 +135,9 @@ std::vector<I> sorted_vertices(Context& ctx, const Volume& v) {
 #pragma omp parallel for
             for (long long i = 0; i < (long long)n; ++i)
                 keys[std::size_t(i)] = (std::uint64_t(float_key(f[i])) << 32) | std::uint64_t(i);
-            __gnu_parallel::sort(keys.begin(), keys.end());
+            // Threads pay off only on large volumes (and spin badly on a loaded machine).
+            if (n >= (std::size_t(1) << 22)) __gnu_parallel::sort(keys.begin(), keys.end());
+            else std::sort(keys.begin(), keys.end());
 #pragma omp parallel for
             for (long long i = 0; i < (long long)n; ++i) order[std::size_t(i)] = I(keys[std::size_t(i)] & 0xffffffffu);
         } else {
@@ -148,17 +150,109 @@ std::vector<I> sorted_vertices(Context& ctx, const Volume& v) {
     return order;
 }
 
+// The neighbour masks of kernels/components.cl (neighbour_masks), on the host: used when
+// the volume or the masks exceed the device's largest allocation.
+template <class T>
+void neighbour_masks_host(const T* f, const Dims& d, const std::vector<Offset>& a, const std::vector<Offset>& c,
+                          std::uint32_t* mask) {
+    const long nx = long(d.nx), ny = long(d.ny), nz = long(d.nz);
+#pragma omp parallel for
+    for (long z = 0; z < nz; ++z)
+        for (long y = 0; y < ny; ++y)
+            for (long x = 0; x < nx; ++x) {
+                const std::size_t v = std::size_t(x + nx * (y + ny * z));
+                const T fv = f[v];
+                std::uint32_t m = 0;
+                auto lower = [&](const Offset& o, bool& inside) {
+                    inside = x + o.dx >= 0 && x + o.dx < nx && y + o.dy >= 0 && y + o.dy < ny && z + o.dz >= 0 &&
+                             z + o.dz < nz;
+                    if (!inside) return false;
+                    const long off = o.dx + nx * (o.dy + ny * o.dz);
+                    const T fu = f[std::size_t(long(v) + off)];
+                    return fu < fv || (fu == fv && off < 0);
+                };
+                bool inside = false;
+                for (std::size_t q = 0; q < a.size(); ++q)
+                    if (lower(a[q], inside)) m |= std::uint32_t(1) << q;
+                for (std::size_t q = 0; q < c.size(); ++q)
+                    if (!lower(c[q], inside) && inside) m |= std::uint32_t(1) << (a.size() + q);
+                mask[v] = m;
+            }
+}
+
+// For every vertex, bit q < |a|: neighbour a[q] precedes it in (value, index) order; bit
+// |a| + q: neighbour c[q] follows it. On the device (one work-item per vertex) when it fits.
+template <class T>
+std::vector<std::uint32_t> neighbour_masks(Context& ctx, const Volume& v, int adj_a, int adj_c) {
+    const std::vector<Offset> a = neighbourhood(adj_a), c = neighbourhood(adj_c);
+    const Dims d = v.dims();
+    const std::size_t n = v.vertices();
+    std::vector<std::uint32_t> mask(n);
+    // Tuning::slab_bytes, when set, bounds the volume the device takes in one piece (tests
+    // set it to force this host path).
+    const std::size_t limit = ctx.tuning.slab_bytes ? std::min(ctx.tuning.slab_bytes, ctx.max_alloc()) : ctx.max_alloc();
+    const bool fits = n * 4 <= ctx.max_alloc() && v.size_bytes() <= limit && d.nx < (1u << 31) &&
+                      d.ny < (1u << 31) && d.nz < (1u << 31);
+    if (!fits) {
+        neighbour_masks_host(v.as<T>(), d, a, c, mask.data());
+        return mask;
+    }
+    with_cl_errors([&] {
+        const std::string options = defines({{"T", opencl_type_name(v.type())},
+                                             {"ADJ_A", std::to_string(adj_a)},
+                                             {"ADJ_C", std::to_string(adj_c)},
+                                             {"A_COUNT", std::to_string(a.size())}});
+        cl::Kernel k = ctx.kernel("components", "neighbour_masks", options);
+        const std::size_t wg = std::min<std::size_t>(64, ctx.max_work_group());
+        cl::Buffer values, out;
+        std::unique_ptr<Buffer<T>> values_copy;
+        std::unique_ptr<Buffer<std::uint32_t>> out_copy;
+        if (ctx.tuning.zero_copy) {
+            values = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, v.size_bytes(),
+                                const_cast<void*>(v.data()));
+            out = cl::Buffer(ctx.context(), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, n * 4, mask.data());
+        } else {
+            values_copy = std::make_unique<Buffer<T>>(ctx, n, CL_MEM_READ_ONLY);
+            values_copy->write(ctx.queue(), v.as<T>(), n);
+            out_copy = std::make_unique<Buffer<std::uint32_t>>(ctx, n, CL_MEM_WRITE_ONLY);
+            values = values_copy->get();
+            out = out_copy->get();
+        }
+        k.setArg(0, values);
+        k.setArg(1, cl_int(0));  // an empty first launch finishes the compilation (counted apart)
+        k.setArg(2, cl_int(d.ny));
+        k.setArg(3, cl_int(d.nz));
+        k.setArg(4, out);
+        ctx.warm_up(k, cl::NDRange(wg, 1, 1), cl::NDRange(wg, 1, 1));
+        k.setArg(1, cl_int(d.nx));
+        const cl::NDRange global((d.nx + wg - 1) / wg * wg, d.ny, d.nz), local(wg, 1, 1);
+        ctx.launch(k, global, local);
+        if (out_copy) {
+            out_copy->read(ctx.queue(), mask.data(), n);
+        } else {
+            // Mapping makes the device's writes visible in host memory (a no-op on CPUs).
+            void* p = ctx.queue().enqueueMapBuffer(out, CL_TRUE, CL_MAP_READ, 0, n * 4);
+            ctx.queue().enqueueUnmapMemObject(out, p);
+        }
+        ctx.queue().finish();
+    });
+    return mask;
+}
+
 // One union-find sweep over `order` (forward: increasing (value, index); backward:
-// decreasing). For each vertex v, `met(v)` = number of distinct components among its
-// neighbours (offsets `nbrs`, the set's own connectivity) already swept, then v joins them
-// all. Roots are linked under v, paths halved on every find. Swept neighbours that are
-// adjacent to each other are already in one component, so only one of each such group is
-// looked up (with 26-connectivity that is usually one or two finds instead of ~13).
-template <bool forward, class T, class I, class F>
-void sweep(const T* f, const Dims& d, const std::vector<I>& order, const std::vector<Offset>& nbrs,
-           std::vector<I>& parent, F&& met) {
-    const std::size_t n = order.size(), nx = d.nx, ny = d.ny, nz = d.nz, sxy = nx * ny;
+// decreasing). The neighbours of v already swept are the bits [shift, shift + |nbrs|) of
+// mask[v] (neighbour_masks). `met(v)` gets the number of distinct components among them,
+// then v joins them all. Roots are linked under v, paths halved on every find. Swept
+// neighbours that are adjacent to each other are already in one component, so only one of
+// each such group is looked up (with 26-connectivity usually one or two finds instead of
+// ~13). The loop is bound by memory latency: masks and parents of vertices a few steps
+// ahead are prefetched.
+template <bool forward, class I, class F>
+void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::uint32_t>& mask, int shift,
+           const std::vector<Offset>& nbrs, std::vector<I>& parent, F&& met) {
+    const std::size_t n = order.size(), nx = d.nx, ny = d.ny;
     const std::size_t m = nbrs.size();
+    const std::uint32_t bits = m == 32 ? ~0u : ((std::uint32_t(1) << m) - 1);
     std::vector<std::ptrdiff_t> lin(m);
     std::vector<std::uint32_t> adj(m, 0);  // adj[q]: the neighbours adjacent to neighbour q
     for (std::size_t q = 0; q < m; ++q) {
@@ -175,24 +269,18 @@ void sweep(const T* f, const Dims& d, const std::vector<I>& order, const std::ve
         }
         return x;
     };
+    auto at = [&](std::size_t k) { return order[forward ? k : n - 1 - k]; };
+    constexpr std::size_t far = 24, near = 8;
     for (std::size_t k = 0; k < n; ++k) {
-        const I v = order[forward ? k : n - 1 - k];
-        parent[v] = v;
-        const T fv = f[v];
-        const std::size_t x = std::size_t(v) % nx, y = (std::size_t(v) / nx) % ny, z = std::size_t(v) / sxy;
-        const bool interior = x > 0 && x + 1 < nx && y > 0 && y + 1 < ny && z > 0 && z + 1 < nz;
-        // The neighbours swept before v: (f(u), u) < (f(v), v) forward, > backward.
-        std::uint32_t swept = 0;
-        for (std::size_t q = 0; q < m; ++q) {
-            if (!interior) {
-                const long xx = long(x) + nbrs[q].dx, yy = long(y) + nbrs[q].dy, zz = long(z) + nbrs[q].dz;
-                if (xx < 0 || yy < 0 || zz < 0 || xx >= long(nx) || yy >= long(ny) || zz >= long(nz)) continue;
-            }
-            const I u = I(std::ptrdiff_t(v) + lin[q]);
-            const T fu = f[u];
-            const bool before = forward ? (fu < fv || (fu == fv && u < v)) : (fu > fv || (fu == fv && u > v));
-            swept |= std::uint32_t(before) << q;
+        if (k + far < n) __builtin_prefetch(&mask[at(k + far)]);
+        if (k + near < n) {
+            const I w = at(k + near);
+            std::uint32_t ahead = (mask[w] >> shift) & bits;
+            for (; ahead; ahead &= ahead - 1) __builtin_prefetch(&parent[std::ptrdiff_t(w) + lin[__builtin_ctz(ahead)]], 1);
         }
+        const I v = at(k);
+        parent[v] = v;
+        std::uint32_t swept = (mask[v] >> shift) & bits;
         int count = 0;
         while (swept) {
             const int q = __builtin_ctz(swept);
@@ -229,14 +317,15 @@ std::vector<std::int64_t> component_counts(Context& ctx, const Volume& v, const 
         return std::size_t(std::upper_bound(s.begin(), s.end(), float(f[i])) - s.begin());
     };
     std::vector<std::int64_t> delta(K + 1, 0);
-    std::vector<I> parent(v.vertices());
     const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
+    const std::vector<Offset> a_nbrs = neighbourhood(a_adj), c_nbrs = neighbourhood(c_adj);
+    const std::vector<std::uint32_t> mask = neighbour_masks<T>(ctx, v, a_adj, c_adj);
+    std::vector<I> parent(v.vertices());
     // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign.
-    sweep<true, T, I>(f, v.dims(), order, neighbourhood(a_adj), parent,
-                [&](I i, int down) { delta[bin(i)] -= down; });
+    sweep<true, I>(v.dims(), order, mask, 0, a_nbrs, parent, [&](I i, int down) { delta[bin(i)] -= down; });
     // Split sweep: C = {f >= s} grows as s falls; up(v) enters with a plus sign.
-    sweep<false, T, I>(f, v.dims(), order, neighbourhood(c_adj), parent,
-                [&](I i, int up) { delta[bin(i)] += up; });
+    sweep<false, I>(v.dims(), order, mask, int(a_nbrs.size()), c_nbrs, parent,
+                    [&](I i, int up) { delta[bin(i)] += up; });
     std::vector<std::int64_t> c(K);
     std::int64_t sum = 0;
     for (std::size_t j = 0; j < K; ++j) c[j] = sum += delta[j];

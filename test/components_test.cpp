@@ -223,6 +223,21 @@ TEST_CASE("the device histogram: local and global variants give the same curve")
     }
 }
 
+TEST_CASE("neighbour masks on the host (volume above the device slab limit) give the same curves") {
+    testutil::TuningGuard guard;
+    for (ValueType t : types)
+        for (Connectivity m : modes) {
+            Volume v = testutil::random_volume({9, 7, 6}, t, 0, 9, 1200 + int(t));
+            const IsovalueSet iso = IsovalueSet::for_volume(v, 32);
+            testutil::ctx().tuning.slab_bytes = 0;
+            const ComponentCurve device = count_components(testutil::ctx(), v, iso, m);
+            testutil::ctx().tuning.slab_bytes = 64;  // smaller than any of these volumes
+            const ComponentCurve host = count_components(testutil::ctx(), v, iso, m);
+            CHECK(device.components == host.components);
+            CHECK(check_curve(v, m, iso) == 0);
+        }
+}
+
 TEST_CASE("parse_connectivity") {
     CHECK(parse_connectivity("cube") == Connectivity::cube);
     CHECK(parse_connectivity("freudenthal") == Connectivity::freudenthal);

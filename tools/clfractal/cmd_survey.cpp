@@ -180,9 +180,15 @@ std::string num(double x, int precision = 2) {
 
 struct Summary {
     std::string category;
-    std::size_t n = 0;
+    std::size_t n = 0, n_corr = 0;
     double mean, std, avg_std, mean_sub, full_sub, corr, corr_std, corr_area, corr_area_std, kappa;
 };
+
+// Thesis §3.1: data sets whose D hardly varies (std < 0.05, "very simple synthetic data
+// sets with fractal dimension very close to two regardless of isovalue") are left out of
+// the correlation statistics: a correlation with an almost constant curve is noise.
+constexpr double flat_fd_std = 0.05;
+bool flat(const Row& r) { return !(r.std >= flat_fd_std); }
 
 Summary summarize_rows(const std::string& category, const std::vector<const Row*>& rows) {
     std::vector<double> mean, stdv, sub, diff, corr, corr_area;
@@ -191,8 +197,8 @@ Summary summarize_rows(const std::string& category, const std::vector<const Row*
         stdv.push_back(r->std);
         sub.push_back(r->mean_sub);
         diff.push_back(r->full_sub);
-        corr.push_back(r->corr);
-        corr_area.push_back(r->corr_area);
+        corr.push_back(flat(*r) ? NAN : r->corr);
+        corr_area.push_back(flat(*r) ? NAN : r->corr_area);
     }
     Summary s;
     s.category = category;
@@ -204,6 +210,7 @@ Summary summarize_rows(const std::string& category, const std::vector<const Row*
     std::tie(s.corr, s.corr_std) = mean_std(corr);
     std::tie(s.corr_area, s.corr_area_std) = mean_std(corr_area);
     s.kappa = s.mean / 3;
+    for (const Row* r : rows) s.n_corr += !flat(*r) && !std::isnan(r->corr_area);
     return s;
 }
 
@@ -230,7 +237,7 @@ int run_survey(const SurveyArgs& a) {
         rows.push_back(survey_one(ctx, entries[i]));
         const Row& r = rows.back();
         progress("[" + std::to_string(i + 1) + "/" + std::to_string(entries.size()) + "] " + r.name + " " + r.dims + " " +
-                 r.type + ": FD " + num(r.mean, 3) + ", corr " + num(r.corr_area, 2) + " (" + num(r.seconds, 1) + " s)");
+                 r.type + ": FD " + num(r.mean, 3) + ", corr " + num(r.corr, 2) + ", corr/E " + num(r.corr_area, 2) + " (" + num(r.seconds, 1) + " s)");
     }
     std::vector<std::string> categories;
     for (const char* c : {"medical", "measured", "synthetic"}) categories.push_back(c);
@@ -256,13 +263,16 @@ int run_survey(const SurveyArgs& a) {
     for (const Row& r : rows)
         md << "| " << r.name << " | " << r.category << " | " << r.dims << " | " << r.type << " | " << num(r.mean, 3)
            << " | " << num(r.std, 3) << " | " << num(r.mean_sub, 3) << " | " << num(r.full_sub, 3) << " | "
-           << num(r.corr, 2) << " | " << num(r.corr_area, 2) << " | " << r.corr_used << " |\n";
-    md << "\n| type | num | FD avg | FD std | avg std | avg subsampled | avg abs(full - sub) | corr avg | corr std "
-          "| corr/E avg | corr/E std | growth kappa |\n"
-       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+           << num(r.corr, 2) << (flat(r) ? "*" : "") << " | " << num(r.corr_area, 2) << (flat(r) ? "*" : "") << " | "
+           << r.corr_used << " |\n";
+    md << "\n\\* FD std < " << flat_fd_std << ": left out of the correlation statistics (thesis §3.1).\n"
+       << "\n| type | num | FD avg | FD std | avg std | avg subsampled | avg abs(full - sub) | corr num | corr avg | "
+          "corr std | corr/E avg | corr/E std | growth kappa |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Summary& s : sums)
         md << "| " << s.category << " | " << s.n << " | " << num(s.mean) << " | " << num(s.std) << " | "
-           << num(s.avg_std) << " | " << num(s.mean_sub) << " | " << num(s.full_sub) << " | " << num(s.corr) << " | "
+           << num(s.avg_std) << " | " << num(s.mean_sub) << " | " << num(s.full_sub) << " | " << s.n_corr << " | "
+           << num(s.corr) << " | "
            << num(s.corr_std) << " | " << num(s.corr_area) << " | " << num(s.corr_area_std) << " | "
            << num(s.kappa) << " |\n";
 
@@ -272,7 +282,8 @@ int run_survey(const SurveyArgs& a) {
     for (const Row& r : rows)
         std::cout << std::setw(22) << r.name << std::setw(11) << r.category << std::setw(8) << num(r.mean, 3)
                   << std::setw(8) << num(r.std, 3) << std::setw(8) << num(r.mean_sub, 3) << std::setw(10)
-                  << num(r.full_sub, 3) << std::setw(8) << num(r.corr) << std::setw(8) << num(r.corr_area) << "\n";
+                  << num(r.full_sub, 3) << std::setw(8) << num(r.corr) << std::setw(8) << num(r.corr_area)
+                  << (flat(r) ? "  (flat: not in the correlation statistics)" : "") << "\n";
     std::cout << "\n"
               << std::setw(14) << "type" << std::setw(5) << "num" << std::setw(7) << "avg" << std::setw(7) << "std"
               << std::setw(9) << "avg std" << std::setw(8) << "sub" << std::setw(11) << "|full-sub|" << std::setw(7)
@@ -286,7 +297,8 @@ int run_survey(const SurveyArgs& a) {
     std::cout << std::right
               << "(FD: fractal box span dimension eq. 2.5, mean over the isovalues where it is defined; sub: the same\n"
                  " for G' against G''; corr: Pearson of D with the component count (cube connectivity), corr/E: with\n"
-                 " components per intersected edge, over isovalues with E >= (two smallest dims product) / 4)\n";
+                 " components per intersected edge, over isovalues with E >= (two smallest dims product) / 4; data\n"
+                 " sets with FD std < 0.05 are left out of the correlation averages, as in thesis §3.1)\n";
 
     if (!a.markdown.empty()) write_file_atomic(a.markdown, md.str());
     if (!a.csv.empty()) {
