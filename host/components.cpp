@@ -114,7 +114,10 @@ std::vector<I> sorted_vertices(Context& ctx, const Volume& v) {
         const ValueRange r = value_range(v);
         const long vmin = long(r.min), vmax = long(r.max);
         std::vector<std::uint64_t> hist;
-        if (n < (std::size_t(1) << 32)) {
+        // On the device when the volume fits one allocation (and Tuning::slab_bytes, when set).
+        const std::size_t limit =
+            ctx.tuning.slab_bytes ? std::min(ctx.tuning.slab_bytes, ctx.max_alloc()) : ctx.max_alloc();
+        if (n < (std::size_t(1) << 32) && v.size_bytes() <= limit) {
             hist = value_histogram_device<T>(ctx, v, vmin, vmax);
         } else {
             hist.assign(std::size_t(vmax - vmin + 1), 0);
@@ -242,14 +245,15 @@ std::vector<std::uint32_t> neighbour_masks(Context& ctx, const Volume& v, int ad
 // One union-find sweep over `order` (forward: increasing (value, index); backward:
 // decreasing). The neighbours of v already swept are the bits [shift, shift + |nbrs|) of
 // mask[v] (neighbour_masks). `met(v)` gets the number of distinct components among them,
-// then v joins them all. Roots are linked under v, paths halved on every find. Swept
+// then v joins them all: v becomes a leaf of the first one met, whose root also takes the
+// roots of the others; paths are halved on every find. Swept
 // neighbours that are adjacent to each other are already in one component, so only one of
 // each such group is looked up (with 26-connectivity usually one or two finds instead of
 // ~13). The loop is bound by memory latency: masks and parents of vertices a few steps
 // ahead are prefetched.
-template <bool forward, class I, class F>
+template <bool forward, class I, class P, class F>
 void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::uint32_t>& mask, int shift,
-           const std::vector<Offset>& nbrs, std::vector<I>& parent, F&& met) {
+           const std::vector<Offset>& nbrs, std::vector<I>& parent, P&& prefetch_value, F&& met) {
     const std::size_t n = order.size(), nx = d.nx, ny = d.ny;
     const std::size_t m = nbrs.size();
     const std::uint32_t bits = m == 32 ? ~0u : ((std::uint32_t(1) << m) - 1);
@@ -272,7 +276,12 @@ void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::ui
     auto at = [&](std::size_t k) { return order[forward ? k : n - 1 - k]; };
     constexpr std::size_t far = 24, near = 8;
     for (std::size_t k = 0; k < n; ++k) {
-        if (k + far < n) __builtin_prefetch(&mask[at(k + far)]);
+        if (k + far < n) {
+            const I w = at(k + far);
+            __builtin_prefetch(&mask[w]);
+            __builtin_prefetch(&parent[w], 1);
+            prefetch_value(w);
+        }
         if (k + near < n) {
             const I w = at(k + near);
             std::uint32_t ahead = (mask[w] >> shift) & bits;
@@ -282,6 +291,7 @@ void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::ui
         parent[v] = v;
         std::uint32_t swept = (mask[v] >> shift) & bits;
         int count = 0;
+        I root = v;  // the root of v's component: v itself, or the first component met
         while (swept) {
             const int q = __builtin_ctz(swept);
             std::uint32_t group = std::uint32_t(1) << q, frontier = group;
@@ -293,8 +303,12 @@ void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::ui
             }
             swept &= ~group;
             const I r = find(I(std::ptrdiff_t(v) + lin[q]));
-            if (r != v) {
-                parent[r] = v;
+            if (count == 0) {
+                // v joins the first component as a leaf: old trees do not grow deeper.
+                parent[v] = root = r;
+                ++count;
+            } else if (r != root) {
+                parent[r] = root;
                 ++count;
             }
         }
@@ -322,9 +336,11 @@ std::vector<std::int64_t> component_counts(Context& ctx, const Volume& v, const 
     const std::vector<std::uint32_t> mask = neighbour_masks<T>(ctx, v, a_adj, c_adj);
     std::vector<I> parent(v.vertices());
     // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign.
-    sweep<true, I>(v.dims(), order, mask, 0, a_nbrs, parent, [&](I i, int down) { delta[bin(i)] -= down; });
+    auto prefetch_value = [f](I i) { __builtin_prefetch(&f[i]); };
+    sweep<true, I>(v.dims(), order, mask, 0, a_nbrs, parent, prefetch_value,
+                   [&](I i, int down) { delta[bin(i)] -= down; });
     // Split sweep: C = {f >= s} grows as s falls; up(v) enters with a plus sign.
-    sweep<false, I>(v.dims(), order, mask, int(a_nbrs.size()), c_nbrs, parent,
+    sweep<false, I>(v.dims(), order, mask, int(a_nbrs.size()), c_nbrs, parent, prefetch_value,
                     [&](I i, int up) { delta[bin(i)] += up; });
     std::vector<std::int64_t> c(K);
     std::int64_t sum = 0;

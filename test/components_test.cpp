@@ -223,7 +223,7 @@ TEST_CASE("the device histogram: local and global variants give the same curve")
     }
 }
 
-TEST_CASE("neighbour masks on the host (volume above the device slab limit) give the same curves") {
+TEST_CASE("value histogram and neighbour masks on the host (volume above the device slab limit): same curves") {
     testutil::TuningGuard guard;
     for (ValueType t : types)
         for (Connectivity m : modes) {

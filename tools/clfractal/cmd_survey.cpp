@@ -222,7 +222,7 @@ void write_histogram(const std::vector<Row>& rows, const std::string& path) {
     script << "set terminal pngcairo size 800,480 font 'sans,11'\n"
            << "set xlabel 'average fractal box dimension of a data set'\nset ylabel 'data sets'\n"
            << "set title 'Histogram of average fractal dimensions (" << rows.size() << " data sets)'\n"
-           << "set key off\nset grid ytics\nset style fill solid 0.6 border -1\nset boxwidth 0.045\n"
+           << "set key off\nset ytics 1\nset grid ytics\nset style fill solid 0.6 border -1\nset boxwidth 0.045\n"
            << "set xrange [1.9:3.0]\nset yrange [0:*]\nset xtics 0.1\nbin(x) = 0.05 * floor(x / 0.05) + 0.025\n"
            << "plot '$DATA' using (bin($1)):(1.0) smooth frequency with boxes lc rgb '#1f5fa8'\n";
     plot_png(script.str(), data.str(), path);
