@@ -297,7 +297,8 @@ TEST_CASE("components: sweep equals the labelling identity at every isovalue on 
     // The small volumes, fully (BFS per isovalue is the expensive side); the large ones
     // are checked by `clfractal components --verify` (README).
     for (const char* name : {"bucky_32x32x32_uint8.raw", "m4_totaldensity_31x22x25_float32.raw",
-                             "nucleon_41x41x41_uint8.raw", "fuel_cropped_64x33x32_uint8.raw"}) {
+                             "nucleon_41x41x41_uint8.raw", "fuel_cropped_64x33x32_uint8.raw",
+                             "hydrogen_3d_orbital_64x64x64_float32.raw", "neghip_slc_66x66x66_uint8.raw"}) {
         Volume v = read_volume(dir + "/" + name);
         for (Connectivity m : modes) {
             CAPTURE(name);
