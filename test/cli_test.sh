@@ -239,6 +239,44 @@ PY
 expect 2 'clfractal: error: --stream: only with --fractal' -- "$bin" filter ns30.nrrd --median --stream -o x.nrrd
 expect 2 'clfractal: error: filter radius 3 exceeds k/2 = 2' -- "$bin" filter ns30.nrrd --gaussian 1 --fractal --iso 128 --threshold 2 --window 4 --stream -o x.nrrd
 [ ! -e x.nrrd ] && pass || fail "a NRRD was written for a refused --stream"
+# components: exact CSV header, counts of known shapes, --verify, plot; fd --components.
+expect 0 'every isovalue equals' -- "$bin" -q components synthetic:sphere:24 --csv comp.csv --plot comp.png --verify
+[ "$(head -1 comp.csv)" = "isovalue,components" ] && pass || fail "components csv header: $(head -1 comp.csv)"
+[ -s comp.png ] && pass || fail "components plot missing"
+# The sphere: one component at every isovalue strictly inside the range.
+awk -F, 'NR > 2 && $2 != 1 && $1 < 255 { bad = 1 } END { exit bad }' comp.csv && pass || fail "sphere components != 1"
+expect 0 'freudenthal' -- "$bin" -q components synthetic:torus:20 --connectivity freudenthal --bins 16 --csv compf.csv
+[ "$(wc -l < compf.csv)" -eq 17 ] && pass || fail "float --bins 16 rows: $(wc -l < compf.csv)"
+expect 2 'clfractal: error: .*connectivity' -- "$bin" components synthetic:sphere:16 --connectivity six
+expect 2 'clfractal: error: .*nope.nrrd' -- "$bin" components nope.nrrd
+expect 2 'clfractal: error: .*cannot write' -- "$bin" -q components synthetic:sphere:16 --csv no/such/dir/c.csv
+expect 0 'corr\(D, components' -- "$bin" -q fd synthetic:noisy-sphere:32 --components --csv fdc.csv --json fdc.json --plot fdc.png
+[ "$(head -1 fdc.csv)" = "isovalue,count,count_sub,fd,components" ] && pass || fail "fd --components csv header: $(head -1 fdc.csv)"
+[ -s fdc.png ] && pass || fail "fd --components plot missing"
+python3 - <<'PY' && pass || fail "fd --components json fields"
+import json
+j = json.load(open("fdc.json"))
+assert "corr_components" in j and "corr_components_per_area" in j, j.keys()
+assert j["corr_components"] is None or -1 <= j["corr_components"] <= 1
+assert all("components" in r for r in j["curve"])
+PY
+
+# survey: a manifest of two small volumes written here, and a plain directory.
+mkdir -p survey_dir
+"$bin" -q gen noisy-sphere --size 20 -o survey_dir/a.nrrd && "$bin" -q gen torus --size 18 -o survey_dir/b.nrrd
+printf 'file\tname\tdims\tdtype\tcategory\na.nrrd\ta\t20x20x20\tuint8\tmedical\nb.nrrd\tb\t18x18x18\tfloat32\tsynthetic\n' > survey_dir/MANIFEST.tsv
+expect 0 'medical +1' -- "$bin" -q survey survey_dir/MANIFEST.tsv --markdown survey.md --csv survey.csv --histogram survey.png
+grep -q '^| all | 2 |' survey.md && pass || fail "survey markdown: $(cat survey.md)"
+[ "$(wc -l < survey.csv)" -eq 3 ] && pass || fail "survey csv rows"
+[ -s survey.png ] && pass || fail "survey histogram missing"
+expect 0 '\[2/2\]' -- "$bin" survey survey_dir
+mkdir -p plain_dir && cp survey_dir/a.nrrd plain_dir/
+expect 0 'uncategorized' -- "$bin" -q survey plain_dir
+printf 'file\tname\n' > bad.tsv
+expect 2 "clfractal: error: .*bad.tsv.*column 'dims'" -- "$bin" survey bad.tsv
+expect 2 'clfractal: error: .*no_such_dir' -- "$bin" survey no_such_dir
+mkdir -p empty_dir
+expect 2 'clfractal: error: .*empty_dir' -- "$bin" survey empty_dir
 
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -60,6 +60,13 @@ int cmd_local_stream(const std::string& volume, const clfractal::RawOptions& raw
 // appends what to run; its options live in heap state owned by the closure.
 void add_smooth_command(CLI::App& app, Commands& commands);
 void add_filter_command(CLI::App& app, Commands& commands);
+void add_components_command(CLI::App& app, Commands& commands);
+void add_survey_command(CLI::App& app, Commands& commands);
+
+/// Components (log scale) against the isovalue, with the FD curve on the other axis when
+/// `fd` is given (thesis Figs. 2.1 + 3.2 in one figure); zero counts are left out.
+void write_components_plot(const clfractal::IsovalueSet& iso, const std::vector<std::int64_t>& components,
+                           const std::vector<double>* fd, const std::string& title, const std::string& path);
 }  // namespace cli
 
 void add_noise_command(CLI::App& app, cli::Commands& commands);

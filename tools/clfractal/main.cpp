@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "clfractal/bench.hpp"
+#include "clfractal/components.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
@@ -96,7 +97,7 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
 
 struct FdArgs {
     std::string volume, csv, json_path, plot, isovalues;
-    bool edge = false;
+    bool edge = false, components = false;
     int levels = 2;
     std::size_t bins = 0;
     std::uint64_t min_count = 0;
@@ -123,6 +124,7 @@ int cmd_fd(const FdArgs& a) {
     if (a.stream) {
         if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
         if (a.slab) throw InputError("--slab: not with --stream (the stream counts a few slices at a time)");
+        if (a.components) throw InputError("--components: not with --stream (the sweep needs the whole volume)");
     }
     const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
     StreamedSpans streamed = a.stream ? stream_spans(a.volume, a.raw.options(), a.isovalues, a.bins, a.levels, kind)
@@ -141,9 +143,17 @@ int cmd_fd(const FdArgs& a) {
         progress("counting " + std::to_string(iso.size()) + " isovalues of " + dims_string(dims) + " " +
                  value_type_name(type) + " on " + ctx.description());
     SpanOptions opt{{kind}, a.levels, a.slab};
+    if (a.components && kind != SpanKind::edges) opt.kinds.push_back(SpanKind::edges);  // E(s) for the correlation
     SpanResult spans = a.stream ? std::move(streamed.spans) : count_spans(ctx, v, iso, opt);
     FdCurve f = fd_curve(ctx, spans, kind);
     FdSummary s = summarize(f.fd, f.counts[0], f.counts[1], a.min_count);
+    // --components: the component curve (cube connectivity) and its correlation with D.
+    ComponentCurve comp;
+    ComponentCorrelation corr;
+    if (a.components) {
+        comp = count_components(ctx, v, iso, Connectivity::cube);
+        corr = correlate_components(ctx, f.fd, spans.get(SpanKind::edges).counts[0], comp.components, v.dims());
+    }
 
     // The smoothest and the noisiest isovalue among those with enough cubes to matter:
     // at least --min-count and 1% of the largest subsampled count (ratios of a handful of
@@ -175,6 +185,10 @@ int cmd_fd(const FdArgs& a) {
     } else {
         std::cout << "mean FD     n/a (no isovalue intersects both grids)\n";
     }
+    if (a.components)
+        std::cout << "components  corr(D, components) " << fd_string(corr.components).substr(0, 6)
+                  << "  corr(D, components / E) " << fd_string(corr.components_per_area).substr(0, 6) << " over "
+                  << corr.used << " isovalues\n";
     std::cout << std::defaultfloat << std::setprecision(4) << "time        " << spans.seconds << " s counting ("
               << (a.stream ? "streamed, " + streamed.method + ", " : "") << spans.slabs << " slab"
               << (spans.slabs > 1 ? "s" : "") << "), kernels compiled in "
@@ -185,11 +199,13 @@ int cmd_fd(const FdArgs& a) {
         out << "isovalue,count,count_sub,fd";
         for (int l = 2; l < a.levels; ++l) out << ",count_l" << l;
         if (a.levels > 2) out << ",fd_fit";
+        if (a.components) out << ",components";
         out << "\n";
         for (std::size_t j = 0; j < iso.size(); ++j) {
             out << iso_string(iso, j) << "," << f.counts[0][j] << "," << f.counts[1][j] << "," << fd_string(f.fd[j]);
             for (int l = 2; l < a.levels; ++l) out << "," << f.counts[l][j];
             if (a.levels > 2) out << "," << fd_string(f.fd_fit[j]);
+            if (a.components) out << "," << comp.components[j];
             out << "\n";
         }
         write_file_atomic(a.csv, out.str());
@@ -212,6 +228,11 @@ int cmd_fd(const FdArgs& a) {
         j["seconds_compute"] = spans.seconds;
         j["seconds_compile"] = ctx.compile_seconds();
         j["slabs"] = spans.slabs;
+        if (a.components) {
+            j["corr_components"] = fd_json(corr.components);
+            j["corr_components_per_area"] = fd_json(corr.components_per_area);
+            j["corr_isovalues"] = corr.used;
+        }
         json curve = json::array();
         for (std::size_t k = 0; k < iso.size(); ++k) {
             json row;
@@ -221,12 +242,17 @@ int cmd_fd(const FdArgs& a) {
             row["counts"] = counts;
             row["fd"] = fd_json(f.fd[k]);
             if (a.levels > 2) row["fd_fit"] = fd_json(f.fd_fit[k]);
+            if (a.components) row["components"] = comp.components[k];
             curve.push_back(row);
         }
         j["curve"] = curve;
         write_file_atomic(a.json_path, j.dump(1) + "\n");
     }
-    if (!a.plot.empty()) write_fd_plot(f, std::filesystem::path(a.volume).filename().string() + ": mean FD " + fd_string(s.mean).substr(0, 5), a.plot);
+    if (!a.plot.empty() && a.components)
+        write_components_plot(iso, comp.components, &f.fd,
+                              std::filesystem::path(a.volume).filename().string() + ": FD and isosurface components",
+                              a.plot);
+    else if (!a.plot.empty()) write_fd_plot(f, std::filesystem::path(a.volume).filename().string() + ": mean FD " + fd_string(s.mean).substr(0, 5), a.plot);
     return 0;
 }
 
@@ -439,6 +465,8 @@ int main(int argc, char** argv) {
     fd->add_option("--csv", fa.csv, "write isovalue,count,count_sub,fd");
     fd->add_option("--json", fa.json_path, "write the summary and curve as JSON");
     fd->add_option("--plot", fa.plot, "draw the curve to a PNG with gnuplot");
+    fd->add_flag("--components", fa.components,
+                 "add the isosurface component count (cube connectivity) and its correlation with D");
     fd->add_option("--slab", fa.slab, "process z-slabs of at most this many slices (default: from device memory)");
     fd->add_flag("--stream", fa.stream, "read the file slice by slice (memory: a few slices; same numbers)");
     fa.raw.add(fd);
@@ -491,6 +519,8 @@ int main(int argc, char** argv) {
     cli::add_smooth_command(app, commands);
     add_noise_command(app, commands);
     cli::add_filter_command(app, commands);
+    add_components_command(app, commands);
+    add_survey_command(app, commands);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,75 @@
+// Isosurface components for every isovalue at once, and their correlation with the
+// fractal dimension (DESIGN §1 "Isosurface components", "Correlation"; thesis §3.1).
+//
+// With A = {f < s} and C = {f >= s}, the isosurface at s has
+//   components(s) = b0(A) + b0(C) - 1   (0 when A or C is empty)
+// connected pieces, because the contour tree of a box is a tree. Connectivity modes:
+//   cube        A 6-connected, C 26-connected (marching cubes with separated negative
+//               vertices; Wenger's ijkscalarinfo);
+//   freudenthal both 14-connected (±x, ±y, ±z, ±(x+y), ±(y+z), ±(x+z), ±(x+y+z)): the
+//               piecewise-linear function of the Freudenthal triangulation (marching
+//               tetrahedra).
+// All isovalues come from two union-find sweeps over the vertices sorted by (value,
+// index): increasing with A's neighbourhood (join: down(v) = distinct components among
+// the neighbours already swept) and decreasing with C's (split: up(v)); then
+//   components(s) = sum over f(v) < s of (up(v) - down(v)),
+// one prefix sum over the isovalues.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "clfractal/device.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/volume.hpp"
+
+namespace clfractal {
+
+enum class Connectivity { cube, freudenthal };
+
+/// "cube" / "freudenthal"; throws InputError on anything else.
+Connectivity parse_connectivity(const std::string& name);
+/// "cube" / "freudenthal".
+const char* connectivity_name(Connectivity c);
+
+struct ComponentCurve {
+    IsovalueSet isovalues;
+    std::vector<std::int64_t> components;  ///< one per isovalue
+    double seconds = 0;                    ///< wall time of sorting, sweeps and prefix sum (no compilation)
+};
+
+/// components(s) for every isovalue of `iso` (integer data: integers, float data: compared
+/// as float32, exactly as the span counts). The ordering is a counting sort for 8/16-bit
+/// data (histogram on the device) and a parallel sort for float data; the two sweeps run
+/// on the host (they are sequential). Memory: 8 bytes per vertex (16 above 2^32 vertices)
+/// beyond the volume.
+ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet& iso,
+                                Connectivity mode = Connectivity::cube);
+
+/// components(s) at one isovalue (float data: s rounded to float32).
+std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue,
+                                 Connectivity mode = Connectivity::cube);
+
+/// The same number at one isovalue by labelling: breadth-first search over A and over C
+/// with the mode's neighbourhoods, b0(A) + b0(C) - 1 (0 when either is empty). O(N) per
+/// isovalue, 1 byte per vertex: the obvious per-isovalue alternative, kept as the
+/// benchmark's peer and for `clfractal components --verify`.
+std::int64_t count_components_by_labelling(const Volume& v, double isovalue, Connectivity mode = Connectivity::cube);
+
+/// Pearson correlation of x and y (population moments, centred on the host, the three dot
+/// products with CLBlast on the device). NaN with fewer than 2 points or zero variance.
+double pearson(Context& ctx, const std::vector<double>& x, const std::vector<double>& y);
+
+/// DESIGN §1 "Correlation": over the isovalues where D(s) is defined and the level-0 edge
+/// count E(s) >= (product of the two smallest vertex dims) / 4, Pearson of D with
+/// components(s) and with components(s) / E(s).
+struct ComponentCorrelation {
+    std::size_t used = 0;                ///< isovalues that enter
+    double components = 0;               ///< corr(D, components)
+    double components_per_area = 0;      ///< corr(D, components / E)
+};
+ComponentCorrelation correlate_components(Context& ctx, const std::vector<double>& fd,
+                                          const std::vector<std::uint64_t>& edges,
+                                          const std::vector<std::int64_t>& components, const Dims& dims);
+
+}  // namespace clfractal

@@ -1,0 +1,316 @@
+// Isosurface components (DESIGN §1 "Isosurface components", "Correlation"): the two-sweep
+// curve against breadth-first labelling of A = {f < s} and C = {f >= s} through the
+// identity b0(A) + b0(C) - 1, at every isovalue, both modes; against the pieces of the
+// marching-cubes / marching-tetrahedra mesh at generic isovalues; known shapes; and the
+// correlation against a plain two-pass Pearson.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <sstream>
+
+#include "clfractal/components.hpp"
+#include "clfractal/mesh.hpp"
+#include "clfractal/volume_io.hpp"
+#include "reference/mesh_reference.hpp"
+#include "test_util.hpp"
+
+using namespace clfractal;
+
+namespace {
+
+// b0(A) + b0(C) - 1 by plain BFS (test/reference), 0 when either set is empty.
+std::int64_t identity(const Volume& v, double s, Connectivity mode) {
+    const auto a_adj = mode == Connectivity::cube ? ref::Adjacency::six : ref::Adjacency::fourteen;
+    const auto c_adj = mode == Connectivity::cube ? ref::Adjacency::twenty_six : ref::Adjacency::fourteen;
+    const std::size_t a = ref::components(v, s, false, a_adj), c = ref::components(v, s, true, c_adj);
+    return a && c ? std::int64_t(a + c) - 1 : 0;
+}
+
+// The whole curve against the identity at every isovalue; returns the number of mismatches.
+int check_curve(const Volume& v, Connectivity mode, const IsovalueSet& iso) {
+    ComponentCurve c = count_components(testutil::ctx(), v, iso, mode);
+    REQUIRE(c.components.size() == iso.size());
+    int bad = 0;
+    for (std::size_t j = 0; j < iso.size(); ++j) {
+        const std::int64_t want = identity(v, iso.value(j), mode);
+        if (c.components[j] != want) {
+            if (bad < 5)
+                MESSAGE(dims_string(v.dims()) << " " << value_type_name(v.type()) << " "
+                                              << connectivity_name(mode) << " s=" << iso.value(j) << ": sweep "
+                                              << c.components[j] << ", labelling " << want);
+            ++bad;
+        }
+    }
+    return bad;
+}
+
+int check_curve(const Volume& v, Connectivity mode) { return check_curve(v, mode, IsovalueSet::for_volume(v, 64)); }
+
+Volume binary(Dims d, const std::function<bool(double, double, double)>& inside) {
+    Volume v(d, ValueType::uint8);
+    auto* p = v.as<std::uint8_t>();
+    for (std::size_t z = 0; z < d.nz; ++z)
+        for (std::size_t y = 0; y < d.ny; ++y)
+            for (std::size_t x = 0; x < d.nx; ++x) p[v.index(x, y, z)] = inside(double(x), double(y), double(z)) ? 1 : 0;
+    return v;
+}
+
+const Connectivity modes[] = {Connectivity::cube, Connectivity::freudenthal};
+const ValueType types[] = {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32};
+
+}  // namespace
+
+TEST_SUITE("components") {
+
+TEST_CASE("sweep equals the labelling identity on random grids, every isovalue, both modes, all types") {
+    const Dims dims[] = {{1, 1, 1}, {1, 1, 9}, {7, 1, 1}, {1, 5, 6}, {2, 2, 2}, {2, 3, 7}, {5, 5, 5},
+                         {7, 6, 5}, {11, 3, 2}, {13, 7, 4}, {9, 9, 9}};
+    std::uint32_t seed = 1;
+    for (const Dims& d : dims)
+        for (ValueType t : types)
+            for (Connectivity m : modes) {
+                // Few levels (many ties) and many levels; negative values for int16 and float.
+                const long lo = t == ValueType::int16 || t == ValueType::float32 ? -6 : 0;
+                CAPTURE(dims_string(d));
+                CAPTURE(value_type_name(t));
+                CAPTURE(connectivity_name(m));
+                CHECK(check_curve(testutil::random_volume(d, t, lo, lo + 3, seed++), m) == 0);
+                CHECK(check_curve(testutil::random_volume(d, t, lo, lo + 40, seed++), m) == 0);
+            }
+}
+
+TEST_CASE("wide value ranges: uint16 and int16 extremes, float isovalue lists") {
+    for (Connectivity m : modes) {
+        Volume u = testutil::random_volume({6, 5, 4}, ValueType::uint16, 0, 65535, 77);
+        u.as<std::uint16_t>()[0] = 0;
+        u.as<std::uint16_t>()[1] = 65535;
+        // Every integer isovalue would be 65536 BFS passes: check a strided subset by hand.
+        ComponentCurve c = count_components(testutil::ctx(), u, IsovalueSet::for_volume(u), m);
+        for (std::size_t j = 0; j < c.components.size(); j += 997)
+            CHECK(c.components[j] == identity(u, c.isovalues.value(j), m));
+        CHECK(c.components.back() == identity(u, 65535, m));
+        Volume s = testutil::random_volume({5, 7, 3}, ValueType::int16, -32768, 32767, 78);
+        s.as<std::int16_t>()[3] = -32768;
+        ComponentCurve cs = count_components(testutil::ctx(), s, IsovalueSet::for_volume(s), m);
+        for (std::size_t j = 0; j < cs.components.size(); j += 1009)
+            CHECK(cs.components[j] == identity(s, cs.isovalues.value(j), m));
+        // A float list that includes values below, at and above the data.
+        Volume f = testutil::random_volume({8, 6, 5}, ValueType::float32, -20, 20, 79);
+        CHECK(check_curve(f, m, IsovalueSet::floats({-100.f, -10.f, -0.5f, 0.f, 0.25f, 3.f, 9.5f, 10.f, 11.f, 100.f})) == 0);
+    }
+}
+
+TEST_CASE("structured grids: smooth fields, ties and plateaus") {
+    for (Connectivity m : modes) {
+        // A radial field with many exact ties.
+        Volume r({12, 11, 10}, ValueType::uint8);
+        for (std::size_t z = 0; z < 10; ++z)
+            for (std::size_t y = 0; y < 11; ++y)
+                for (std::size_t x = 0; x < 12; ++x) {
+                    const double q = (x - 5.5) * (x - 5.5) + (y - 5.0) * (y - 5.0) + (z - 4.5) * (z - 4.5);
+                    r.as<std::uint8_t>()[r.index(x, y, z)] = std::uint8_t(std::sqrt(q) * 3);
+                }
+        CHECK(check_curve(r, m) == 0);
+        // A checkerboard: the extreme case of separated components.
+        Volume c = binary({7, 8, 9}, [](double x, double y, double z) { return (int(x + y + z) & 1) == 1; });
+        CHECK(check_curve(c, m) == 0);
+        // Plateaus: a few large constant blocks with a noisy seam.
+        Volume p = testutil::random_volume({10, 10, 10}, ValueType::uint8, 0, 2, 5);
+        for (std::size_t i = 0; i < p.vertices(); ++i)
+            if (i % 10 < 7) p.as<std::uint8_t>()[i] = std::uint8_t(i / 300);
+        CHECK(check_curve(p, m) == 0);
+        // Constant volumes: no isovalue separates anything.
+        Volume k({4, 3, 5}, ValueType::float32);
+        ComponentCurve ck = count_components(testutil::ctx(), k, IsovalueSet::floats({-1.f, 0.f, 1.f}), m);
+        CHECK(ck.components == std::vector<std::int64_t>{0, 0, 0});
+    }
+}
+
+TEST_CASE("components equal the connected pieces of the mesh at generic isovalues") {
+    // Float data are integers / 2, so isovalues at quarter points hit no vertex.
+    std::uint32_t seed = 300;
+    const Dims dims[] = {{5, 4, 3}, {6, 6, 6}, {2, 7, 5}, {9, 5, 4}};
+    for (const Dims& d : dims)
+        for (Connectivity m : modes) {
+            Volume v = testutil::random_volume(d, ValueType::float32, 0, 8, seed++);
+            std::vector<float> s;
+            for (int k = 0; k < 8; ++k) s.push_back(float(k) / 2 + 0.25f);
+            ComponentCurve c = count_components(testutil::ctx(), v, IsovalueSet::floats(s), m);
+            for (std::size_t j = 0; j < s.size(); ++j) {
+                Mesh mesh = extract_isosurface(
+                    v, s[j], m == Connectivity::cube ? MeshMethod::marching_cubes : MeshMethod::marching_tetrahedra);
+                CAPTURE(dims_string(d));
+                CAPTURE(connectivity_name(m));
+                CAPTURE(s[j]);
+                CHECK(std::int64_t(ref::topology(mesh).pieces) == c.components[j]);
+            }
+        }
+}
+
+TEST_CASE("known shapes: two balls, a hollow shell, a torus") {
+    const Dims d{24, 20, 18};
+    auto ball = [](double x, double y, double z, double cx, double cy, double cz, double r) {
+        return (x - cx) * (x - cx) + (y - cy) * (y - cy) + (z - cz) * (z - cz) <= r * r;
+    };
+    Volume two = binary(d, [&](double x, double y, double z) {
+        return ball(x, y, z, 6, 9, 9, 4) || ball(x, y, z, 17, 10, 8, 4.5);
+    });
+    Volume shell = binary(d, [&](double x, double y, double z) {
+        return ball(x, y, z, 11.5, 9.5, 8.5, 7.5) && !ball(x, y, z, 11.5, 9.5, 8.5, 4);
+    });
+    Volume torus = binary(d, [&](double x, double y, double z) {
+        const double q = std::hypot(x - 11.5, y - 9.5) - 6;
+        return q * q + (z - 8.5) * (z - 8.5) <= 2.5 * 2.5;
+    });
+    for (Connectivity m : modes) {
+        CHECK(count_components_at(testutil::ctx(), two, 1, m) == 2);
+        CHECK(count_components_at(testutil::ctx(), shell, 1, m) == 2);
+        CHECK(count_components_at(testutil::ctx(), torus, 1, m) == 1);
+        CHECK(count_components_by_labelling(two, 1, m) == 2);
+        CHECK(count_components_by_labelling(shell, 1, m) == 2);
+        CHECK(count_components_by_labelling(torus, 1, m) == 1);
+        // Outside the range (s <= 0: A empty; s > 1: C empty).
+        CHECK(count_components_at(testutil::ctx(), two, 0, m) == 0);
+        CHECK(count_components_at(testutil::ctx(), two, 2, m) == 0);
+        CHECK(count_components_at(testutil::ctx(), two, 0.5, m) == 2);  // f >= 0.5 <=> f >= 1
+    }
+    // Diagonal contact: two voxels touching at a corner are one piece of C in cube mode
+    // (26-connected) and two in Freudenthal mode unless the corner is along +(1,1,1).
+    Volume diag({4, 4, 4}, ValueType::uint8);
+    diag.as<std::uint8_t>()[diag.index(1, 1, 1)] = 1;
+    diag.as<std::uint8_t>()[diag.index(2, 2, 2)] = 1;
+    CHECK(count_components_at(testutil::ctx(), diag, 1, Connectivity::cube) == 1);
+    CHECK(count_components_at(testutil::ctx(), diag, 1, Connectivity::freudenthal) == 1);
+    Volume anti({4, 4, 4}, ValueType::uint8);
+    anti.as<std::uint8_t>()[anti.index(2, 1, 1)] = 1;
+    anti.as<std::uint8_t>()[anti.index(1, 2, 2)] = 1;
+    CHECK(count_components_at(testutil::ctx(), anti, 1, Connectivity::cube) == 1);
+    CHECK(count_components_at(testutil::ctx(), anti, 1, Connectivity::freudenthal) == 2);
+}
+
+TEST_CASE("the labelling baseline and count_components_at agree with the curve") {
+    for (ValueType t : types)
+        for (Connectivity m : modes) {
+            Volume v = testutil::random_volume({7, 5, 6}, t, 0, 12, 900 + int(t));
+            ComponentCurve c = count_components(testutil::ctx(), v, IsovalueSet::for_volume(v, 16), m);
+            for (std::size_t j = 0; j < c.components.size(); ++j) {
+                CHECK(count_components_by_labelling(v, c.isovalues.value(j), m) == c.components[j]);
+                CHECK(count_components_at(testutil::ctx(), v, c.isovalues.value(j), m) == c.components[j]);
+            }
+        }
+}
+
+TEST_CASE("the device histogram: local and global variants give the same curve") {
+    Volume a = testutil::random_volume({17, 13, 11}, ValueType::uint8, 0, 255, 11);
+    Volume b = testutil::random_volume({17, 13, 11}, ValueType::uint16, 0, 60000, 12);
+    Volume s = testutil::random_volume({16, 3, 9}, ValueType::int16, -300, 300, 13);
+    testutil::TuningGuard guard;
+    for (std::size_t local_bytes : {std::size_t(0), std::size_t(1) << 20})
+    for (Volume* v : {&a, &b, &s}) {
+        testutil::ctx().tuning.local_hist_bytes = local_bytes;  // 0: global atomics only
+        CAPTURE(local_bytes);
+        CAPTURE(value_type_name(v->type()));
+        ComponentCurve c = count_components(testutil::ctx(), *v, IsovalueSet::for_volume(*v));
+        std::int64_t total = 0;
+        for (std::size_t j = 0; j < c.components.size(); j += std::max<std::size_t>(1, c.components.size() / 40)) {
+            CHECK(c.components[j] == identity(*v, c.isovalues.value(j), Connectivity::cube));
+            total += c.components[j];
+        }
+        CHECK(total > 0);
+    }
+}
+
+TEST_CASE("value histogram and neighbour masks on the host (volume above the device slab limit): same curves") {
+    testutil::TuningGuard guard;
+    for (ValueType t : types)
+        for (Connectivity m : modes) {
+            Volume v = testutil::random_volume({9, 7, 6}, t, 0, 9, 1200 + int(t));
+            const IsovalueSet iso = IsovalueSet::for_volume(v, 32);
+            testutil::ctx().tuning.slab_bytes = 0;
+            const ComponentCurve device = count_components(testutil::ctx(), v, iso, m);
+            testutil::ctx().tuning.slab_bytes = 64;  // smaller than any of these volumes
+            const ComponentCurve host = count_components(testutil::ctx(), v, iso, m);
+            CHECK(device.components == host.components);
+            CHECK(check_curve(v, m, iso) == 0);
+        }
+}
+
+TEST_CASE("parse_connectivity") {
+    CHECK(parse_connectivity("cube") == Connectivity::cube);
+    CHECK(parse_connectivity("freudenthal") == Connectivity::freudenthal);
+    CHECK_THROWS_AS(parse_connectivity("six"), InputError);
+}
+
+TEST_CASE("Pearson correlation against a plain two-pass computation") {
+    auto two_pass = [](const std::vector<double>& x, const std::vector<double>& y) {
+        double mx = 0, my = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
+        mx /= double(x.size());
+        my /= double(y.size());
+        double sxy = 0, sxx = 0, syy = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            sxy += (x[i] - mx) * (y[i] - my);
+            sxx += (x[i] - mx) * (x[i] - mx);
+            syy += (y[i] - my) * (y[i] - my);
+        }
+        return sxy / std::sqrt(sxx * syy);
+    };
+    std::mt19937 rng(5);
+    std::normal_distribution<double> g(0, 1);
+    const double tol = testutil::ctx().has_fp64() ? 1e-12 : 1e-5;
+    for (std::size_t n : {2, 3, 17, 256, 1000}) {
+        std::vector<double> x(n), y(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            x[i] = 2.2 + 0.1 * g(rng);
+            y[i] = 1000 * x[i] + 50 * g(rng) + 1e4;
+        }
+        CHECK(std::abs(pearson(testutil::ctx(), x, y) - two_pass(x, y)) < tol);
+    }
+    CHECK(std::abs(pearson(testutil::ctx(), {1, 2, 3}, {3, 2, 1}) + 1) < tol);
+    CHECK(std::isnan(pearson(testutil::ctx(), {1}, {2})));
+    CHECK(std::isnan(pearson(testutil::ctx(), {1, 1, 1}, {1, 2, 3})));
+
+    // correlate_components: only isovalues with D defined and E >= (two smallest dims) / 4.
+    const Dims d{8, 40, 10};  // threshold 8 * 10 / 4 = 20 edges
+    std::vector<double> fd{2.1, NAN, 2.3, 2.5, 2.2, 2.4};
+    std::vector<std::uint64_t> e{100, 100, 19, 20, 40, 80};
+    std::vector<std::int64_t> c{3, 9, 9, 7, 2, 12};
+    ComponentCorrelation r = correlate_components(testutil::ctx(), fd, e, c, d);
+    CHECK(r.used == 4);
+    CHECK(std::abs(r.components - two_pass({2.1, 2.5, 2.2, 2.4}, {3, 7, 2, 12})) < tol);
+    CHECK(std::abs(r.components_per_area - two_pass({2.1, 2.5, 2.2, 2.4}, {0.03, 0.35, 0.05, 0.15})) < tol);
+}
+
+}  // TEST_SUITE("components")
+
+TEST_SUITE("realdata") {
+
+TEST_CASE("components: sweep equals the labelling identity at every isovalue on small real volumes") {
+    const std::string dir = testutil::shared_data();
+    if (dir.empty()) {
+        MESSAGE("shared data not found: skipped");
+        return;
+    }
+    // The small volumes, fully (BFS per isovalue is the expensive side); the large ones
+    // are checked by `clfractal components --verify` (README).
+    for (const char* name : {"bucky_32x32x32_uint8.raw", "m4_totaldensity_31x22x25_float32.raw",
+                             "nucleon_41x41x41_uint8.raw", "fuel_cropped_64x33x32_uint8.raw",
+                             "hydrogen_3d_orbital_64x64x64_float32.raw", "neghip_slc_66x66x66_uint8.raw"}) {
+        Volume v = read_volume(dir + "/" + name);
+        for (Connectivity m : modes) {
+            CAPTURE(name);
+            CAPTURE(connectivity_name(m));
+            IsovalueSet iso = IsovalueSet::for_volume(v);
+            ComponentCurve c = count_components(testutil::ctx(), v, iso, m);
+            int bad = 0;
+            for (std::size_t j = 0; j < iso.size(); ++j)
+                bad += c.components[j] != count_components_by_labelling(v, iso.value(j), m);
+            CHECK(bad == 0);
+        }
+    }
+}
+
+}  // TEST_SUITE("realdata")

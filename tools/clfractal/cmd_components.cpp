@@ -1,0 +1,156 @@
+// clfractal components: the number of isosurface components for every isovalue
+// (DESIGN §1 "Isosurface components"; thesis §3.1, Fig. 3.2).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "clfractal/components.hpp"
+#include "cli.hpp"
+#include "output.hpp"
+
+using namespace clfractal;
+
+namespace cli {
+
+void write_components_plot(const IsovalueSet& iso, const std::vector<std::int64_t>& components,
+                           const std::vector<double>* fd, const std::string& title, const std::string& path) {
+    std::ostringstream data;
+    bool any = false;
+    for (std::size_t j = 0; j < iso.size(); ++j) {
+        // Log scale: zero counts are left out of the components line ("?" in gnuplot).
+        const bool c_ok = components[j] > 0;
+        const bool d_ok = fd && !std::isnan((*fd)[j]);
+        if (!c_ok && !d_ok) continue;
+        any = true;
+        data << iso_string(iso, j) << " " << (c_ok ? std::to_string(components[j]) : "?") << " "
+             << (d_ok ? fd_string((*fd)[j]) : "?") << "\n";
+    }
+    if (!any) data << iso_string(iso, 0) << " ? ?\n";
+    std::ostringstream script;
+    script << "set terminal pngcairo size 900,540 font 'sans,11'\n"
+           << "set xlabel 'isovalue'\nset autoscale xfix\nset grid\n"
+           << "set title " << std::quoted(title) << " noenhanced\n"
+           << "set datafile missing '?'\n";
+    if (fd) {
+        script << "set ylabel 'fractal dimension'\nset yrange [1.8:3.05]\n"
+               << "set y2label 'isosurface components (log scale)'\nset logscale y2\nset y2tics\nset ytics nomirror\n"
+               << "set key top right\n"
+               << "plot '$DATA' using 1:3 with lines lw 2 lc rgb '#1f5fa8' title 'fractal dimension', "
+               << "'$DATA' using 1:2 axes x1y2 with lines lw 2 lc rgb '#c0392b' title 'components'\n";
+    } else {
+        script << "set ylabel 'isosurface components (log scale)'\nset logscale y\nset key off\n"
+               << "plot '$DATA' using 1:2 with lines lw 2 lc rgb '#c0392b'\n";
+    }
+    plot_png(script.str(), data.str(), path);
+}
+
+namespace {
+
+struct ComponentsArgs {
+    std::string volume, csv, plot, connectivity = "cube", isovalues;
+    std::size_t bins = 0;
+    bool verify = false;
+    RawArgs raw;
+};
+
+int run_components(const ComponentsArgs& a) {
+    Volume v = read_volume(a.volume, a.raw.options());
+    const Connectivity mode = parse_connectivity(a.connectivity);
+    if (a.bins && is_integer(v.type()))
+        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    IsovalueSet iso = !a.isovalues.empty() ? IsovalueSet::parse_range(a.isovalues, v.type())
+                                           : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
+    Context& ctx = Context::shared();
+    progress("components of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " for " +
+             std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity");
+    ComponentCurve c = count_components(ctx, v, iso, mode);
+
+    std::size_t peak = 0;
+    for (std::size_t j = 0; j < iso.size(); ++j)
+        if (c.components[j] > c.components[peak]) peak = j;
+    std::cout << "volume        " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
+              << "connectivity  " << connectivity_name(mode)
+              << (mode == Connectivity::cube ? " ({f < s} 6-connected, {f >= s} 26-connected; marching cubes)"
+                                             : " (both 14-connected; Freudenthal triangulation, marching tetrahedra)")
+              << "\n"
+              << "isovalues     " << iso.size() << " (" << iso_string(iso, 0) << " .. " << iso_string(iso, iso.size() - 1)
+              << ")\n"
+              << "most          " << c.components[peak] << " components at isovalue " << iso_string(iso, peak) << "\n"
+              << std::setprecision(4) << "time          " << c.seconds << " s ("
+              << double(v.vertices()) / c.seconds / 1e6 << " Mvoxel/s)\n";
+    int bad = 0;
+    if (a.verify) {
+        // Every isovalue against per-isovalue labelling of A and C (O(N) per isovalue). Where
+        // no vertex value lies in [s_{j-1}, s_j), A and C are the very sets of isovalue j - 1:
+        // the labelling would repeat itself, so the curve must simply repeat its value.
+        std::vector<char> changes(iso.size(), 0);
+        visit(v, [&](const auto* p) {
+            for (std::size_t i = 0; i < v.vertices(); ++i) {
+                const double x = double(p[i]);
+                std::size_t j = 0;
+                if (iso.integer()) {
+                    const double b = x - double(iso.first()) + 1;  // first isovalue > x
+                    if (b < 0 || b >= double(iso.size())) continue;
+                    j = std::size_t(b);
+                } else {
+                    const auto& f = iso.float_values();
+                    j = std::size_t(std::upper_bound(f.begin(), f.end(), float(x)) - f.begin());
+                    if (j >= f.size()) continue;
+                }
+                changes[j] = 1;
+            }
+        });
+        changes[0] = 1;
+        std::size_t labelled = 0;
+        std::int64_t want = 0;
+        for (std::size_t j = 0; j < iso.size(); ++j) {
+            if (changes[j]) {
+                want = count_components_by_labelling(v, iso.value(j), mode);
+                ++labelled;
+            }
+            if (want != c.components[j]) {
+                if (bad < 10)
+                    std::cerr << "clfractal: mismatch at isovalue " << iso_string(iso, j) << ": sweep "
+                              << c.components[j] << ", labelling " << want << "\n";
+                ++bad;
+            }
+        }
+        std::cout << "verify        " << (bad ? std::to_string(bad) + " isovalues DIFFER from" : "every isovalue equals")
+                  << " per-isovalue labelling (" << labelled << " distinct sets labelled)\n";
+    }
+    if (!a.csv.empty()) {
+        std::ostringstream out;
+        out << "isovalue,components\n";
+        for (std::size_t j = 0; j < iso.size(); ++j) out << iso_string(iso, j) << "," << c.components[j] << "\n";
+        write_file_atomic(a.csv, out.str());
+    }
+    if (!a.plot.empty())
+        write_components_plot(iso, c.components, nullptr,
+                              std::filesystem::path(a.volume).filename().string() + ": isosurface components (" +
+                                  connectivity_name(mode) + ")",
+                              a.plot);
+    return bad ? 1 : 0;
+}
+
+}  // namespace
+
+void add_components_command(CLI::App& app, Commands& commands) {
+    auto a = std::make_shared<ComponentsArgs>();
+    auto* c = app.add_subcommand("components", "number of isosurface components for every isovalue");
+    c->add_option("VOLUME", a->volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
+    c->add_option("--connectivity", a->connectivity,
+                  "cube: {f<s} 6- and {f>=s} 26-connected (marching cubes, default); freudenthal: both 14-connected");
+    c->add_option("--isovalues", a->isovalues, "isovalues A:B:STEP (float data; integer data: A:B:1)");
+    c->add_option("--bins", a->bins, "number of uniform isovalues for float data (default 256)");
+    c->add_option("--csv", a->csv, "write isovalue,components");
+    c->add_option("--plot", a->plot, "draw the curve (log scale) to a PNG with gnuplot");
+    c->add_flag("--verify", a->verify, "check every isovalue against per-isovalue labelling (slow); exit 1 on a mismatch");
+    a->raw.add(c);
+    commands.push_back({c, [a] { return run_components(*a); }});
+}
+
+}  // namespace cli
