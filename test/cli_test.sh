@@ -215,6 +215,8 @@ expect 0 'uint8' -- "$bin" info med.nrrd
 expect 0 'FD' -- "$bin" -q filter synthetic:noisy-sphere:24 --gaussian 1 --iso 128 -o gauss.nrrd
 expect 0 'selected .*LD > 2.4' -- "$bin" -q filter synthetic:noisy-sphere:24 --median --fractal --iso 128 --threshold 2.4 --window 4 -o frac.nrrd
 expect 0 'changed +0 vertices' -- "$bin" -q filter synthetic:noisy-sphere:24 --median --fractal --iso 128 --threshold 1000 -o none.nrrd
+expect 0 'components +[0-9]+ +[0-9]+' -- "$bin" -q filter synthetic:noisy-sphere:24 --median --iso 128 -o comp.nrrd
+expect 0 'components +[0-9]+ -> [0-9]+' -- "$bin" -q smooth synthetic:noisy-sphere:24 --iso 128 --threshold 2.4 -o sm_comp.nrrd
 expect 0 'LD-guided' -- "$bin" -q filter synthetic:noisy-sphere:24 --bilateral 1,20 --ld-guided --iso 128 -o ldb.nrrd
 expect 0 'float32' -- "$bin" -q filter ml.nrrd --bilateral 1,0.2 -o mlb.nrrd
 expect 0 'float32' -- "$bin" info mlb.nrrd

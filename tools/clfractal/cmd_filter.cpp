@@ -7,6 +7,7 @@
 #include <memory>
 #include <sstream>
 
+#include "clfractal/components.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "clfractal/stream.hpp"
@@ -188,8 +189,8 @@ int run_filter(const FilterArgs& a, CLI::App* app) {
                   << "  cubes     " << std::setw(12) << before.cubes << " " << std::setw(10) << after.cubes << "\n"
                   << "  FD        " << std::setw(12) << fd_text(before.fd) << " " << std::setw(10)
                   << fd_text(after.fd) << "\n";
-        // Components at s before/after: to be reported here once the components capability
-        // (DESIGN §1 "Isosurface components") is available.
+        std::cout << "  components" << std::setw(12) << count_components_at(ctx, v, a.iso) << " " << std::setw(10)
+                  << count_components_at(ctx, out, a.iso) << "\n";
     }
     std::cout << std::defaultfloat << std::setprecision(4) << "time        " << seconds << " s";
     if (masked) std::cout << " (LD field " << tr.ld_seconds << " s, masked filter " << tr.filter_seconds << " s)";
