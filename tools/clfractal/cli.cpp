@@ -62,4 +62,22 @@ std::string fd_string(double d) {
 
 nlohmann::json fd_json(double d) { return std::isnan(d) ? nlohmann::json(nullptr) : nlohmann::json(d); }
 
+std::string fd_csv(const FdCurve& f, const std::vector<std::int64_t>* components) {
+    const int levels = f.levels();
+    std::ostringstream out;
+    out << "isovalue,count,count_sub,fd";
+    for (int l = 2; l < levels; ++l) out << ",count_l" << l;
+    if (levels > 2) out << ",fd_fit";
+    if (components) out << ",components";
+    out << "\n";
+    for (std::size_t j = 0; j < f.fd.size(); ++j) {
+        out << iso_string(f.isovalues, j) << "," << f.counts[0][j] << "," << f.counts[1][j] << "," << fd_string(f.fd[j]);
+        for (int l = 2; l < levels; ++l) out << "," << f.counts[l][j];
+        if (levels > 2) out << "," << fd_string(f.fd_fit[j]);
+        if (components) out << "," << (*components)[j];
+        out << "\n";
+    }
+    return out.str();
+}
+
 }  // namespace cli

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "clfractal/fd.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
 
@@ -34,6 +35,10 @@ std::string fd_string(double d);
 
 /// A dimension for JSON: null where undefined (NaN).
 nlohmann::json fd_json(double d);
+
+/// The curve as `fd --csv` writes it: isovalue,count,count_sub,fd[,count_lL...,fd_fit]
+/// [,components].
+std::string fd_csv(const clfractal::FdCurve& f, const std::vector<std::int64_t>* components = nullptr);
 
 /// A subcommand: its CLI11 app and what runs when it is chosen.
 struct Command {

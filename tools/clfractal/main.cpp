@@ -195,20 +195,7 @@ int cmd_fd(const FdArgs& a) {
               << ctx.compile_seconds() << " s\n";
 
     if (!a.csv.empty()) {
-        std::ostringstream out;
-        out << "isovalue,count,count_sub,fd";
-        for (int l = 2; l < a.levels; ++l) out << ",count_l" << l;
-        if (a.levels > 2) out << ",fd_fit";
-        if (a.components) out << ",components";
-        out << "\n";
-        for (std::size_t j = 0; j < iso.size(); ++j) {
-            out << iso_string(iso, j) << "," << f.counts[0][j] << "," << f.counts[1][j] << "," << fd_string(f.fd[j]);
-            for (int l = 2; l < a.levels; ++l) out << "," << f.counts[l][j];
-            if (a.levels > 2) out << "," << fd_string(f.fd_fit[j]);
-            if (a.components) out << "," << comp.components[j];
-            out << "\n";
-        }
-        write_file_atomic(a.csv, out.str());
+        write_file_atomic(a.csv, fd_csv(f, a.components ? &comp.components : nullptr));
     }
     if (!a.json_path.empty()) {
         json j;

@@ -134,19 +134,7 @@ int run(const Args& a, int rank, int size) {
     std::cout << std::defaultfloat << "time        " << slowest << " s counting (slowest rank)\n";
 
     if (!a.csv.empty()) {
-        std::ostringstream out;
-        out << "isovalue,count,count_sub,fd";
-        for (int l = 2; l < a.levels; ++l) out << ",count_l" << l;
-        if (a.levels > 2) out << ",fd_fit";
-        out << "\n";
-        for (std::size_t j = 0; j < iso.size(); ++j) {
-            out << cli::iso_string(iso, j) << "," << f.counts[0][j] << "," << f.counts[1][j] << ","
-                << cli::fd_string(f.fd[j]);
-            for (int l = 2; l < a.levels; ++l) out << "," << f.counts[l][j];
-            if (a.levels > 2) out << "," << cli::fd_string(f.fd_fit[j]);
-            out << "\n";
-        }
-        write_file_atomic(a.csv, out.str());
+        write_file_atomic(a.csv, cli::fd_csv(f));
     }
     if (!a.json_path.empty()) {
         nlohmann::json j;
