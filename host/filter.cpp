@@ -265,21 +265,6 @@ void fetch(Context& ctx, const cl::Buffer& b, void* p, std::size_t bytes) {
     }
 }
 
-// Waits for the queue, ignoring errors: no kernel may still use host memory of ours when
-// an exception leaves.
-template <class F> void guarded(Context& ctx, F&& f) {
-    try {
-        with_cl_errors(f);
-        ctx.queue().finish();
-    } catch (...) {
-        try {
-            ctx.queue().finish();
-        } catch (...) {
-        }
-        throw;
-    }
-}
-
 // Filters `v` into `out` slab by slab; `ld` (float32, same dims) for the masked filters.
 void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& spec, Mask mask, const Volume* ld,
                   float h) {
@@ -288,7 +273,7 @@ void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& 
     const std::size_t r = std::size_t(spec.radius()), slice = d.nx * d.ny, vs = value_size(v.type());
     const auto* src = static_cast<const unsigned char*>(v.data());
     auto* dst = static_cast<unsigned char*>(out.data());
-    guarded(ctx, [&] {
+    with_cl_errors_finished(ctx, [&] {
         Runner runner(ctx, v.type(), d, spec, mask);
         for (std::size_t z0 = 0; z0 < d.nz; z0 += S) {
             const std::size_t z1 = std::min(d.nz, z0 + S);
@@ -360,7 +345,7 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
         res.selected = count_selected(ld.as<float>(), ld.vertices(), hf);
     } else {
         // One upload: the LD field and the filter read the same device values.
-        guarded(ctx, [&] {
+        with_cl_errors_finished(ctx, [&] {
             Buffer<unsigned char> values(ctx, v.size_bytes(), CL_MEM_READ_ONLY);
             values.write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
             Buffer<float> ld = local_fractal_dimension(ctx, values, v.type(), d, iso, window);

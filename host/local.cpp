@@ -300,24 +300,15 @@ Volume local_in_core(Context& ctx, const Volume& v, double iso, int window) {
     }
     // CPU devices read the volume and write the field in place in host memory. No kernel
     // may still use that memory when we return, on an exception too.
-    try {
-        with_cl_errors([&] {
-            cl::Buffer values(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, v.size_bytes(),
-                              const_cast<void*>(v.data()));
-            cl::Buffer ld(ctx.context(), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, out.size_bytes(), out.data());
-            field_on_device(ctx, values, v.type(), v.dims(), iso, window, ld);
-            // Mapping makes the device's writes visible in host memory (a no-op on CPUs).
-            void* p = ctx.queue().enqueueMapBuffer(ld, CL_TRUE, CL_MAP_READ, 0, out.size_bytes());
-            ctx.queue().enqueueUnmapMemObject(ld, p);
-            ctx.queue().finish();
-        });
-    } catch (...) {
-        try {
-            ctx.queue().finish();
-        } catch (...) {
-        }
-        throw;
-    }
+    with_cl_errors_finished(ctx, [&] {
+        cl::Buffer values(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, v.size_bytes(),
+                          const_cast<void*>(v.data()));
+        cl::Buffer ld(ctx.context(), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, out.size_bytes(), out.data());
+        field_on_device(ctx, values, v.type(), v.dims(), iso, window, ld);
+        // Mapping makes the device's writes visible in host memory (a no-op on CPUs).
+        void* p = ctx.queue().enqueueMapBuffer(ld, CL_TRUE, CL_MAP_READ, 0, out.size_bytes());
+        ctx.queue().enqueueUnmapMemObject(ld, p);
+    });
     return out;
 }
 

@@ -196,4 +196,20 @@ template <class F> decltype(auto) with_cl_errors(F&& f) {
     }
 }
 
+/// with_cl_errors(f), then waits for the queue: also when f throws, so that no kernel still
+/// reads or writes host memory (CL_MEM_USE_HOST_PTR) the caller frees as the exception
+/// unwinds.
+template <class F> void with_cl_errors_finished(Context& ctx, F&& f) {
+    try {
+        with_cl_errors(f);
+        ctx.queue().finish();
+    } catch (...) {
+        try {
+            ctx.queue().finish();
+        } catch (...) {
+        }
+        throw;
+    }
+}
+
 }  // namespace clfractal
