@@ -53,9 +53,10 @@ struct SpanStream::Impl {
           slice_bytes(checked_slice_bytes(x, y, t)) {
         if (levels < 1 || levels > 16) throw InputError("--levels must be between 1 and 16");
         const std::size_t align = std::size_t(1) << (levels - 1);
-        // A few slices per launch: at least 8 inner slices where 64 MiB allow, else one step.
-        std::size_t steps = std::max<std::size_t>(1, (8 + align - 1) / align);
-        while (steps > 1 && (steps * align + 1) * slice_bytes > (std::size_t(64) << 20)) --steps;
+        // A few slices per launch: at least 64 inner slices where 32 MiB allow, else fewer (a
+        // launch per slice would cost more in histogram merges than the counting itself).
+        std::size_t steps = std::max<std::size_t>(1, (64 + align - 1) / align);
+        while (steps > 1 && (steps * align + 1) * slice_bytes > (std::size_t(32) << 20)) --steps;
         // The open-ended volume: as deep as a volume may be.
         max_slices = std::min<std::size_t>(max_vertices / (nx * ny), INT_MAX);
         main = std::make_unique<SpanCounter>(ctx, iso, type, Dims{nx, ny, max_slices},
