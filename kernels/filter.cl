@@ -437,6 +437,15 @@ inline bool range_term(size_t i, float inv_2sr2, float* out_inv BILATERAL_ARGS) 
 #endif
 }
 
+// range_term with this build's mask arguments.
+#if defined(LD_GUIDED)
+#define RANGE_TERM(i, inv_2sr2, inv) range_term(i, inv_2sr2, inv, ld)
+#elif defined(MASKED)
+#define RANGE_TERM(i, inv_2sr2, inv) range_term(i, inv_2sr2, inv, ld, h)
+#else
+#define RANGE_TERM(i, inv_2sr2, inv) range_term(i, inv_2sr2, inv)
+#endif
+
 // bilateral_at for VEC neighbouring columns x0 .. x0 + VEC - 1, all with x0 - RADIUS >= 0
 // and x0 + VEC + RADIUS <= nx; `inv` the range term per column.
 inline FV bilateral_vec(__global const T* in, int nx, int ny, int nz_in, int x0, int y, int zin,
@@ -506,13 +515,7 @@ __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int 
             if (x >= nx) break;
             const size_t i = r * (size_t)nx + (size_t)x;
             float inv;
-#ifdef LD_GUIDED
-            const bool on = range_term(i, inv_2sr2, &inv, ld);
-#elif defined(MASKED)
-            const bool on = range_term(i, inv_2sr2, &inv, ld, h);
-#else
-            const bool on = range_term(i, inv_2sr2, &inv);
-#endif
+            const bool on = RANGE_TERM(i, inv_2sr2, &inv);
             o[x] = on ? TO_T(bilateral_at(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv)) : c[x];
         }
     }
@@ -523,13 +526,7 @@ __kernel void bilateral_vertices(__global const T* restrict in, int nx, int ny, 
     const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
     const size_t i = ((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + (size_t)x;
     float inv;
-#ifdef LD_GUIDED
-    const bool on = range_term(i, inv_2sr2, &inv, ld);
-#elif defined(MASKED)
-    const bool on = range_term(i, inv_2sr2, &inv, ld, h);
-#else
-    const bool on = range_term(i, inv_2sr2, &inv);
-#endif
+    const bool on = RANGE_TERM(i, inv_2sr2, &inv);
     out[i] = on ? TO_T(bilateral_at(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv))
                 : in[((size_t)(z_begin + z) * (size_t)ny + (size_t)y) * (size_t)nx + x];
 }
