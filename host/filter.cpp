@@ -153,18 +153,18 @@ public:
             gz_.setArg(6, weights_);
             gz_.setArg(7, tmp_a_.get());
             go(gz_);
-            gy_.setArg(0, tmp_a_.get());
-            gy_.setArg(1, nx);
-            gy_.setArg(2, ny);
-            gy_.setArg(3, nz_out);
-            gy_.setArg(4, weights_);
+            // The y and x passes read the previous pass's float slab of nz_out slices.
+            const auto pass_args = [&](cl::Kernel& k, const cl::Buffer& src) {
+                k.setArg(0, src);
+                k.setArg(1, nx);
+                k.setArg(2, ny);
+                k.setArg(3, nz_out);
+                k.setArg(4, weights_);
+            };
+            pass_args(gy_, tmp_a_.get());
             gy_.setArg(5, tmp_b_.get());
             go(gy_);
-            main_.setArg(0, tmp_b_.get());
-            main_.setArg(1, nx);
-            main_.setArg(2, ny);
-            main_.setArg(3, nz_out);
-            main_.setArg(4, weights_);
+            pass_args(main_, tmp_b_.get());
             main_.setArg(5, out);
             main_.setArg(6, in);
             main_.setArg(7, z_begin);
