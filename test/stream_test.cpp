@@ -424,7 +424,8 @@ TEST_CASE("slice readers: bad inputs are input errors") {
         r.read(s.data(), 1);
         FAIL("no error");
     } catch (const InputError& e) {
-        CHECK(std::string(e.what()).find("NaN at vertex (0,1,2)") != std::string::npos);
+        CHECK(std::string(e.what()).find("(slices 2..2): float data contains 1 NaN value (the first, NaN, at vertex (0,1,2))") !=
+              std::string::npos);
     }
 }
 
