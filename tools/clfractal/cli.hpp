@@ -22,7 +22,8 @@ void progress(const std::string& s);
 
 /// Options that say how to read a headerless raw file.
 struct RawArgs {
-    std::string dims, type, endian = "little";
+    std::string dims, type, endian = "little", series;
+    bool scaled = false;
     void add(CLI::App* app);
     clfractal::RawOptions options() const;
 };

@@ -34,7 +34,7 @@ int run_smooth(const SmoothArgs& a) {
     const bool want_mesh = !a.mesh.empty() || !a.preview.empty();
     const SmoothResult r = smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
     const IsoCounts before = intersected_counts(ctx, v, a.iso), after = intersected_counts(ctx, r.volume, a.iso);
-    write_nrrd(r.volume, a.output);
+    write_volume(r.volume, a.output, &v);
 
     const double n = double(std::max<std::size_t>(1, v.vertices()));
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"

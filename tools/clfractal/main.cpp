@@ -63,8 +63,9 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
     });
     const double n = double(v.vertices());
     const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-    std::cout << "volume    " << spec << "\n"
-              << "dims      " << dims_string(v.dims()) << " (" << v.vertices() << " vertices, " << v.dims().cubes()
+    std::cout << "volume    " << spec << "\n";
+    for (const std::string& line : describe_volume_file(spec, raw.options())) std::cout << line << "\n";
+    std::cout << "dims      " << dims_string(v.dims()) << " (" << v.vertices() << " vertices, " << v.dims().cubes()
               << " cubes)\n"
               << "type      " << value_type_name(v.type()) << "\n"
               << "spacing   " << v.spacing[0] << " " << v.spacing[1] << " " << v.spacing[2] << "\n"
@@ -265,7 +266,7 @@ int cmd_local(const LocalArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     Volume ld = local_fractal_dimension(ctx, v, a.iso, a.window);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    write_nrrd(ld, a.output);
+    write_volume(ld, a.output, &v);
     const LocalSummary s = summarize_local(ld);
 
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
@@ -366,7 +367,7 @@ int cmd_gen(const std::string& name, const SyntheticOptions& o, const std::strin
     if (!type.empty()) opt.type = parse_value_type(type);
     if (opt.size < 2 || opt.size > 2048) throw InputError("--size " + std::to_string(opt.size) + ": must be 2..2048");
     Volume v = make_synthetic(name, opt);
-    write_nrrd(v, out);
+    write_volume(v, out);
     progress("wrote " + out + " (" + dims_string(v.dims()) + " " + value_type_name(v.type()) + ")");
     return 0;
 }
