@@ -4,7 +4,13 @@
 
 #include <nifti2_io.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -48,9 +54,40 @@ int datatype_of(ValueType t) {
     throw std::logic_error("datatype_of: invalid ValueType");
 }
 
-NimPtr read_header(const std::string& path) {
+/// nifticlib finds files by their extension, and looks for x.nii before x.nii.gz (so it
+/// would take the data of a neighbour x.nii for x.nii.gz): a single-file NIfTI is read
+/// through a temporary link of its own, named .nii or .nii.gz by its content; only
+/// .hdr/.img pairs are read where they are.
+struct NiftiName {
+    std::string name, link;
+    explicit NiftiName(const std::string& path) : name(path) {
+        std::string ext = fs::path(path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        if (ext == ".hdr" || ext == ".img") return;
+        unsigned char magic[2] = {0, 0};
+        if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+            if (std::fread(magic, 1, 2, f) != 2) magic[0] = 0;
+            std::fclose(f);
+        }
+        static std::atomic<unsigned> counter{0};
+        link = (fs::temp_directory_path() / ("clfractal-" + std::to_string(::getpid()) + "-" +
+                                             std::to_string(counter++) +
+                                             (magic[0] == 0x1f && magic[1] == 0x8b ? ".nii.gz" : ".nii")))
+                   .string();
+        std::error_code ec;
+        fs::create_symlink(fs::absolute(path, ec), link, ec);
+        if (ec) throw InputError(path + ": cannot read NIfTI under this name (rename it .nii or .nii.gz)");
+        name = link;
+    }
+    ~NiftiName() {
+        std::error_code ec;
+        if (!link.empty()) fs::remove(link, ec);
+    }
+};
+
+NimPtr read_header(const std::string& path, const std::string& name) {
     nifti_set_debug_level(0);  // errors are ours to word, in one line
-    NimPtr nim(nifti_image_read(path.c_str(), 0));
+    NimPtr nim(nifti_image_read(name.c_str(), 0));
     if (!nim) throw InputError(path + ": cannot read the NIfTI header (not NIfTI, or truncated)");
     return nim;
 }
@@ -68,7 +105,8 @@ Rescale scale_of(const nifti_image& nim) {
 }  // namespace
 
 Volume read_nifti(const std::string& path, bool scaled) {
-    NimPtr nim = read_header(path);
+    const NiftiName name(path);
+    NimPtr nim = read_header(path, name.name);
     for (int a = 4; a <= 7; ++a)
         if (nim->dim[0] >= a && nim->dim[a] > 1)
             throw InputError(path + ": NIfTI has " + std::to_string(nim->dim[0]) +
@@ -117,7 +155,8 @@ Volume read_nifti(const std::string& path, bool scaled) {
 }
 
 std::vector<std::string> nifti_notes(const std::string& path) {
-    NimPtr nim = read_header(path);
+    const NiftiName name(path);
+    NimPtr nim = read_header(path, name.name);
     std::vector<std::string> notes;
     std::ostringstream s;
     s << "NIfTI-" << (nim->nifti_type >= NIFTI_FTYPE_NIFTI2_1 ? 2 : 1) << ", stored "
