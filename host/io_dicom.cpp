@@ -170,7 +170,9 @@ StoredKind stored_kind_of(const gdcm::PixelFormat& pf, const std::string& file) 
 /// A series opened for reading: sorted slices, geometry, the stored kind.
 class DicomSource : public SliceSource {
 public:
-    DicomSource(const std::string& path, const std::string& uid) : path_(path) {
+    /// `in_core`: the caller keeps every slice's stored values (read_dicom) and settles the
+    /// type itself; otherwise a first pass finds the range where the type depends on it.
+    DicomSource(const std::string& path, const std::string& uid, bool in_core = false) : path_(path) {
         Scan s;
         scan(s, path);
         const Series& se = choose(s, uid);
@@ -243,28 +245,39 @@ public:
         // The stored kind from the first slice; every slice is checked against it.
         decode(0);
         kind_ = slice_kind_;
-        maps_.clear();
         for (const Slice& sl : slices_) maps_.push_back(sl.map);
+        if (in_core) return;
         const bool integer_data = kind_ != StoredKind::float32 && kind_ != StoredKind::float64;
         const bool integral = std::all_of(maps_.begin(), maps_.end(), [](const Rescale& m) { return m.integral(); });
         const bool shifts = std::any_of(maps_.begin(), maps_.end(), [](const Rescale& m) { return m.intercept != 0; });
+        double lo = 0, hi = 0;
         if (integer_data && integral && shifts) {
             // The type depends on the range of the results: one pass over the stored values.
-            double lo = INFINITY, hi = -INFINITY;
+            lo = INFINITY;
+            hi = -INFINITY;
             for (std::size_t z = 0; z < slices_.size(); ++z) {
                 if (z > 0) decode(z);
                 stored_range(buffer_.data(), kind_, slice_values(), lo, hi);
             }
-            range_lo_ = lo;
-            range_hi_ = hi;
         }
-        type = rescale_type(kind_, maps_, range_lo_, range_hi_, first);
+        settle_type(lo, hi);
     }
+
+    /// The value type, from the range [lo, hi] of every stored value.
+    void settle_type(double lo, double hi) { type = rescale_type(kind_, maps_, lo, hi, slices_.front().file); }
 
     void read_slice(std::size_t z, void* dst) override {
         decode(z);
         rescale_values(buffer_.data(), kind_, slice_values(), slices_[z].map, dst, type);
     }
+
+    /// Slice z's stored values (nx*ny of stored_kind()).
+    const std::vector<unsigned char>& stored_slice(std::size_t z) {
+        decode(z);
+        return buffer_;
+    }
+    StoredKind stored_kind() const { return kind_; }
+    const Rescale& map(std::size_t z) const { return slices_[z].map; }
 
     std::vector<std::string> notes() const;
 
@@ -325,7 +338,6 @@ private:
     std::vector<Slice> slices_;
     std::vector<Rescale> maps_;
     StoredKind kind_ = StoredKind::uint8, slice_kind_ = StoredKind::uint8;
-    double range_lo_ = 0, range_hi_ = 0;
     std::vector<unsigned char> buffer_;
 };
 
@@ -336,8 +348,26 @@ std::unique_ptr<SliceSource> open_dicom_slices(const std::string& path, const st
 }
 
 Volume read_dicom(const std::string& path, const std::string& series_uid) {
-    DicomSource s(path, series_uid);
-    return read_all_slices(s, path);
+    // Every slice decoded once: stored values kept until the range settles the type.
+    DicomSource s(path, series_uid, true);
+    const std::size_t plane = s.dims.nx * s.dims.ny, bytes = plane * stored_kind_size(s.stored_kind());
+    std::vector<unsigned char> stored(bytes * s.dims.nz);
+    double lo = INFINITY, hi = -INFINITY;
+    for (std::size_t z = 0; z < s.dims.nz; ++z) {
+        std::memcpy(&stored[z * bytes], s.stored_slice(z).data(), bytes);
+        stored_range(&stored[z * bytes], s.stored_kind(), plane, lo, hi);
+    }
+    s.settle_type(lo, hi);
+    Volume v(s.dims, s.type, path);
+    const std::size_t out_bytes = plane * value_size(s.type);
+    for (std::size_t z = 0; z < s.dims.nz; ++z)
+        rescale_values(&stored[z * bytes], s.stored_kind(), plane, s.map(z), static_cast<unsigned char*>(v.data()) + z * out_bytes,
+                       s.type);
+    v.spacing = s.spacing;
+    v.oriented = s.oriented;
+    v.origin = s.origin;
+    v.axes = s.axes;
+    return v;
 }
 
 std::vector<std::string> dicom_notes(const std::string& path, const std::string& series_uid) {

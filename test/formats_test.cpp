@@ -6,9 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <gdcmAttribute.h>
-#include <gdcmImage.h>
-#include <gdcmImageWriter.h>
-#include <gdcmTrace.h>
+#include <gdcmWriter.h>
 #include <nifti2_io.h>
 #include <tiffio.h>
 #include <zlib.h>
@@ -24,11 +22,16 @@
 #include "clfractal/slice_reader.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
+#include "format_fixtures.hpp"
 #include "reference/span_reference.hpp"
 #include "test_util.hpp"
 
 using namespace clfractal;
 using testutil::ctx;
+using fixtures::DicomSlice;
+using fixtures::TiffPage;
+using fixtures::write_dicom;
+using fixtures::write_tiff_pages;
 namespace fs = std::filesystem;
 
 namespace {
@@ -82,49 +85,6 @@ std::string error_of(const std::function<void()>& f) {
     return "(no error)";
 }
 
-// ---------------------------------------------------------------- DICOM (GDCM writes)
-
-struct DicomSlice {
-    std::string file, series_uid;
-    std::size_t nx, ny;
-    std::vector<std::uint16_t> values;
-    double z = 0, slope = 1, intercept = 0;
-    bool pixel_data = true;
-};
-
-void write_dicom(const DicomSlice& s) {
-    gdcm::Trace::SetWarning(false);
-    gdcm::ImageWriter w;
-    gdcm::Image& im = w.GetImage();
-    im.SetNumberOfDimensions(2);
-    im.SetDimension(0, unsigned(s.nx));
-    im.SetDimension(1, unsigned(s.ny));
-    im.SetPixelFormat(gdcm::PixelFormat(1, 16, 16, 15, 0));
-    im.SetPhotometricInterpretation(gdcm::PhotometricInterpretation::MONOCHROME2);
-    im.SetSpacing(0, 0.75);  // column spacing: x
-    im.SetSpacing(1, 0.5);   // row spacing: y
-    im.SetSpacing(2, 1.0);
-    im.SetOrigin(0, -20.0);
-    im.SetOrigin(1, 10.0);
-    im.SetOrigin(2, s.z);
-    const double cosines[6] = {1, 0, 0, 0, 1, 0};
-    im.SetDirectionCosines(cosines);
-    im.SetSlope(s.slope);
-    im.SetIntercept(s.intercept);
-    gdcm::DataElement pixels(gdcm::Tag(0x7fe0, 0x0010));
-    pixels.SetByteValue(reinterpret_cast<const char*>(s.values.data()), std::uint32_t(s.values.size() * 2));
-    im.SetDataElement(pixels);
-    gdcm::DataSet& ds = w.GetFile().GetDataSet();
-    gdcm::Attribute<0x0008, 0x0016> sop_class = {"1.2.840.10008.5.1.4.1.1.2"};  // CT Image Storage
-    gdcm::Attribute<0x0008, 0x0060> modality = {"CT"};
-    gdcm::Attribute<0x0020, 0x000e> series = {s.series_uid.c_str()};
-    ds.Replace(sop_class.GetAsDataElement());
-    ds.Replace(modality.GetAsDataElement());
-    ds.Replace(series.GetAsDataElement());
-    w.SetFileName(s.file.c_str());
-    REQUIRE(w.Write());
-}
-
 /// A series of nz slices (stored uint16 values 0..max), written in shuffled file order;
 /// returns the stored values in z order.
 std::vector<std::uint16_t> write_series(const TempDir& dir, const std::string& uid, std::size_t nx, std::size_t ny,
@@ -161,53 +121,6 @@ void write_nifti_file(const std::string& path, int datatype, void* data, std::si
     nifti_image_write(nim);
     nim->data = nullptr;
     nifti_image_free(nim);
-}
-
-// ---------------------------------------------------------------- TIFF (libtiff writes)
-
-struct TiffPage {
-    std::uint32_t nx, ny;
-    int bits, format;  // SAMPLEFORMAT_*
-    const void* data;
-    bool tiled = false;
-    int compression = COMPRESSION_NONE;
-};
-
-void write_tiff_pages(const std::string& path, const std::vector<TiffPage>& pages) {
-    TIFF* t = TIFFOpen(path.c_str(), "w");
-    REQUIRE(t);
-    for (const TiffPage& p : pages) {
-        TIFFSetField(t, TIFFTAG_IMAGEWIDTH, p.nx);
-        TIFFSetField(t, TIFFTAG_IMAGELENGTH, p.ny);
-        TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, p.bits);
-        TIFFSetField(t, TIFFTAG_SAMPLEFORMAT, p.format);
-        TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 1);
-        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
-        TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
-        TIFFSetField(t, TIFFTAG_COMPRESSION, p.compression);
-        TIFFSetField(t, TIFFTAG_SUBFILETYPE, FILETYPE_PAGE);
-        const std::size_t vs = std::size_t(p.bits / 8), row = p.nx * vs;
-        const auto* bytes = static_cast<const unsigned char*>(p.data);
-        if (p.tiled) {
-            const std::uint32_t tw = 16, th = 16;
-            TIFFSetField(t, TIFFTAG_TILEWIDTH, tw);
-            TIFFSetField(t, TIFFTAG_TILELENGTH, th);
-            std::vector<unsigned char> tile(tw * th * vs);
-            for (std::uint32_t y = 0; y < p.ny; y += th)
-                for (std::uint32_t x = 0; x < p.nx; x += tw) {
-                    std::fill(tile.begin(), tile.end(), 0);
-                    for (std::uint32_t r = 0; r < th && y + r < p.ny; ++r)
-                        std::memcpy(&tile[r * tw * vs], bytes + (y + r) * row + x * vs, std::min(tw, p.nx - x) * vs);
-                    REQUIRE(TIFFWriteTile(t, tile.data(), x, y, 0, 0) >= 0);
-                }
-        } else {
-            TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, 3);
-            for (std::uint32_t y = 0; y < p.ny; ++y)
-                REQUIRE(TIFFWriteScanline(t, const_cast<unsigned char*>(bytes + y * row), y, 0) >= 0);
-        }
-        REQUIRE(TIFFWriteDirectory(t));
-    }
-    TIFFClose(t);
 }
 
 void write_text(const std::string& path, const std::string& text) {

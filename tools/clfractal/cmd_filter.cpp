@@ -217,7 +217,7 @@ void add_filter_command(CLI::App& app, Commands& commands) {
     c->add_option("--iso", a->iso, "isovalue S of the LD field; also reports cubes and FD at S before/after");
     c->add_option("--threshold", a->threshold, "LD threshold H of --fractal");
     c->add_option("--window", a->window, "LD window k (even, default 8)");
-    c->add_option("-o,--output", a->output, "output .nrrd (the input's type)")->required();
+    c->add_option("-o,--output", a->output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
     c->add_flag("--stream", a->stream,
                 "with --fractal: read, filter and write slice by slice (memory for a few slices; radius <= k/2)");
     a->raw.add(c);

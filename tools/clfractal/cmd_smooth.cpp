@@ -85,7 +85,7 @@ void add_smooth_command(CLI::App& app, Commands& commands) {
     c->add_option("--variant", a->variant, "plain (f(v) := f(u)) or gaussian (neighbours lowered too)")
         ->check(CLI::IsMember({"plain", "gaussian"}));
     c->add_option("--tau", a->tau, "width of the gaussian variant's lowering, in grid steps (default 1)");
-    c->add_option("-o,--output", a->output, "output .nrrd (same type as the input)")->required();
+    c->add_option("-o,--output", a->output, "output .nrrd, .nii or .nii.gz (same type as the input)")->required();
     c->add_option("--mesh", a->mesh, "also write the smoothed isosurface as PLY, coloured by the input's LD");
     c->add_option("--preview", a->preview, "render the smoothed isosurface to a PNG");
     a->raw.add(c);

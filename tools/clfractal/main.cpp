@@ -464,12 +464,12 @@ int main(int argc, char** argv) {
     local->add_option("VOLUME", la.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
     local->add_option("--iso", la.iso, "isovalue S (cubes with a < S <= b are intersected)")->required();
     local->add_option("--window", la.window, "window k (even, >= 2; default 8)");
-    local->add_option("-o,--output", la.output, "output .nrrd (float32)")->required();
+    local->add_option("-o,--output", la.output, "output .nrrd, .nii or .nii.gz (float32)")->required();
     local->add_option("--mesh", la.mesh, "also write the isosurface as PLY, coloured by LD");
     local->add_flag("--stream", la.stream, "read and write slice by slice (memory: a few slices; same field)");
     la.raw.add(local);
 
-    auto* gen = app.add_subcommand("gen", "write a synthetic volume as NRRD");
+    auto* gen = app.add_subcommand("gen", "write a synthetic volume (NRRD, or NIfTI for .nii/.nii.gz)");
     std::string gen_name, gen_type, gen_out;
     SyntheticOptions gen_opt;
     std::string names;
@@ -480,7 +480,7 @@ int main(int argc, char** argv) {
     gen->add_option("--seed", gen_opt.seed, "noise / point seed");
     gen->add_option("--points", gen_opt.points, "number of points for 'points'");
     gen->add_option("--type", gen_type, "convert to uint8|uint16|int16|float32");
-    gen->add_option("-o,--output", gen_out, "output .nrrd")->required();
+    gen->add_option("-o,--output", gen_out, "output .nrrd, .nii or .nii.gz")->required();
 
     auto* mesh = app.add_subcommand("mesh", "isosurface mesh as PLY (marching cubes or tetrahedra), optional preview PNG");
     MeshArgs ma;
