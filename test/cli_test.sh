@@ -282,5 +282,28 @@ expect 2 'clfractal: error: .*no_such_dir' -- "$bin" survey no_such_dir
 mkdir -p empty_dir
 expect 2 'clfractal: error: .*empty_dir' -- "$bin" survey empty_dir
 
+# Isovalue advice: clean bands in fd (text and JSON), the noise level, --iso auto.
+expect 0 'best 1 \.\. [0-9]+ .* use [0-9]+' -- "$bin" -q fd synthetic:sphere:40 --json adv.json --noise-level
+expect 0 'clean bands none' -- "$bin" -q fd synthetic:noisy-sphere:64 --clean-fd 2.0
+expect 0 '' -- "$bin" -q gen sphere --size 32 --noise 60 -o rough.nrrd
+expect 0 'noise +\+-[0-9.]+ grey values' -- "$bin" -q fd rough.nrrd --noise-level --json rough.json
+python3 - <<'PY' && pass || fail "fd JSON clean_bands/noise"
+import json
+j = json.load(open("adv.json"))
+b = j["clean_bands"]
+assert len(b) == 1 and b[0]["first"] <= b[0]["isovalue"] <= b[0]["last"] and b[0]["max_fd"] <= 2.2, b
+rows = {r["isovalue"]: r for r in j["curve"]}
+for s in range(int(b[0]["first"]), int(b[0]["last"]) + 1):
+    assert rows[s]["fd"] is not None and rows[s]["fd"] <= 2.2, (s, rows[s])
+r = json.load(open("rough.json"))
+assert r["clean_bands"] == [], r["clean_bands"]
+# uniform noise +-60 added to the clean sphere: estimated within 10%
+assert abs(r["noise"]["amplitude"] - 60) <= 6, r["noise"]["amplitude"]
+assert j["noise"]["amplitude"] is None or j["noise"]["amplitude"] < r["noise"]["amplitude"] / 10
+PY
+expect 0 'auto: isovalue [0-9]+, the middle of the clean band' -- "$bin" local synthetic:sphere:40 --iso auto -o auto_ld.nrrd
+expect 2 'clfractal: error: --iso auto: rough.nrrd has no clean band' -- "$bin" -q mesh rough.nrrd --iso auto -o auto.ply
+[ ! -e auto.ply ] && pass || fail "--iso auto without a band wrote a mesh"
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -19,6 +19,65 @@ void progress(const std::string& s) {
     if (!quiet) std::cerr << "clfractal: " << s << "\n";
 }
 
+void print_bands(std::ostream& out, const FdCurve& f, const std::vector<CleanBand>& bands, double max_fd,
+                 double min_share) {
+    const IsovalueSet& iso = f.isovalues;
+    std::ostringstream head;
+    head << "D <= " << max_fd << ", surface >= " << 100 * min_share << "% of the largest";
+    if (bands.empty()) {
+        out << "clean bands none (" << head.str() << "); every well-populated isovalue is rough\n";
+        return;
+    }
+    out << "clean bands " << bands.size() << " (" << head.str() << "; about 2 is a clean surface, towards 3 noise)\n";
+    for (std::size_t i = 0; i < bands.size() && i < 5; ++i) {
+        const CleanBand& b = bands[i];
+        out << "  " << (i == 0 ? "best " : "     ") << iso_string(iso, b.first) << " .. " << iso_string(iso, b.last)
+            << "  (" << b.width() << " isovalue" << (b.width() > 1 ? "s" : "") << ", mean D " << b.mean_fd
+            << ", up to " << b.max_count << " cubes)  use " << iso_string(iso, b.representative) << "\n";
+    }
+}
+
+nlohmann::json bands_json(const FdCurve& f, const std::vector<CleanBand>& bands) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const CleanBand& b : bands)
+        a.push_back({{"first", f.isovalues.value(b.first)},
+                     {"last", f.isovalues.value(b.last)},
+                     {"isovalue", f.isovalues.value(b.representative)},
+                     {"width", b.width()},
+                     {"mean_fd", b.mean_fd},
+                     {"max_fd", b.max_fd},
+                     {"max_count", b.max_count}});
+    return a;
+}
+
+void print_noise(std::ostream& out, const NoiseEstimate& e) {
+    if (e.used == 0) {
+        out << "noise       n/a: no well-populated isovalue has an edge dimension in [" << noise_fd_min << ", "
+            << noise_fd_max << "] (below: too clean to measure; above: noise dominates)\n";
+        return;
+    }
+    out << "noise       +-" << e.median_amplitude << " grey values uniform (std " << e.median_amplitude / std::sqrt(3.0)
+        << "), r = noise / gradient " << e.median_ratio << "; median over " << e.used
+        << " isovalues (Theorem 1 inverted)\n";
+}
+
+nlohmann::json noise_json(const NoiseEstimate& e) {
+    nlohmann::json per = nlohmann::json::array();
+    for (std::size_t j = 0; j < e.isovalues.size(); ++j) {
+        if (std::isnan(e.ratio[j])) continue;
+        per.push_back({{"isovalue", e.isovalues.value(j)},
+                       {"edge_fd", e.edge_fd[j]},
+                       {"ratio", e.ratio[j]},
+                       {"gamma", e.gamma[j]},
+                       {"amplitude", e.amplitude[j]}});
+    }
+    return {{"amplitude", fd_json(e.median_amplitude)},
+            {"ratio", fd_json(e.median_ratio)},
+            {"isovalues_used", e.used},
+            {"trusted_edge_fd", {noise_fd_min, noise_fd_max}},
+            {"per_isovalue", per}};
+}
+
 CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& what) {
     return app
         ->add_option("--window", window, what + " (even, >= 2)")
@@ -33,14 +92,39 @@ CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& wh
 }
 
 CLI::Option* add_iso_option(CLI::App* app, double& iso, const std::string& what) {
-    return app->add_option("--iso", iso, what)->check(CLI::Validator(
-        [](std::string& text) -> std::string {
-            char* end = nullptr;
-            const double s = std::strtod(text.c_str(), &end);
-            if (end == text.c_str() || *end || !std::isfinite(s)) return "must be a finite number, not " + text;
-            return {};
-        },
-        "S"));
+    return app->add_option("--iso", iso, what + " (or auto: the best clean band's)")
+        ->transform(CLI::Validator(
+            [](std::string& text) -> std::string {
+                if (text == "auto") {
+                    char buf[32];
+                    std::snprintf(buf, sizeof buf, "%.17g", auto_isovalue);
+                    text = buf;
+                    return {};
+                }
+                char* end = nullptr;
+                const double s = std::strtod(text.c_str(), &end);
+                if (end == text.c_str() || *end || !std::isfinite(s)) return "must be a finite number or auto, not " + text;
+                return {};
+            },
+            "S|auto"));
+}
+
+double checked_isovalue(const Volume& v, double iso) {
+    if (!is_auto_isovalue(iso)) {
+        warn_isovalue_outside(v, iso);
+        return iso;
+    }
+    Context& ctx = Context::shared();
+    const IsovalueSet set = IsovalueSet::for_volume(v);
+    const FdCurve f = fd_curve(ctx, count_spans(ctx, v, set), SpanKind::cubes);
+    const std::vector<CleanBand> bands = clean_bands(f);
+    if (bands.empty())
+        throw InputError("--iso auto: " + v.name + " has no clean band (D <= 2.2 on >= 1% of the largest surface); give --iso S");
+    const CleanBand& b = bands.front();
+    const double s = set.value(b.representative);
+    progress("--iso auto: isovalue " + iso_string(set, b.representative) + ", the middle of the clean band " +
+             iso_string(set, b.first) + " .. " + iso_string(set, b.last) + " (mean D " + std::to_string(b.mean_fd) + ")");
+    return s;
 }
 
 void warn_isovalue_outside(const Volume& v, double iso) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "clfractal/advice.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
@@ -20,12 +21,29 @@ extern bool quiet;
 /// One progress line on stderr ("clfractal: ..."), unless --quiet.
 void progress(const std::string& s);
 
+/// The clean bands of a curve (at most 5, best first), or why there is none.
+void print_bands(std::ostream& out, const clfractal::FdCurve& f, const std::vector<clfractal::CleanBand>& bands,
+                 double max_fd, double min_share);
+nlohmann::json bands_json(const clfractal::FdCurve& f, const std::vector<clfractal::CleanBand>& bands);
+/// The noise estimate: the median over the isovalues in the trusted range.
+void print_noise(std::ostream& out, const clfractal::NoiseEstimate& e);
+nlohmann::json noise_json(const clfractal::NoiseEstimate& e);
+
 /// --window K for every command that computes LD: checked while parsing (even, >= 2), so
 /// a bad window fails before any file is read or the device starts.
 CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& what = "LD window k");
 
-/// --iso S: checked while parsing (a finite number).
+/// --iso S: checked while parsing (a finite number, or "auto", held as auto_isovalue).
 CLI::Option* add_iso_option(CLI::App* app, double& iso, const std::string& what);
+
+/// The value --iso auto parses to (never a real isovalue: the lowest double).
+constexpr double auto_isovalue = -1.7976931348623157e308;
+inline bool is_auto_isovalue(double iso) { return iso == auto_isovalue; }
+
+/// The isovalue to use for `v`: `iso` itself (with warn_isovalue_outside), or for --iso auto
+/// the representative of the best clean band of v's box-dimension curve, said on stderr.
+/// Throws InputError when auto finds no clean band.
+double checked_isovalue(const clfractal::Volume& v, double iso);
 
 /// Warns on stderr (before any device work) when `iso` selects nothing in `v`: every
 /// cube's span [a, b] lies inside [vmin, vmax], so s <= vmin or s > vmax intersects none.

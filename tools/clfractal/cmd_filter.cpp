@@ -124,7 +124,7 @@ int run_filter_stream(const FilterArgs& a, const FilterSpec& spec) {
     return 0;
 }
 
-int run_filter(const FilterArgs& a, CLI::App* app) {
+int run_filter(FilterArgs a, CLI::App* app) {
     const FilterSpec spec = parse_spec(a, app);
     if (a.fractal && a.ld_guided) throw InputError("filter: --fractal and --ld-guided exclude each other");
     if ((a.fractal || a.ld_guided) && std::isnan(a.iso))
@@ -134,10 +134,12 @@ int run_filter(const FilterArgs& a, CLI::App* app) {
     if (a.ld_guided && spec.kind != FilterKind::bilateral) throw InputError("--ld-guided: only with --bilateral");
     if (!std::isnan(a.iso) && !std::isfinite(a.iso)) throw InputError("--iso: must be a finite number");
     if (a.stream && !a.fractal) throw InputError("--stream: only with --fractal (the targeted filter streams)");
+    if (a.stream && cli::is_auto_isovalue(a.iso))
+        throw InputError("--iso auto: not with --stream (it needs the whole curve first)");
     if (a.stream) return run_filter_stream(a, spec);
 
     Volume v = read_volume(a.volume, a.raw.options());
-    if (!std::isnan(a.iso)) cli::warn_isovalue_outside(v, a.iso);
+    if (!std::isnan(a.iso)) a.iso = cli::checked_isovalue(v, a.iso);
     Context& ctx = Context::shared();
     const bool at_iso = !std::isnan(a.iso);
     AtIso before, after;

@@ -113,8 +113,9 @@ int run_noise(const NoiseArgs& a) {
     std::string data_name;
     std::vector<float> iso;
     if (real) {
-        if (!std::isfinite(a.iso)) throw InputError("--iso: must be a finite number");
+        if (!std::isfinite(a.iso) && !cli::is_auto_isovalue(a.iso)) throw InputError("--iso: must be a finite number");
         clean = read_volume(a.volume, a.raw.options());
+        if (cli::is_auto_isovalue(a.iso)) throw InputError("--iso auto: not with noise --volume; give --iso S");
         cli::warn_isovalue_outside(clean, a.iso);
         gamma = a.gamma;
         if (std::isnan(gamma)) {

@@ -24,11 +24,11 @@ struct SmoothArgs {
     RawArgs raw;
 };
 
-int run_smooth(const SmoothArgs& a) {
+int run_smooth(SmoothArgs a) {
     const SmoothVariant variant = parse_smooth_variant(a.variant);
     if (!std::isfinite(a.threshold)) throw InputError("--threshold: must be a finite number");
     Volume v = read_volume(a.volume, a.raw.options());
-    warn_isovalue_outside(v, a.iso);
+    a.iso = checked_isovalue(v, a.iso);
     Context& ctx = Context::shared();
     progress("smooth isosurface of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " (" +
              smooth_variant_name(variant) + "), window " + std::to_string(a.window) + ", on " + ctx.description());

@@ -14,6 +14,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "clfractal/advice.hpp"
 #include "clfractal/bench.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/fd.hpp"
@@ -119,7 +120,8 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
 
 struct FdArgs {
     std::string volume, csv, json_path, plot, isovalues;
-    bool edge = false, components = false;
+    bool edge = false, components = false, noise_level = false;
+    double clean_fd = 2.2, clean_share = 0.01;
     int levels = 2;
     std::size_t bins = 0;
     std::uint64_t min_count = 0;
@@ -177,17 +179,11 @@ int cmd_fd(const FdArgs& a) {
         corr = correlate_components(ctx, f.fd, spans.get(SpanKind::edges).counts[0], comp.components, v.dims());
     }
 
-    // The smoothest and the noisiest isovalue among those with enough cubes to matter:
-    // at least --min-count and 1% of the largest subsampled count (ratios of a handful of
-    // cubes are noise themselves).
-    std::uint64_t largest = 0;
-    for (std::uint64_t n : f.counts[1]) largest = std::max(largest, n);
-    std::uint64_t floor_count = std::max<std::uint64_t>({a.min_count, largest / 100, 1});
-    std::size_t lo = SIZE_MAX, hi = SIZE_MAX;
-    for (std::size_t j = 0; j < f.fd.size(); ++j) {
-        if (std::isnan(f.fd[j]) || f.counts[1][j] < floor_count) continue;
-        if (lo == SIZE_MAX || f.fd[j] < f.fd[lo]) lo = j;
-        if (hi == SIZE_MAX || f.fd[j] > f.fd[hi]) hi = j;
+    const std::vector<CleanBand> bands = clean_bands(f, BandOptions{a.clean_fd, a.clean_share});
+    NoiseEstimate noise;
+    if (a.noise_level) {
+        if (a.stream) throw InputError("--noise-level: not with --stream (it needs the whole volume)");
+        noise = estimate_noise(ctx, v, iso, a.clean_share);
     }
 
     const char* kind_name = a.edge ? "edge" : "box";
@@ -201,12 +197,11 @@ int cmd_fd(const FdArgs& a) {
         std::cout << "mean FD     " << s.mean << "  std " << s.std << "  count-weighted mean " << s.weighted_mean
                   << "\n"
                   << "growth      I ~ N^" << s.kappa << "\n";
-        if (lo != SIZE_MAX)
-            std::cout << "smoothest   isovalue " << iso_string(iso, lo) << "  FD " << f.fd[lo] << "\n"
-                      << "noisiest    isovalue " << iso_string(iso, hi) << "  FD " << f.fd[hi] << "\n";
+        print_bands(std::cout, f, bands, a.clean_fd, a.clean_share);
     } else {
         std::cout << "mean FD     n/a (no isovalue intersects both grids)\n";
     }
+    if (a.noise_level) print_noise(std::cout, noise);
     if (a.components)
         std::cout << "components  corr(D, components) " << fd_string(corr.components).substr(0, 6)
                   << "  corr(D, components / E) " << fd_string(corr.components_per_area).substr(0, 6) << " over "
@@ -237,6 +232,8 @@ int cmd_fd(const FdArgs& a) {
         j["seconds_compute"] = spans.seconds;
         j["seconds_compile"] = ctx.compile_seconds();
         j["slabs"] = spans.slabs;
+        j["clean_bands"] = bands_json(f, bands);
+        if (a.noise_level) j["noise"] = noise_json(noise);
         if (a.components) {
             j["corr_components"] = fd_json(corr.components);
             j["corr_components_per_area"] = fd_json(corr.components_per_area);
@@ -275,13 +272,14 @@ struct LocalArgs {
     RawArgs raw;
 };
 
-int cmd_local(const LocalArgs& a) {
+int cmd_local(LocalArgs a) {
     if (a.stream) {
         if (!a.mesh.empty()) throw InputError("--mesh: not with --stream (the mesh needs the whole volume)");
+        if (is_auto_isovalue(a.iso)) throw InputError("--iso auto: not with --stream (it needs the whole curve first)");
         return cmd_local_stream(a.volume, a.raw.options(), a.iso, a.window, a.output);
     }
     Volume v = read_volume(a.volume, a.raw.options());
-    warn_isovalue_outside(v, a.iso);
+    a.iso = checked_isovalue(v, a.iso);
     Context& ctx = Context::shared();
     progress("local fractal dimension of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + ", window " +
              std::to_string(a.window) + ", on " + ctx.description());
@@ -327,10 +325,10 @@ struct MeshArgs {
     RawArgs raw;
 };
 
-int cmd_mesh(const MeshArgs& a) {
+int cmd_mesh(MeshArgs a) {
     const MeshMethod method = parse_mesh_method(a.method);
     Volume v = read_volume(a.volume, a.raw.options());
-    warn_isovalue_outside(v, a.iso);
+    a.iso = checked_isovalue(v, a.iso);
     using clock = std::chrono::steady_clock;
     const auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
 
@@ -480,6 +478,11 @@ int main(int argc, char** argv) {
                  "add the isosurface component count (cube connectivity) and its correlation with D");
     fd->add_option("--slab", fa.slab, "process z-slabs of at most this many slices (default: from device memory)");
     fd->add_flag("--stream", fa.stream, "read the file slice by slice (memory: a few slices; same numbers)");
+    fd->add_option("--clean-fd", fa.clean_fd, "clean bands: D(s) at most this")->capture_default_str();
+    fd->add_option("--clean-share", fa.clean_share, "clean bands: I(s) at least this share of the largest")
+        ->capture_default_str();
+    fd->add_flag("--noise-level", fa.noise_level,
+                 "estimate the noise in grey values from the edge dimension (Theorem 1 inverted)");
     fa.raw.add(fd);
 
     auto* local = app.add_subcommand("local", "local fractal dimension field (eq. 2.6) for one isovalue, as NRRD");
