@@ -11,6 +11,8 @@
 
 #include <teem/nrrd.h>
 
+#include "nrrd_types.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -55,10 +57,11 @@ std::size_t attached_data_offset(const std::string& path) {
 struct SliceReader::Impl {
     std::string spec;
     Dims dims;
-    ValueType type = ValueType::uint8;
+    ValueType type = ValueType::uint8;       // the type read() serves (RawOptions::as, else file_type)
+    ValueType file_type = ValueType::uint8;  // the type stored in the file
     std::array<double, 3> spacing{1.0, 1.0, 1.0};
     std::string method = "memory";
-    std::size_t file_value_size = 0;  // bytes per value in the file (8 for float64 NRRD)
+    std::size_t file_value_size = 0;  // bytes per value in the file
     bool swap = false;
     std::string data_path;
     std::size_t data_offset = 0;
@@ -67,7 +70,7 @@ struct SliceReader::Impl {
     int fd = -1;         // mmap
     gzFile gz = nullptr; // gzip
     Volume whole;        // memory
-    std::vector<unsigned char> staging;  // float64 values before conversion
+    std::vector<unsigned char> staging;  // file values before conversion (--as)
 
     std::size_t slice_values() const { return dims.nx * dims.ny; }
     std::size_t slice_bytes() const { return slice_values() * value_size(type); }
@@ -83,6 +86,8 @@ struct SliceReader::Impl {
         if (!fs::is_regular_file(spec, ec)) throw InputError(spec + ": not a regular file");
         if (has_extension(spec, ".nrrd", ".nhdr")) open_nrrd(raw);
         else open_raw(raw);
+        if (method == "memory") return;  // read whole (and converted) by read_volume
+        type = raw.as.value_or(file_type);
         open();
     }
 
@@ -108,13 +113,13 @@ struct SliceReader::Impl {
         }
         check_dims(*d, spec);
         dims = *d;
-        type = *t;
-        file_value_size = value_size(type);
+        file_type = *t;
+        file_value_size = value_size(file_type);
         const std::uintmax_t expected = dims.vertices() * file_value_size;
         const std::uintmax_t found = fs::file_size(spec);
         if (found != expected)
             throw InputError(spec + (found < expected ? ": truncated" : ": too long") + ": expected " +
-                             std::to_string(expected) + " bytes (" + dims_string(dims) + " " + value_type_name(type) +
+                             std::to_string(expected) + " bytes (" + dims_string(dims) + " " + value_type_name(file_type) +
                              "), found " + std::to_string(found));
         swap = raw.big_endian != host_big_endian;
         data_path = spec;
@@ -141,19 +146,12 @@ struct SliceReader::Impl {
         const bool simple = header->dim == 3 && nio->lineSkip == 0 && nio->byteSkip == 0 && !nio->dataFSkip &&
                             nio->dataFNArr->len <= 1 &&
                             (nio->encoding == nrrdEncodingRaw || nio->encoding == nrrdEncodingGzip) &&
-                            (header->type == nrrdTypeUChar || header->type == nrrdTypeUShort ||
-                             header->type == nrrdTypeShort || header->type == nrrdTypeFloat ||
-                             header->type == nrrdTypeDouble);
+                            value_type_of_nrrd(header->type).has_value();
         if (!simple) return read_whole(raw);
         dims = Dims{header->axis[0].size, header->axis[1].size, header->axis[2].size};
         check_dims(dims, spec);
-        switch (header->type) {
-        case nrrdTypeUChar: type = ValueType::uint8; break;
-        case nrrdTypeUShort: type = ValueType::uint16; break;
-        case nrrdTypeShort: type = ValueType::int16; break;
-        default: type = ValueType::float32;
-        }
-        file_value_size = header->type == nrrdTypeDouble ? 8 : value_size(type);
+        file_type = *value_type_of_nrrd(header->type);
+        file_value_size = value_size(file_type);
         for (unsigned a = 0; a < 3; ++a) {
             double sp = 1.0, dir[NRRD_SPACE_DIM_MAX];
             const int status = nrrdSpacingCalculate(header, a, &sp, dir);
@@ -248,18 +246,15 @@ struct SliceReader::Impl {
         }
     }
 
-    void check_finite_slices(const void* dst, std::size_t count) {
-        if (type != ValueType::float32) return;
-        const float* p = static_cast<const float*>(dst);
-        const std::size_t n = count * slice_values();
-        for (std::size_t i = 0; i < n; ++i)
-            if (!std::isfinite(p[i])) {
-                const std::size_t v = next * slice_values() + i;
-                throw InputError(spec + ": float data contains " +
-                                 (std::isnan(p[i]) ? "NaN" : p[i] > 0 ? "Inf" : "-Inf") + " at vertex (" +
-                                 std::to_string(v % dims.nx) + "," + std::to_string(v / dims.nx % dims.ny) + "," +
-                                 std::to_string(v / slice_values()) + ")");
-            }
+    // `p` holds count slices of file values.
+    void check_finite_slices(const void* p, std::size_t count) {
+        const std::size_t n = count * slice_values(), i = first_non_finite(p, file_type, n);
+        if (i == n) return;
+        const double f = visit_type(file_type, [&](auto zero) { return double(static_cast<const decltype(zero)*>(p)[i]); });
+        const std::size_t v = next * slice_values() + i;
+        throw InputError(spec + ": float data contains " + (std::isnan(f) ? "NaN" : f > 0 ? "Inf" : "-Inf") +
+                         " at vertex (" + std::to_string(v % dims.nx) + "," + std::to_string(v / dims.nx % dims.ny) +
+                         "," + std::to_string(v / slice_values()) + ")");
     }
 
     void read(void* dst, std::size_t count) {
@@ -269,21 +264,15 @@ struct SliceReader::Impl {
         if (method == "memory") {
             std::memcpy(out, static_cast<const unsigned char*>(whole.data()) + next * slice_bytes(),
                         count * slice_bytes());
-        } else if (file_value_size == 8) {
-            staging.resize(count * slice_values() * 8);
-            read_file_bytes(staging.data(), count);
-            if (swap) swap_bytes(staging.data(), count * slice_values(), 8);
-            float* f = static_cast<float*>(dst);
-            for (std::size_t i = 0; i < count * slice_values(); ++i) {
-                double d;
-                std::memcpy(&d, staging.data() + 8 * i, 8);
-                f[i] = float(d);
-            }
         } else {
-            read_file_bytes(out, count);
-            if (swap) swap_bytes(out, count * slice_values(), file_value_size);
+            const bool convert = file_type != type;
+            if (convert) staging.resize(count * slice_values() * file_value_size);
+            unsigned char* file_values = convert ? staging.data() : out;
+            read_file_bytes(file_values, count);
+            if (swap) swap_bytes(file_values, count * slice_values(), file_value_size);
+            check_finite_slices(file_values, count);
+            if (convert) convert_values(file_values, file_type, out, type, count * slice_values());
         }
-        check_finite_slices(dst, count);
         next += count;
     }
 
@@ -337,10 +326,9 @@ NrrdSliceWriter::NrrdSliceWriter(const std::string& path, const Dims& dims, Valu
     w.tmp = temporary_path(path);
     w.dims = dims;
     w.slice_bytes = dims.nx * dims.ny * value_size(type);
-    static const char* nrrd_names[] = {"uchar", "ushort", "short", "float"};
     w.out.open(w.tmp, std::ios::binary);
     if (!w.out) discard_temporary(w.tmp, path, std::string("cannot write: ") + std::strerror(errno));
-    w.out << "NRRD0004\ntype: " << nrrd_names[int(type)] << "\ndimension: 3\nsizes: " << dims.nx << " " << dims.ny
+    w.out << "NRRD0004\ntype: " << nrrd_type_name(type) << "\ndimension: 3\nsizes: " << dims.nx << " " << dims.ny
           << " " << dims.nz << "\n";
     w.out.precision(17);
     w.out << "spacings: " << spacing[0] << " " << spacing[1] << " " << spacing[2] << "\n";

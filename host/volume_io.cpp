@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "clfractal/synthetic.hpp"
+#include "nrrd_types.hpp"
 
 namespace fs = std::filesystem;
 
@@ -28,7 +29,7 @@ constexpr bool host_big_endian = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
 
 /// Only the canonical names appear in NAME_XxYxZ_TYPE.raw, so no aliases here.
 std::optional<ValueType> canonical_value_type(std::string_view text) {
-    for (ValueType t : {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32})
+    for (ValueType t : all_value_types)
         if (text == value_type_name(t)) return t;
     return std::nullopt;
 }
@@ -77,6 +78,11 @@ template <class T> void byte_swap(T* p, std::size_t n) {
             std::memcpy(&u, &p[i], 4);
             u = __builtin_bswap32(u);
             std::memcpy(&p[i], &u, 4);
+        } else if constexpr (sizeof(T) == 8) {
+            std::uint64_t u;
+            std::memcpy(&u, &p[i], 8);
+            u = __builtin_bswap64(u);
+            std::memcpy(&p[i], &u, 8);
         }
     }
 }
@@ -111,28 +117,13 @@ struct NrrdIoStateNix {
 using NrrdPtr = std::unique_ptr<Nrrd, NrrdNuke>;
 using NrrdIoPtr = std::unique_ptr<NrrdIoState, NrrdIoStateNix>;
 
-int nrrd_type_of(ValueType t) {
-    switch (t) {
-    case ValueType::uint8: return nrrdTypeUChar;
-    case ValueType::uint16: return nrrdTypeUShort;
-    case ValueType::int16: return nrrdTypeShort;
-    case ValueType::float32: return nrrdTypeFloat;
-    }
-    throw std::logic_error("nrrd_type_of: invalid ValueType");
-}
-
-/// NRRD type → ValueType; float64 is read as float32 (DESIGN §1).
-ValueType value_type_of_nrrd(int nrrd_type, const std::string& path) {
-    switch (nrrd_type) {
-    case nrrdTypeUChar: return ValueType::uint8;
-    case nrrdTypeUShort: return ValueType::uint16;
-    case nrrdTypeShort: return ValueType::int16;
-    case nrrdTypeFloat:
-    case nrrdTypeDouble: return ValueType::float32;
-    default:
-        throw InputError(path + ": unsupported NRRD type '" + airEnumStr(nrrdType, nrrd_type) +
-                         "' (expected uchar, ushort, short, float or double)");
-    }
+/// NRRD type → ValueType, or an InputError naming the file.
+ValueType nrrd_value_type(int nrrd_type, const std::string& path) {
+    if (const std::optional<ValueType> t = value_type_of_nrrd(nrrd_type)) return *t;
+    std::string names;
+    for (ValueType t : all_value_types) names += std::string(names.empty() ? "" : ", ") + nrrd_type_name(t);
+    throw InputError(path + ": unsupported NRRD type '" + airEnumStr(nrrdType, nrrd_type) + "' (expected " + names +
+                     ")");
 }
 
 /// Spacing of one axis: the scalar spacing or the length of the space direction.
@@ -203,7 +194,7 @@ Volume read_raw(const std::string& path, const RawOptions& opt) {
             type = canonical_value_type(type_text);
             if (!type)
                 throw InputError(path + ": unknown value type '" + type_text +
-                                 "' in the file name (expected uint8, uint16, int16 or float32)");
+                                 "' in the file name (expected " + value_type_names() + ")");
         }
     }
     check_dims(*dims, path);
@@ -240,7 +231,7 @@ Volume read_nrrd(const std::string& path) {
     if (header->dim != 3)
         throw InputError(path + ": NRRD has " + std::to_string(header->dim) +
                          " axes; only 3D scalar volumes are supported");
-    const ValueType type = value_type_of_nrrd(header->type, path);
+    const ValueType type = nrrd_value_type(header->type, path);
     const Dims dims{header->axis[0].size, header->axis[1].size, header->axis[2].size};
     check_dims(dims, path);
 
@@ -249,14 +240,7 @@ Volume read_nrrd(const std::string& path) {
         throw InputError(path + ": cannot read NRRD: " + biff_message());
 
     Volume v(dims, type, path);
-    if (nrrd->type == nrrdTypeDouble) {
-        const double* in = static_cast<const double*>(nrrd->data);
-        float* out = v.as<float>();
-        const std::size_t n = v.vertices();
-        for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(in[i]);
-    } else {
-        std::memcpy(v.data(), nrrd->data, v.size_bytes());
-    }
+    std::memcpy(v.data(), nrrd->data, v.size_bytes());
     for (unsigned a = 0; a < 3; ++a) v.spacing[a] = axis_spacing(nrrd.get(), a);
     return v;
 }
@@ -273,6 +257,7 @@ Volume read_volume(const std::string& spec, const RawOptions& raw) {
         v = has_nrrd_extension(spec) ? read_nrrd(spec) : read_raw(spec, raw);
     }
     check_finite(v, spec);
+    if (raw.as && *raw.as != v.type()) v = convert_volume(v, *raw.as);
     v.name = spec;
     return v;
 }
@@ -297,20 +282,21 @@ void write_nrrd(const Volume& v, const std::string& path, bool gzip) {
 }
 
 void check_finite(const Volume& v, const std::string& what) {
-    if (v.type() != ValueType::float32) return;
-    const float* p = v.as<float>();
+    if (is_integer(v.type())) return;
     const std::size_t n = v.vertices();
     // A branch-free parallel pass for the common all-finite case; the first bad index
     // is only searched for when there is one.
     std::size_t bad = 0;
+    visit(v, [&](const auto* p) {
 #pragma omp parallel for reduction(+ : bad) schedule(static)
-    for (std::size_t i = 0; i < n; ++i) bad += !std::isfinite(p[i]);
+        for (std::size_t i = 0; i < n; ++i) bad += !std::isfinite(p[i]);
+    });
     if (bad == 0) return;
 
-    const std::size_t i =
-        static_cast<std::size_t>(std::find_if(p, p + n, [](float f) { return !std::isfinite(f); }) - p);
+    const std::size_t i = first_non_finite(v.data(), v.type(), n);
     const Dims& d = v.dims();
-    const char* kind = std::isnan(p[i]) ? "NaN" : (p[i] > 0 ? "Inf" : "-Inf");
+    const double f = v.value(i);
+    const char* kind = std::isnan(f) ? "NaN" : (f > 0 ? "Inf" : "-Inf");
     throw InputError(what + ": float data contains " + kind + " at vertex (" +
                      std::to_string(i % d.nx) + "," + std::to_string(i / d.nx % d.ny) + "," +
                      std::to_string(i / (d.nx * d.ny)) + ")");

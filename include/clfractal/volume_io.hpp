@@ -13,6 +13,9 @@ struct RawOptions {
     std::optional<Dims> dims;        ///< --dims X,Y,Z (otherwise from the file name)
     std::optional<ValueType> type;   ///< --type T (otherwise from the file name)
     bool big_endian = false;         ///< --endian big
+    /// --as T: convert the values to T on read, whatever the format (convert_values: may
+    /// round, e.g. float64 -> float32, and saturates to T's range).
+    std::optional<ValueType> as;
 };
 
 /// Parses NAME_XxYxZ_TYPE.raw (the directory part is ignored). Returns false when the
@@ -22,13 +25,14 @@ bool parse_raw_name(const std::string& path, Dims& dims, ValueType& type);
 /// Reads a headerless raw file. The file size must equal nx*ny*nz*size(type) exactly.
 Volume read_raw(const std::string& path, const RawOptions& opt = {});
 
-/// Reads a NRRD file (.nrrd or .nhdr) with teem. 3D scalar data only; uint8, uint16,
-/// int16, float32 kept, float64 converted to float32, other types rejected.
+/// Reads a NRRD file (.nrrd or .nhdr) with teem. 3D scalar data only, of the eight value
+/// types (NRRD signed char, unsigned char, short, unsigned short, int, unsigned int, float,
+/// double); 64-bit integers are rejected.
 Volume read_nrrd(const std::string& path);
 
 /// Reads a volume given as a path (.nrrd/.nhdr, or raw) or as "synthetic:NAME[:N]".
-/// Float data with NaN or Inf is rejected. Every problem is an InputError whose
-/// message names the file and the problem.
+/// Float data with NaN or Inf is rejected; with raw.as the values are then converted.
+/// Every problem is an InputError whose message names the file and the problem.
 Volume read_volume(const std::string& spec, const RawOptions& raw = {});
 
 /// Writes a NRRD (attached header, raw encoding, or gzip when `gzip`) through a

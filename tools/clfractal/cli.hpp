@@ -20,15 +20,20 @@ extern bool quiet;
 /// One progress line on stderr ("clfractal: ..."), unless --quiet.
 void progress(const std::string& s);
 
-/// Options that say how to read a headerless raw file.
+/// Options that say how to read a headerless raw file, and --as (any file).
 struct RawArgs {
-    std::string dims, type, endian = "little";
+    std::string dims, type, endian = "little", as;
     void add(CLI::App* app);
     clfractal::RawOptions options() const;
 };
 
-/// An isovalue written so that it reads back to the same float32 / integer.
+/// An isovalue written so that it reads back to the same integer, float32 (9 significant
+/// digits) or float64 (17).
 std::string iso_string(const clfractal::IsovalueSet& iso, std::size_t j);
+
+/// How a single isovalue is compared, for reports: "" (integer data: ceil(s)),
+/// " (compared as float32)" or " (compared as float64)".
+std::string compared_as(clfractal::ValueType t);
 
 /// A dimension for CSV: empty where undefined (NaN).
 std::string fd_string(double d);

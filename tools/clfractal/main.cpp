@@ -88,7 +88,8 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
                   << std::string(std::size_t(std::ceil(share / 2)), '#') << "\n";
     }
     IsovalueSet iso = IsovalueSet::for_volume(v);
-    std::cout << "isovalues " << iso.size() << (iso.integer() ? " (every integer of the range)" : " (uniform float list)")
+    std::cout << "isovalues " << iso.size() << (iso.integer() ? " (every integer of the range)"
+                                                 : iso.float64() ? " (uniform float64 list)" : " (uniform float32 list)")
               << "\n";
     return 0;
 }
@@ -133,8 +134,8 @@ int cmd_fd(const FdArgs& a) {
     const Dims dims = a.stream ? streamed.dims : v.dims();
     const ValueType type = a.stream ? streamed.type : v.type();
     if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
-    if (a.bins && is_integer(type))
-        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    if (a.bins && is_integer(type) && !is_wide(type))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     IsovalueSet iso = a.stream ? streamed.spans.isovalues
                       : !a.isovalues.empty() ? IsovalueSet::parse_range(a.isovalues, type)
                                              : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
@@ -270,7 +271,7 @@ int cmd_local(const LocalArgs& a) {
 
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
               << "device      " << ctx.description() << "\n"
-              << "isovalue    " << a.iso << (is_integer(v.type()) ? "" : " (compared as float32)") << ", window "
+              << "isovalue    " << a.iso << compared_as(v.type()) << ", window "
               << a.window << "\n"
               << std::fixed << std::setprecision(2) << "defined     " << s.defined << " of " << s.vertices
               << " vertices (" << 100.0 * double(s.defined) / double(s.vertices) << "%, near the surface)\n";
@@ -478,7 +479,7 @@ int main(int argc, char** argv) {
     gen->add_option("--noise", gen_opt.noise, "uniform noise amplitude mu");
     gen->add_option("--seed", gen_opt.seed, "noise / point seed");
     gen->add_option("--points", gen_opt.points, "number of points for 'points'");
-    gen->add_option("--type", gen_type, "convert to uint8|uint16|int16|float32");
+    gen->add_option("--type", gen_type, "convert to " + value_type_names());
     gen->add_option("-o,--output", gen_out, "output .nrrd")->required();
 
     auto* mesh = app.add_subcommand("mesh", "isosurface mesh as PLY (marching cubes or tetrahedra), optional preview PNG");
