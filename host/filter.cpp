@@ -100,10 +100,11 @@ public:
         items_ = ctx.tuning.row_items ? ctx.tuning.row_items : 4 * ctx.compute_units();
         options_ = type_options(type) + defines({{"RADIUS", std::to_string(spec.radius())}});
         if (is_integer(type)) options_ += " -DINTEGER_VALUES";
-        if (is_wide(type) && spec.kind != FilterKind::median) {
+        // Double accumulation for the wide types; the int32/uint32 median needs none (nor
+        // cl_khr_fp64), float64 programs use double anyway.
+        if (type == ValueType::float64 || (is_wide(type) && spec.kind != FilterKind::median))
             options_ += " -DACC_DOUBLE";
-            if (type != ValueType::float64) options_ += " -DFP64";
-        }
+        if (is_wide(type) && spec.kind != FilterKind::median) options_ += " -DFP64";
         if (tiled_) options_ += " " + defines({{"TILE_X", std::to_string(tile_x)}, {"TILE_Y", std::to_string(tile_y)}});
         if (mask == Mask::threshold) options_ += " -DMASKED";
         if (mask == Mask::ld_guided) options_ += " -DLD_GUIDED";

@@ -456,7 +456,7 @@ inline bool range_term(size_t i, acc_t inv_2sr2, acc_t* out_inv BILATERAL_ARGS) 
 #ifdef LD_GUIDED
     if (isnan(ld[i]) || !(ld[i] > 2.0f)) return false;
     const float t = min(ld[i] - 2.0f, 1.0f);
-    *out_inv = inv_2sr2 / (acc_t)(t * t);
+    *out_inv = inv_2sr2 / ((acc_t)t * (acc_t)t);  // t = LD - 2 is exact in float
     return true;
 #else
     *out_inv = inv_2sr2;
@@ -520,7 +520,7 @@ __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int 
                         continue;
                     }
                     const LDV t = select((LDV)1.0f, fmin(l - 2.0f, 1.0f), sel);
-                    const ACCV inv = inv_2sr2 / CONVERT_ACCV(t * t);
+                    const ACCV inv = inv_2sr2 / (CONVERT_ACCV(t) * CONVERT_ACCV(t));  // t is exact
 #elif defined(MASKED)
                     const IV sel = isgreater(vload16(0, ld + r * (size_t)nx + x), (LDV)h);
                     if (!any(sel)) {
