@@ -383,7 +383,7 @@ template <class F> void for_each_edge(const Volume& v, const F& f) {
 
 double estimate_gamma(const Volume& v, double iso) {
     // The comparison of DESIGN §1 in the data's type (integers: a < s <= b iff a < ceil(s) <= b).
-    const double s = v.type() == ValueType::float32 ? double(float(iso)) : std::ceil(iso);
+    const double s = IsovalueSet::single(v.type(), iso).value(0);
     std::vector<double> spans;
     for_each_edge(v, [&](double a, double b) {
         if (a < s && s <= b) spans.push_back(b - a);
