@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <new>
@@ -64,15 +65,19 @@ clf_status guarded(F&& f) {
     }
 }
 
+// clf_type's values are the ValueType enumerators' (the order of the type table).
+static_assert(int(CLF_UINT8) == int(ValueType::uint8) && int(CLF_UINT16) == int(ValueType::uint16) &&
+              int(CLF_INT16) == int(ValueType::int16) && int(CLF_FLOAT32) == int(ValueType::float32) &&
+              int(CLF_INT8) == int(ValueType::int8) && int(CLF_INT32) == int(ValueType::int32) &&
+              int(CLF_UINT32) == int(ValueType::uint32) && int(CLF_FLOAT64) == int(ValueType::float64) &&
+              std::size(all_value_types) == 8, "clf_type and ValueType disagree");
+
 ValueType to_value_type(clf_type t) {
-    switch (t) {
-    case CLF_UINT8: return ValueType::uint8;
-    case CLF_UINT16: return ValueType::uint16;
-    case CLF_INT16: return ValueType::int16;
-    case CLF_FLOAT32: return ValueType::float32;
-    }
-    throw InputError("type: unknown clf_type " + std::to_string(int(t)));
+    if (int(t) < 0 || std::size_t(t) >= std::size(all_value_types))
+        throw InputError("type: unknown clf_type " + std::to_string(int(t)));
+    return all_value_types[std::size_t(t)];
 }
+
 
 std::string lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -81,6 +86,14 @@ std::string lower(std::string s) {
 
 void require(bool ok, const char* what) {
     if (!ok) throw InputError(what);
+}
+
+// An explicit isovalue list of the C ABI (float values) in the list type of `t`.
+IsovalueSet list_isovalues(ValueType t, const float* values, std::size_t count) {
+    require(!is_integer(t) || is_wide(t), "isovalues: 8/16-bit integer data uses every integer of its value range");
+    require(values != nullptr || count == 0, "isovalues: NULL list");
+    if (t == ValueType::float32) return IsovalueSet::floats(std::vector<float>(values, values + count));
+    return IsovalueSet::doubles(std::vector<double>(values, values + count));
 }
 
 }  // namespace
@@ -154,14 +167,7 @@ void clf_volume_dims(const clf_volume* volume, size_t dims[3]) {
     dims[2] = volume->volume.dims().nz;
 }
 
-clf_type clf_volume_type(const clf_volume* volume) {
-    switch (volume->volume.type()) {
-    case ValueType::uint8: return CLF_UINT8;
-    case ValueType::uint16: return CLF_UINT16;
-    case ValueType::int16: return CLF_INT16;
-    default: return CLF_FLOAT32;
-    }
-}
+clf_type clf_volume_type(const clf_volume* volume) { return clf_type(int(volume->volume.type())); }
 
 void clf_curve_options_default(clf_curve_options* options) {
     if (!options) return;
@@ -184,10 +190,10 @@ clf_status clf_curve_compute(clf_context* ctx, const clf_volume* volume, const c
         const Volume& v = volume->volume;
         IsovalueSet iso;
         if (o.isovalues) {
-            require(!is_integer(v.type()), "isovalues: integer data uses every integer of its value range");
-            iso = IsovalueSet::floats(std::vector<float>(o.isovalues, o.isovalues + o.isovalue_count));
+            iso = list_isovalues(v.type(), o.isovalues, o.isovalue_count);
         } else {
-            require(o.bins == 0 || !is_integer(v.type()), "bins: integer data uses every integer of its value range");
+            require(o.bins == 0 || !is_integer(v.type()) || is_wide(v.type()),
+                    "bins: 8/16-bit integer data uses every integer of its value range");
             iso = IsovalueSet::for_volume(v, o.bins ? o.bins : 256);
         }
         const SpanKind kind = o.kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes;
@@ -251,16 +257,16 @@ clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, clf_type ty
             throw InputError("clf_stream_create: range must be finite with min <= max");
         IsovalueSet iso;
         if (o.isovalues) {
-            require(!is_integer(t), "isovalues: integer data uses every integer of its range");
-            iso = IsovalueSet::floats(std::vector<float>(o.isovalues, o.isovalues + o.isovalue_count));
+            iso = list_isovalues(t, o.isovalues, o.isovalue_count);
         } else if (is_integer(t)) {
-            require(o.bins == 0, "bins: integer data uses every integer of its range");
-            const double lo = range ? range[0] : t == ValueType::int16 ? -32768 : 0;
-            const double hi = range ? range[1] : t == ValueType::uint8 ? 255 : t == ValueType::int16 ? 32767 : 65535;
-            iso = IsovalueSet::integers(std::int64_t(std::ceil(lo)), std::int64_t(std::floor(hi)));
+            require(o.bins == 0 || is_wide(t), "bins: 8/16-bit integer data uses every integer of its range");
+            const double lo = std::ceil(range ? std::max(range[0], type_min(t)) : type_min(t));
+            const double hi = std::floor(range ? std::min(range[1], type_max(t)) : type_max(t));
+            require(lo <= hi, "clf_stream_create: the range holds no value of the type");
+            iso = IsovalueSet::for_range(t, lo, hi, o.bins ? o.bins : 256);
         } else {
             require(range != nullptr, "clf_stream_create: float data needs a value range or an isovalue list");
-            iso = IsovalueSet::uniform(range[0], range[1], o.bins ? o.bins : 256);
+            iso = IsovalueSet::uniform(range[0], range[1], o.bins ? o.bins : 256, t);
         }
         auto st = std::make_unique<clf_stream>();
         st->stream = std::make_unique<SpanStream>(*ctx->ctx, nx, ny, t, iso, o.levels);

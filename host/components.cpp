@@ -13,6 +13,8 @@
 #include <parallel/algorithm>
 #include <type_traits>
 
+#include "type_options.hpp"
+
 namespace clfractal {
 
 Connectivity parse_connectivity(const std::string& name) {
@@ -46,15 +48,26 @@ std::vector<Offset> neighbourhood(int adjacency) {
     return o;
 }
 
-// Order-preserving key of a float (-0 and +0 equal, as the comparisons see them).
-inline std::uint32_t float_key(float f) {
-    if (f == 0.0f) f = 0.0f;
-    std::uint32_t u;
-    std::memcpy(&u, &f, 4);
-    return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+// Order-preserving 32-bit key of a value of at most 32 bits (floats: -0 and +0 equal, as the
+// comparisons see them).
+template <class T> inline std::uint32_t order_key(T f) {
+    static_assert(sizeof(T) <= 4, "order_key: 32-bit values only");
+    if constexpr (std::is_floating_point_v<T>) {
+        if (f == 0.0f) f = 0.0f;
+        std::uint32_t u;
+        std::memcpy(&u, &f, 4);
+        return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+    } else if constexpr (std::is_signed_v<T>) {
+        return std::uint32_t(std::int64_t(f) - std::int64_t(std::numeric_limits<std::int32_t>::min()));
+    } else {
+        return std::uint32_t(f);
+    }
 }
 
-// Counts of the values of 8/16-bit data, bins vmin..vmax, on the device (32-bit counts:
+// Integer value ranges up to this many values are sorted by counting.
+constexpr long counting_sort_values = long(1) << 20;
+
+// Counts of the values of integer data, bins vmin..vmax, on the device (32-bit counts:
 // called below 2^32 vertices only).
 template <class T>
 std::vector<std::uint64_t> value_histogram_device(Context& ctx, const Volume& v, long vmin, long vmax) {
@@ -62,8 +75,7 @@ std::vector<std::uint64_t> value_histogram_device(Context& ctx, const Volume& v,
     // Work-group histograms in local memory where they fit (Tuning::local_hist_bytes, as span counting).
     const bool local_hist = nbins * 4 <= std::min(ctx.tuning.local_hist_bytes, ctx.local_mem() / 2);
     const std::size_t wg = std::min<std::size_t>(64, ctx.max_work_group());
-    std::string options = defines({{"T", opencl_type_name(v.type())},
-                                   {"WG", std::to_string(wg)}});
+    std::string options = type_options(v.type()) + defines({{"WG", std::to_string(wg)}});
     if (local_hist) options += " -DLOCAL_HIST";
     std::vector<std::uint32_t> h32(nbins);
     with_cl_errors([&] {
@@ -86,14 +98,14 @@ std::vector<std::uint64_t> value_histogram_device(Context& ctx, const Volume& v,
         // An empty first launch: PoCL and some drivers finish compiling here (counted apart).
         k.setArg(1, cl_ulong(0));
         k.setArg(2, cl_ulong(chunk));
-        k.setArg(3, cl_int(vmin));
+        k.setArg(3, cl_long(vmin));
         k.setArg(4, cl_uint(nbins));
         k.setArg(5, hist.get());
         if (local_hist) k.setArg(6, cl::Local(nbins * 4));
         ctx.warm_up(k, cl::NDRange(wg), cl::NDRange(wg));
         k.setArg(1, cl_ulong(n));
         k.setArg(2, cl_ulong(chunk));
-        k.setArg(3, cl_int(vmin));
+        k.setArg(3, cl_long(vmin));
         k.setArg(4, cl_uint(nbins));
         k.setArg(5, hist.get());
         if (local_hist) k.setArg(6, cl::Local(nbins * 4));
@@ -109,9 +121,9 @@ std::vector<I> sorted_vertices(Context& ctx, const Volume& v) {
     const std::size_t n = v.vertices();
     const T* f = v.as<T>();
     std::vector<I> order(n);
-    if constexpr (std::is_integral<T>::value) {
+    const ValueRange r = value_range(v);
+    if (std::is_integral<T>::value && r.max - r.min < double(counting_sort_values)) {
         // Counting sort: histogram (device), exclusive prefix, stable scatter (host).
-        const ValueRange r = value_range(v);
         const long vmin = long(r.min), vmax = long(r.max);
         std::vector<std::uint64_t> hist;
         // On the device when the volume fits one allocation (and Tuning::slab_bytes, when set).
@@ -132,18 +144,24 @@ std::vector<I> sorted_vertices(Context& ctx, const Volume& v) {
         if (sum != n) throw std::logic_error("value histogram does not add up to the vertex count");
         for (std::size_t i = 0; i < n; ++i) order[hist[std::size_t(long(f[i]) - vmin)]++] = I(i);
     } else {
-        if (n < (std::size_t(1) << 32)) {
-            // (key, index) packed in 64 bits: one parallel integer sort.
-            std::vector<std::uint64_t> keys(n);
+        bool sorted = false;
+        if constexpr (sizeof(T) <= 4) {
+            if (n < (std::size_t(1) << 32)) {
+                // (key, index) packed in 64 bits: one parallel integer sort.
+                std::vector<std::uint64_t> keys(n);
 #pragma omp parallel for
-            for (long long i = 0; i < (long long)n; ++i)
-                keys[std::size_t(i)] = (std::uint64_t(float_key(f[i])) << 32) | std::uint64_t(i);
-            // Threads pay off only on large volumes (and spin badly on a loaded machine).
-            if (n >= (std::size_t(1) << 22)) __gnu_parallel::sort(keys.begin(), keys.end());
-            else std::sort(keys.begin(), keys.end());
+                for (long long i = 0; i < (long long)n; ++i)
+                    keys[std::size_t(i)] = (std::uint64_t(order_key(f[i])) << 32) | std::uint64_t(i);
+                // Threads pay off only on large volumes (and spin badly on a loaded machine).
+                if (n >= (std::size_t(1) << 22)) __gnu_parallel::sort(keys.begin(), keys.end());
+                else std::sort(keys.begin(), keys.end());
 #pragma omp parallel for
-            for (long long i = 0; i < (long long)n; ++i) order[std::size_t(i)] = I(keys[std::size_t(i)] & 0xffffffffu);
-        } else {
+                for (long long i = 0; i < (long long)n; ++i)
+                    order[std::size_t(i)] = I(keys[std::size_t(i)] & 0xffffffffu);
+                sorted = true;
+            }
+        }
+        if (!sorted) {
             std::iota(order.begin(), order.end(), I(0));
             __gnu_parallel::sort(order.begin(), order.end(), [f](I a, I b) {
                 return f[a] < f[b] || (f[a] == f[b] && a < b);
@@ -201,8 +219,7 @@ std::vector<std::uint32_t> neighbour_masks(Context& ctx, const Volume& v, int ad
         return mask;
     }
     with_cl_errors([&] {
-        const std::string options = defines({{"T", opencl_type_name(v.type())},
-                                             {"ADJ_A", std::to_string(adj_a)},
+        const std::string options = type_options(v.type()) + defines({{"ADJ_A", std::to_string(adj_a)},
                                              {"ADJ_C", std::to_string(adj_c)},
                                              {"A_COUNT", std::to_string(a.size())}});
         cl::Kernel k = ctx.kernel("components", "neighbour_masks", options);
@@ -327,8 +344,9 @@ std::vector<std::int64_t> component_counts(Context& ctx, const Volume& v, const 
             const std::int64_t b = std::int64_t(f[i]) - iso.first() + 1;
             return std::size_t(std::clamp<std::int64_t>(b, 0, std::int64_t(K)));
         }
-        const auto& s = iso.float_values();
-        return std::size_t(std::upper_bound(s.begin(), s.end(), float(f[i])) - s.begin());
+        // Lists compare in double: exact for every value type and list type.
+        const auto& s = iso.list();
+        return std::size_t(std::upper_bound(s.begin(), s.end(), double(f[i])) - s.begin());
     };
     std::vector<std::int64_t> delta(K + 1, 0);
     const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
@@ -355,7 +373,7 @@ ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet
     const double compile0 = ctx.compile_seconds();
     ComponentCurve c;
     c.isovalues = iso;
-    if (iso.integer() != is_integer(v.type()))
+    if (!iso.matches(v.type()))
         throw InputError("count_components: the isovalue set does not match the data type");
     if (iso.size() > 0 && v.vertices() > 0) {
         c.components = visit(v, [&](const auto* p) {
@@ -372,16 +390,8 @@ ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet
 
 std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue, Connectivity mode) {
     if (!std::isfinite(isovalue)) throw InputError("isovalue must be finite");
-    IsovalueSet iso;
-    if (is_integer(v.type())) {
-        // f < s  <=>  f < ceil(s) for integer f; the set's range only bounds the bins.
-        const double c = std::ceil(isovalue);
-        const double lo = -1e12, hi = 1e12;
-        iso = IsovalueSet::integers(std::int64_t(std::clamp(c, lo, hi)), std::int64_t(std::clamp(c, lo, hi)));
-    } else {
-        iso = IsovalueSet::floats({float(isovalue)});
-    }
-    return count_components(ctx, v, iso, mode).components[0];
+    // Integer data: f < s  <=>  f < ceil(s); the set's range only bounds the bins.
+    return count_components(ctx, v, IsovalueSet::single(v.type(), isovalue), mode).components[0];
 }
 
 namespace {

@@ -190,6 +190,10 @@ std::string defines(const std::vector<std::pair<std::string, std::string>>& kv) 
 }
 
 const cl::Program& Context::program(const std::string& family, const std::string& options) {
+    if ((" " + options + " ").find(" -DFP64 ") != std::string::npos && !(fp64_ && tuning.allow_fp64))
+        throw InputError("double precision (float64 values or isovalues, int32/uint32 filter sums) needs the "
+                         "OpenCL extension cl_khr_fp64, which " + description() +
+                         " lacks; convert the data on read with --as float32");
     std::lock_guard<std::mutex> lock(mutex_);
     auto key = std::make_pair(family, options);
     auto it = programs_.find(key);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <climits>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <set>
@@ -11,6 +12,7 @@
 #include <sstream>
 
 #include "clfractal/local.hpp"
+#include "type_options.hpp"
 
 namespace clfractal {
 
@@ -61,24 +63,27 @@ using clock = std::chrono::steady_clock;
 double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
 
 // Normalised Gaussian weights w[r + i] = exp(-i^2 / (2 sigma^2)) / sum, i = -r..r.
-std::vector<float> gaussian_weights(double sigma, int r) {
+std::vector<double> gaussian_weights(double sigma, int r) {
     std::vector<double> w(2 * r + 1);
     double sum = 0;
     for (int i = -r; i <= r; ++i) sum += w[i + r] = std::exp(-double(i) * i / (2 * sigma * sigma));
-    std::vector<float> out(w.size());
-    for (std::size_t i = 0; i < w.size(); ++i) out[i] = float(w[i] / sum);
-    return out;
+    for (double& x : w) x /= sum;
+    return w;
 }
 
 // Spatial bilateral weights over the cube of radius r, x fastest.
-std::vector<float> spatial_weights(double sigma_s, int r) {
-    std::vector<float> w;
+std::vector<double> spatial_weights(double sigma_s, int r) {
+    std::vector<double> w;
     for (int dz = -r; dz <= r; ++dz)
         for (int dy = -r; dy <= r; ++dy)
             for (int dx = -r; dx <= r; ++dx)
-                w.push_back(float(std::exp(-double(dx * dx + dy * dy + dz * dz) / (2 * sigma_s * sigma_s))));
+                w.push_back(std::exp(-double(dx * dx + dy * dy + dz * dz) / (2 * sigma_s * sigma_s)));
     return w;
 }
+
+// The Gaussian and bilateral filters accumulate in double for the types a float does not
+// hold (int32, uint32, float64: is_wide), else in float (kernels/filter.cl acc_t).
+std::size_t accumulator_size(ValueType t) { return is_wide(t) ? sizeof(double) : sizeof(float); }
 
 enum class Mask { none, threshold, ld_guided };
 
@@ -93,9 +98,13 @@ public:
         rows_ = variant == "rows";
         tiled_ = variant == "tiled" && spec.kind == FilterKind::median;
         items_ = ctx.tuning.row_items ? ctx.tuning.row_items : 4 * ctx.compute_units();
-        const std::string t = opencl_type_name(type);
-        options_ = defines({{"T", t}, {"RADIUS", std::to_string(spec.radius())}}) + " -DT_IS_" + t;
+        options_ = type_options(type) + defines({{"RADIUS", std::to_string(spec.radius())}});
         if (is_integer(type)) options_ += " -DINTEGER_VALUES";
+        // Double accumulation for the wide types; the int32/uint32 median needs none (nor
+        // cl_khr_fp64), float64 programs use double anyway.
+        if (type == ValueType::float64 || (is_wide(type) && spec.kind != FilterKind::median))
+            options_ += " -DACC_DOUBLE";
+        if (is_wide(type) && spec.kind != FilterKind::median) options_ += " -DFP64";
         if (tiled_) options_ += " " + defines({{"TILE_X", std::to_string(tile_x)}, {"TILE_Y", std::to_string(tile_y)}});
         if (mask == Mask::threshold) options_ += " -DMASKED";
         if (mask == Mask::ld_guided) options_ += " -DLD_GUIDED";
@@ -106,14 +115,10 @@ public:
             gz_ = ctx.kernel("filter", "gauss_z" + suffix, options_);
             gy_ = ctx.kernel("filter", "gauss_y" + suffix, options_);
             main_ = ctx.kernel("filter", "gauss_x" + suffix, options_);
-            const auto w = gaussian_weights(spec.sigma, spec.radius());
-            weights_ = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, w.size() * sizeof(float),
-                                  const_cast<float*>(w.data()));
+            weights_ = accumulator_buffer(gaussian_weights(spec.sigma, spec.radius()));
         } else {
             main_ = ctx.kernel("filter", "bilateral" + suffix, options_);
-            const auto w = spatial_weights(spec.sigma_s, spec.radius());
-            weights_ = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, w.size() * sizeof(float),
-                                  const_cast<float*>(w.data()));
+            weights_ = accumulator_buffer(spatial_weights(spec.sigma_s, spec.radius()));
         }
     }
 
@@ -145,8 +150,8 @@ public:
         } else if (spec_.kind == FilterKind::gaussian) {
             const std::size_t n = d_.nx * d_.ny * std::size_t(nz_out);
             if (tmp_size_ < n) {
-                tmp_a_ = Buffer<float>(ctx_, n);
-                tmp_b_ = Buffer<float>(ctx_, n);
+                tmp_a_ = Buffer<unsigned char>(ctx_, n * accumulator_size(type_));
+                tmp_b_ = Buffer<unsigned char>(ctx_, n * accumulator_size(type_));
                 tmp_size_ = n;
             }
             set_slab_args(gz_, in, nx, ny, nz_in, z_begin, nz_out);
@@ -173,7 +178,9 @@ public:
         } else {
             set_slab_args(main_, in, nx, ny, nz_in, z_begin, nz_out);
             main_.setArg(6, weights_);
-            main_.setArg(7, cl_float(1.0 / (2 * spec_.sigma_r * spec_.sigma_r)));
+            const double inv_2sr2 = 1.0 / (2 * spec_.sigma_r * spec_.sigma_r);
+            if (is_wide(type_)) main_.setArg(7, cl_double(inv_2sr2));
+            else main_.setArg(7, cl_float(float(inv_2sr2)));
             main_.setArg(8, out);
             mask_args(main_, 9);
             go(main_);
@@ -181,6 +188,18 @@ public:
     }
 
 private:
+    // A read-only buffer of `w` in the accumulator type.
+    cl::Buffer accumulator_buffer(const std::vector<double>& w) {
+        std::vector<unsigned char> bytes(w.size() * accumulator_size(type_));
+        if (is_wide(type_)) {
+            std::memcpy(bytes.data(), w.data(), bytes.size());
+        } else {
+            const std::vector<float> f(w.begin(), w.end());
+            std::memcpy(bytes.data(), f.data(), bytes.size());
+        }
+        return cl::Buffer(ctx_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes.size(), bytes.data());
+    }
+
     // True the first time this process launches kernel `k` (name and options) on this
     // context: PoCL finishes compiling at the first launch, which counts as compilation.
     bool first_launch(const cl::Kernel& k) {
@@ -213,7 +232,7 @@ private:
     std::string options_;
     cl::Kernel main_, gz_, gy_;
     cl::Buffer weights_;
-    Buffer<float> tmp_a_, tmp_b_;
+    Buffer<unsigned char> tmp_a_, tmp_b_;  // acc_t values
     std::size_t tmp_size_ = 0;
 };
 
@@ -229,12 +248,13 @@ std::size_t slab_slices(const Context& ctx, const Dims& d, ValueType type, const
         const std::size_t in_slices = ctx.tuning.slab_bytes / std::max<std::size_t>(1, slice * vs);
         fit = in_slices > 2 * r ? in_slices - 2 * r : 1;
     } else {
-        // Per output slice: input and output values, two float temporaries (Gaussian) and
-        // the LD field (masked); every buffer within the largest allocation, all of them
-        // within half the device's memory.
-        const std::size_t floats = (spec.kind == FilterKind::gaussian ? 2 : 0) + (mask != Mask::none ? 1 : 0);
-        const std::size_t per_slice = slice * (2 * vs + 4 * floats);
-        const std::size_t biggest = slice * std::max<std::size_t>(vs, floats ? 4 : vs);
+        // Per output slice: input and output values, two accumulator temporaries (Gaussian)
+        // and the float LD field (masked); every buffer within the largest allocation, all
+        // of them within half the device's memory.
+        const std::size_t temps = spec.kind == FilterKind::gaussian ? 2 : 0, lds = mask != Mask::none ? 1 : 0;
+        const std::size_t acc = accumulator_size(type);
+        const std::size_t per_slice = slice * (2 * vs + acc * temps + 4 * lds);
+        const std::size_t biggest = slice * std::max({vs, temps ? acc : vs, lds ? std::size_t(4) : vs});
         fit = std::min(ctx.max_alloc() / std::max<std::size_t>(1, biggest),
                        ctx.global_mem() / 2 / std::max<std::size_t>(1, per_slice));
         fit = fit > 2 * r ? fit - 2 * r : 0;

@@ -9,6 +9,7 @@
 
 #include "clfractal/pyramid.hpp"
 #include "clfractal/sat.hpp"
+#include "type_options.hpp"
 
 namespace clfractal {
 
@@ -43,11 +44,6 @@ std::vector<LocalWindow> local_windows(std::size_t n, int window) {
 
 namespace {
 
-
-// Integer data compares with ceil(s): for integers a, b and real s, a < s <= b iff
-// a < ceil(s) <= b. Clamped just past the 16-bit ranges, where it still selects nothing.
-int integer_isovalue(double s) { return int(std::clamp(std::ceil(s), -65537.0, 65537.0)); }
-
 // ---------------------------------------------------------------- device
 
 std::size_t row_items(const Context& ctx) {
@@ -71,11 +67,11 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
     const bool rows = variant == "rows";
     const std::size_t items = row_items(ctx);
 
-    std::string options = defines({{"T", opencl_type_name(type)}, {"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
-    if (is_integer(type)) options += " -DINTEGER_VALUES";
+    const std::string options =
+        single_isovalue_options(type) + defines({{"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
     cl::Kernel indicator = ctx.kernel("local", rows ? "cube_indicator_rows" : "cube_indicator_vertices", options);
     cl::Kernel query = ctx.kernel("local", rows ? "local_dimension_rows" : "local_dimension_vertices", options);
-    cl::Kernel subsample = ctx.kernel("pyramid", "subsample", defines({{"T", opencl_type_name(type)}}));
+    cl::Kernel subsample = ctx.kernel("pyramid", "subsample", type_options(type));
 
     Buffer<unsigned char> sub(ctx, ds.vertices() * value_size(type));
     Buffer<C> table(ctx, d.vertices()), table_sub(ctx, ds.vertices());
@@ -102,8 +98,7 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
         indicator.setArg(1, int(dims.nx));
         indicator.setArg(2, int(dims.ny));
         indicator.setArg(3, int(dims.nz));
-        if (is_integer(type)) indicator.setArg(4, cl_int(integer_isovalue(iso)));
-        else indicator.setArg(4, cl_float(float(iso)));
+        set_isovalue_arg(indicator, 4, type, iso);
         indicator.setArg(5, out.get());
         if (rows) ctx.launch(indicator, cl::NDRange(items), cl::NDRange(1));
         else ctx.launch(indicator, cl::NDRange(dims.nx, dims.ny, dims.nz));
@@ -196,12 +191,12 @@ template <class C> Volume field_openmp(const Volume& v, double iso, int window) 
     visit(v, [&](const auto* p) {
         using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
         if constexpr (std::is_integral_v<T>) {
-            const int s = integer_isovalue(iso);
-            auto hit = [s](T a, T b) { return int(a) < s && s <= int(b); };
+            const std::int64_t s = integer_isovalue(iso);
+            auto hit = [s](T a, T b) { return std::int64_t(a) < s && s <= std::int64_t(b); };
             S = indicator_table<C>(p, d, hit);
             Ssub = indicator_table<C>(sub.as<T>(), ds, hit);
         } else {
-            const float s = float(iso);
+            const T s = T(iso);  // float32 data: s rounded to float; float64 data: s
             auto hit = [s](T a, T b) { return a < s && s <= b; };
             S = indicator_table<C>(p, d, hit);
             Ssub = indicator_table<C>(sub.as<T>(), ds, hit);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -13,6 +14,7 @@
 #include "clfractal/synthetic.hpp"
 
 #include "counter_rng.hpp"
+#include "type_options.hpp"
 
 namespace clfractal {
 
@@ -116,12 +118,13 @@ template <class F> double simpson_pieces(const F& f, double a, double b, std::ve
     return sum;
 }
 
-// Rounds half away from zero and clamps to T's range; float32 stays as it is.
-template <class T> T to_type(float v) {
+// Rounds half away from zero and clamps to T's range (in the type N of the noisy value);
+// float types take the value as it is (float32 output of a double: rounded to nearest).
+template <class T, class N> T to_type(N v) {
     if constexpr (std::is_floating_point_v<T>) {
-        return v;
+        return T(v);
     } else {
-        const float lo = float(std::numeric_limits<T>::min()), hi = float(std::numeric_limits<T>::max());
+        const N lo = N(std::numeric_limits<T>::min()), hi = N(std::numeric_limits<T>::max());
         return T(std::clamp(std::round(v), lo, hi));
     }
 }
@@ -258,6 +261,7 @@ Volume add_noise_host(const Volume& v, const NoiseOptions& opt) {
     out.spacing = v.spacing;
     const std::uint64_t mixed = splitmix64_mix(opt.seed);
     const float amplitude = float(opt.amplitude);
+    const bool wide = is_wide(v.type());
     visit(v, [&](const auto* in) {
         visit(out, [&](auto* dst) {
             using O = std::remove_pointer_t<decltype(dst)>;
@@ -265,11 +269,11 @@ Volume add_noise_host(const Volume& v, const NoiseOptions& opt) {
             for (long long i = 0; i < (long long)v.vertices(); ++i) {
                 const float draw = opt.kind == NoiseKind::uniform ? uniform_draw(mixed, std::uint64_t(i))
                                                                   : gaussian_draw(mixed, std::uint64_t(i));
-                // Two separately rounded float operations, as the kernel (volatile keeps the
+                // Two separately rounded operations, as the kernel (volatile keeps the
                 // compiler from fusing them into a multiply-add).
                 volatile float product = amplitude * draw;
-                const float noisy = float(in[i]) + product;
-                dst[i] = to_type<O>(noisy);
+                if (wide) dst[i] = to_type<O>(double(in[i]) + double(product));
+                else dst[i] = to_type<O>(float(float(in[i]) + product));
             }
         });
     });
@@ -291,20 +295,20 @@ Volume add_noise(Context& ctx, const Volume& v, const NoiseOptions& opt) {
     }
     slab = std::min(slab, d.nz);
 
-    std::string options = defines({{"T", opencl_type_name(v.type())}});
+    std::string options = type_options(v.type());
     if (opt.kind == NoiseKind::gaussian) options += " -DGAUSSIAN";
+    const bool wide = is_wide(v.type());
+    if (wide) options += " -DNOISE_DOUBLE -DFP64";
+    if (opt.keep_type) options += " " + defines({{"OUT_T", opencl_type_name(v.type())}});
     if (opt.keep_type && is_integer(v.type())) {
-        const auto range = [&](auto zero) {
-            using I = decltype(zero);
-            return std::to_string(int(std::numeric_limits<I>::min())) + "|" + std::to_string(int(std::numeric_limits<I>::max()));
+        // The range as literals of the noisy value's type (every integer type's bounds are exact).
+        const auto literal = [&](double x) {
+            char buf[40];
+            std::snprintf(buf, sizeof buf, wide ? "%.1f" : "%.1ff", x);
+            return std::string(buf);
         };
-        std::string r = v.type() == ValueType::uint8    ? range(std::uint8_t())
-                        : v.type() == ValueType::uint16 ? range(std::uint16_t())
-                                                        : range(std::int16_t());
-        const std::size_t bar = r.find('|');
-        options += " -DKEEP_TYPE " + defines({{"OUT_T", opencl_type_name(v.type())},
-                                              {"OUT_MIN", r.substr(0, bar)},
-                                              {"OUT_MAX", r.substr(bar + 1)}});
+        options += " -DKEEP_TYPE " + defines({{"OUT_MIN", literal(type_min(v.type()))},
+                                              {"OUT_MAX", literal(type_max(v.type()))}});
     }
     with_cl_errors([&] {
         cl::Kernel kernel = ctx.kernel("noise", "add_noise", options);
@@ -379,7 +383,7 @@ template <class F> void for_each_edge(const Volume& v, const F& f) {
 
 double estimate_gamma(const Volume& v, double iso) {
     // The comparison of DESIGN §1 in the data's type (integers: a < s <= b iff a < ceil(s) <= b).
-    const double s = v.type() == ValueType::float32 ? double(float(iso)) : std::ceil(iso);
+    const double s = IsovalueSet::single(v.type(), iso).value(0);
     std::vector<double> spans;
     for_each_edge(v, [&](double a, double b) {
         if (a < s && s <= b) spans.push_back(b - a);

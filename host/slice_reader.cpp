@@ -13,6 +13,8 @@
 
 #include <teem/nrrd.h>
 
+#include "nrrd_types.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -51,11 +53,12 @@ std::size_t attached_data_offset(const std::string& path) {
 struct SliceReader::Impl {
     std::string spec;
     Dims dims;
-    ValueType type = ValueType::uint8;
+    ValueType type = ValueType::uint8;       // the type read() serves (RawOptions::as, else file_type)
+    ValueType file_type = ValueType::uint8;  // the type stored in the file
     std::array<double, 3> spacing{1.0, 1.0, 1.0};
     io::Geometry geometry;  // orientation where the reader knows it
     std::string method = "memory";
-    std::size_t file_value_size = 0;  // bytes per value in the file (8 for float64 NRRD)
+    std::size_t file_value_size = 0;  // bytes per value in the file
     bool swap = false;
     std::string data_path;
     std::size_t data_offset = 0;
@@ -65,7 +68,7 @@ struct SliceReader::Impl {
     gzFile gz = nullptr; // gzip
     Volume whole;        // memory
     std::unique_ptr<io::SliceSource> source;  // dicom, tiff
-    std::vector<unsigned char> staging;  // float64 values before conversion
+    std::vector<unsigned char> staging;  // file values before conversion (--as)
 
     std::size_t slice_values() const { return dims.nx * dims.ny; }
     std::size_t slice_bytes() const { return slice_values() * value_size(type); }
@@ -90,6 +93,8 @@ struct SliceReader::Impl {
         default: read_whole(raw);
         }
         geometry.spacing = spacing;
+        if (method == "memory") return;  // read whole (and converted) by read_volume
+        type = raw.as.value_or(file_type);
         open();
     }
 
@@ -107,10 +112,10 @@ struct SliceReader::Impl {
     void open_source(std::unique_ptr<io::SliceSource> s, const char* name) {
         source = std::move(s);
         dims = source->dims;
-        type = source->type;
+        file_type = source->type;
         spacing = source->spacing;
         geometry = io::Geometry{source->spacing, source->oriented, source->origin, source->axes};
-        file_value_size = value_size(type);
+        file_value_size = value_size(file_type);
         method = name;
     }
 
@@ -126,13 +131,13 @@ struct SliceReader::Impl {
         }
         check_dims(*d, spec);
         dims = *d;
-        type = *t;
-        file_value_size = value_size(type);
+        file_type = *t;
+        file_value_size = value_size(file_type);
         const std::uintmax_t expected = dims.vertices() * file_value_size;
         const std::uintmax_t found = fs::file_size(spec);
         if (found != expected)
             throw InputError(spec + (found < expected ? ": truncated" : ": too long") + ": expected " +
-                             std::to_string(expected) + " bytes (" + dims_string(dims) + " " + value_type_name(type) +
+                             std::to_string(expected) + " bytes (" + dims_string(dims) + " " + value_type_name(file_type) +
                              "), found " + std::to_string(found));
         swap = raw.big_endian != host_big_endian;
         data_path = spec;
@@ -159,19 +164,12 @@ struct SliceReader::Impl {
         const bool simple = header->dim == 3 && nio->lineSkip == 0 && nio->byteSkip == 0 && !nio->dataFSkip &&
                             nio->dataFNArr->len <= 1 &&
                             (nio->encoding == nrrdEncodingRaw || nio->encoding == nrrdEncodingGzip) &&
-                            (header->type == nrrdTypeUChar || header->type == nrrdTypeUShort ||
-                             header->type == nrrdTypeShort || header->type == nrrdTypeFloat ||
-                             header->type == nrrdTypeDouble);
+                            value_type_of_nrrd(header->type).has_value();
         if (!simple) return read_whole(raw);
         dims = Dims{header->axis[0].size, header->axis[1].size, header->axis[2].size};
         check_dims(dims, spec);
-        switch (header->type) {
-        case nrrdTypeUChar: type = ValueType::uint8; break;
-        case nrrdTypeUShort: type = ValueType::uint16; break;
-        case nrrdTypeShort: type = ValueType::int16; break;
-        default: type = ValueType::float32;
-        }
-        file_value_size = header->type == nrrdTypeDouble ? 8 : value_size(type);
+        file_type = *value_type_of_nrrd(header->type);
+        file_value_size = value_size(file_type);
         for (unsigned a = 0; a < 3; ++a) {
             double sp = 1.0, dir[NRRD_SPACE_DIM_MAX];
             const int status = nrrdSpacingCalculate(header, a, &sp, dir);
@@ -266,14 +264,14 @@ struct SliceReader::Impl {
         }
     }
 
-    void check_finite_slices(const void* dst, std::size_t count) {
-        if (type != ValueType::float32) return;
-        const float* p = static_cast<const float*>(dst);
-        const NonFinite nf = count_non_finite(p, count * slice_values());
-        if (nf.nan + nf.inf)
-            throw InputError(non_finite_message(spec + " (slices " + std::to_string(next) + ".." +
-                                                    std::to_string(next + count - 1) + ")",
-                                                nf, p, dims, next * slice_values()));
+    // `p` holds count slices of file values.
+    void check_finite_slices(const void* p, std::size_t count) {
+        const NonFinite nf = count_non_finite(p, file_type, count * slice_values());
+        if (nf.nan + nf.inf == 0) return;
+        const double f = visit_type(file_type, [&](auto zero) { return double(static_cast<const decltype(zero)*>(p)[nf.first]); });
+        throw InputError(non_finite_message(spec + " (slices " + std::to_string(next) + ".." +
+                                                std::to_string(next + count - 1) + ")",
+                                            nf, f, dims, next * slice_values()));
     }
 
     void read(void* dst, std::size_t count) {
@@ -283,23 +281,20 @@ struct SliceReader::Impl {
         if (method == "memory") {
             std::memcpy(out, static_cast<const unsigned char*>(whole.data()) + next * slice_bytes(),
                         count * slice_bytes());
-        } else if (source) {
-            for (std::size_t i = 0; i < count; ++i) source->read_slice(next + i, out + i * slice_bytes());
-        } else if (file_value_size == 8) {
-            staging.resize(count * slice_values() * 8);
-            read_file_bytes(staging.data(), count);
-            if (swap) swap_bytes(staging.data(), count * slice_values(), 8);
-            float* f = static_cast<float*>(dst);
-            for (std::size_t i = 0; i < count * slice_values(); ++i) {
-                double d;
-                std::memcpy(&d, staging.data() + 8 * i, 8);
-                f[i] = float(d);
-            }
         } else {
-            read_file_bytes(out, count);
-            if (swap) swap_bytes(out, count * slice_values(), file_value_size);
+            const bool convert = file_type != type;
+            if (convert) staging.resize(count * slice_values() * file_value_size);
+            unsigned char* file_values = convert ? staging.data() : out;
+            if (source) {
+                for (std::size_t i = 0; i < count; ++i)
+                    source->read_slice(next + i, file_values + i * slice_values() * file_value_size);
+            } else {
+                read_file_bytes(file_values, count);
+                if (swap) swap_bytes(file_values, count * slice_values(), file_value_size);
+            }
+            check_finite_slices(file_values, count);
+            if (convert) convert_values(file_values, file_type, out, type, count * slice_values());
         }
-        check_finite_slices(dst, count);
         next += count;
     }
 
@@ -353,10 +348,9 @@ NrrdSliceWriter::NrrdSliceWriter(const std::string& path, const Dims& dims, Valu
     w.tmp = temporary_path(path);
     w.dims = dims;
     w.slice_bytes = dims.nx * dims.ny * value_size(type);
-    static const char* nrrd_names[] = {"uchar", "ushort", "short", "float"};
     w.out.open(w.tmp, std::ios::binary);
     if (!w.out) discard_temporary(w.tmp, path, std::string("cannot write: ") + std::strerror(errno));
-    w.out << "NRRD0004\ntype: " << nrrd_names[int(type)] << "\ndimension: 3\nsizes: " << dims.nx << " " << dims.ny
+    w.out << "NRRD0004\ntype: " << nrrd_type_name(type) << "\ndimension: 3\nsizes: " << dims.nx << " " << dims.ny
           << " " << dims.nz << "\n";
     w.out.precision(17);
     w.out << "spacings: " << spacing[0] << " " << spacing[1] << " " << spacing[2] << "\n";

@@ -10,6 +10,7 @@
 
 #include "clfractal/local.hpp"
 #include "clfractal/span.hpp"
+#include "type_options.hpp"
 
 namespace clfractal {
 
@@ -19,10 +20,6 @@ using clock_type = std::chrono::steady_clock;
 double seconds_since(clock_type::time_point t) {
     return std::chrono::duration<double>(clock_type::now() - t).count();
 }
-
-// Integer data compares with ceil(s) (as local.cpp): for integers a, b and real s,
-// a < s <= b iff a < ceil(s) <= b. Clamped just past the 16-bit ranges.
-int integer_isovalue(double s) { return int(std::clamp(std::ceil(s), -65537.0, 65537.0)); }
 
 // The largest float <= h: for a float x, x > h iff x > below(h).
 float float_at_or_below(double h) {
@@ -47,16 +44,13 @@ std::vector<std::uint8_t> high_fractal_flags(Context& ctx, const Volume& v, doub
         values.write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
         Buffer<float> ld = local_fractal_dimension(ctx, values, v.type(), d, iso, window);
         Buffer<cl_uchar> out(ctx, d.vertices());
-        std::string options = defines({{"T", opencl_type_name(v.type())}});
-        if (is_integer(v.type())) options += " -DINTEGER_VALUES";
-        cl::Kernel scan = ctx.kernel("smooth", "high_fractal_edges", options);
+        cl::Kernel scan = ctx.kernel("smooth", "high_fractal_edges", single_isovalue_options(v.type()));
         scan.setArg(0, values.get());
         scan.setArg(1, ld.get());
         scan.setArg(2, int(d.nx));
         scan.setArg(3, int(d.ny));
         scan.setArg(4, int(d.nz));
-        if (is_integer(v.type())) scan.setArg(5, cl_int(integer_isovalue(iso)));
-        else scan.setArg(5, cl_float(float(iso)));
+        set_isovalue_arg(scan, 5, v.type(), iso);
         scan.setArg(6, cl_float(float_at_or_below(h)));
         scan.setArg(7, out.get());
         ctx.launch(scan, cl::NDRange(d.nx, d.ny, d.nz));
@@ -84,7 +78,7 @@ template <class T> T lowered_value(T f, double delta, double weight) {
         const double x = std::max(double(std::numeric_limits<T>::min()), double(f) - dec);
         return T(x);
     } else {
-        return T(std::max(double(-std::numeric_limits<float>::max()), double(f) - delta * weight));
+        return T(std::max(double(std::numeric_limits<T>::lowest()), double(f) - delta * weight));
     }
 }
 
@@ -93,7 +87,8 @@ Counters run_queue(T* f, std::uint8_t* flags, const Dims& d, S s, bool gaussian,
     const long long nx = (long long)d.nx, ny = (long long)d.ny, nz = (long long)d.nz;
     const long long stride[3] = {1, nx, nx * ny};
     const auto intersected = [s](T p, T q) {
-        if constexpr (std::is_integral_v<T>) return std::min(int(p), int(q)) < s && s <= std::max(int(p), int(q));
+        if constexpr (std::is_integral_v<T>)
+            return std::min(std::int64_t(p), std::int64_t(q)) < s && s <= std::max(std::int64_t(p), std::int64_t(q));
         else return std::min(p, q) < s && s <= std::max(p, q);
     };
     double weight[4] = {1, 0, 0, 0};
@@ -208,7 +203,7 @@ SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double
         if constexpr (std::is_integral_v<T>)
             c = run_queue(p, flags.data(), v.dims(), integer_isovalue(iso), gaussian, tau);
         else
-            c = run_queue(p, flags.data(), v.dims(), float(iso), gaussian, tau);
+            c = run_queue(p, flags.data(), v.dims(), T(iso), gaussian, tau);  // float32: float(s); float64: s
     });
     r.edges_processed = c.processed;
     r.edges_lowered = c.lowered;
@@ -223,8 +218,7 @@ SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double
 
 IsoCounts intersected_counts(Context& ctx, const Volume& v, double iso) {
     if (!std::isfinite(iso)) throw InputError("--iso: the isovalue must be a finite number");
-    const IsovalueSet set = is_integer(v.type()) ? IsovalueSet::integers(integer_isovalue(iso), integer_isovalue(iso))
-                                                 : IsovalueSet::floats({float(iso)});
+    const IsovalueSet set = IsovalueSet::single(v.type(), iso);
     const SpanResult r = count_spans(ctx, v, set, SpanOptions{{SpanKind::cubes, SpanKind::edges}, 1, 0});
     return IsoCounts{r.get(SpanKind::cubes).counts[0][0], r.get(SpanKind::edges).counts[0][0]};
 }

@@ -1,20 +1,42 @@
 #include "clfractal/span.hpp"
 
 #include "clfractal/pyramid.hpp"
+#include "type_options.hpp"
 
 #include <algorithm>
 #include <climits>
 #include <memory>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <sstream>
 
 namespace clfractal {
 
 // ---------------------------------------------------------------- isovalue sets
 
+namespace {
+
+// Largest list or integer range a set may hold (the histograms have size() + 1 bins).
+constexpr std::size_t max_isovalues = std::size_t(1) << 24;
+
+// Drops values that rounding made equal to their predecessor.
+template <class F> std::vector<F> increasing(std::vector<F> v) {
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    return v;
+}
+
+// The list type of data of type t: float64 unless the data is float32.
+bool float64_list(ValueType t) { return t != ValueType::float32; }
+
+}  // namespace
+
 IsovalueSet IsovalueSet::integers(std::int64_t vmin, std::int64_t vmax) {
     if (vmax < vmin) throw InputError("isovalues: empty integer range");
+    if (std::uint64_t(vmax - vmin) >= max_isovalues)
+        throw InputError("isovalues: the integer range " + std::to_string(vmin) + ".." + std::to_string(vmax) +
+                         " holds more than 2^24 integers");
     IsovalueSet s;
     s.integer_ = true;
     s.first_ = vmin;
@@ -22,8 +44,9 @@ IsovalueSet IsovalueSet::integers(std::int64_t vmin, std::int64_t vmax) {
     return s;
 }
 
-IsovalueSet IsovalueSet::floats(std::vector<float> values) {
+IsovalueSet IsovalueSet::doubles(std::vector<double> values) {
     if (values.empty()) throw InputError("isovalues: the list is empty");
+    if (values.size() > max_isovalues) throw InputError("isovalues: more than 2^24 isovalues");
     for (std::size_t j = 0; j < values.size(); ++j) {
         if (!std::isfinite(values[j])) throw InputError("isovalues: value " + std::to_string(j) + " is not finite");
         if (j && !(values[j - 1] < values[j]))
@@ -31,26 +54,47 @@ IsovalueSet IsovalueSet::floats(std::vector<float> values) {
     }
     IsovalueSet s;
     s.integer_ = false;
+    s.float64_ = true;
     s.values_ = std::move(values);
     return s;
 }
 
-IsovalueSet IsovalueSet::uniform(double vmin, double vmax, std::size_t k) {
+IsovalueSet IsovalueSet::floats(std::vector<float> values) {
+    for (std::size_t j = 0; j < values.size(); ++j)
+        if (!std::isfinite(values[j])) throw InputError("isovalues: value " + std::to_string(j) + " is not finite");
+    IsovalueSet s = doubles(std::vector<double>(values.begin(), values.end()));
+    s.float64_ = false;
+    return s;
+}
+
+IsovalueSet IsovalueSet::uniform(double vmin, double vmax, std::size_t k, ValueType type) {
     if (k == 0) throw InputError("isovalues: --bins must be at least 1");
-    if (k > (std::size_t(1) << 24)) throw InputError("isovalues: --bins is larger than 2^24");
-    std::vector<float> v;
-    v.reserve(k);
-    for (std::size_t j = 0; j < k; ++j) {
-        float s = float(vmin + double(j + 1) * (vmax - vmin) / double(k));
-        if (v.empty() || v.back() < s) v.push_back(s);
-    }
-    return floats(std::move(v));
+    if (k > max_isovalues) throw InputError("isovalues: --bins is larger than 2^24");
+    std::vector<double> v(k);
+    for (std::size_t j = 0; j < k; ++j) v[j] = vmin + double(j + 1) * (vmax - vmin) / double(k);
+    if (float64_list(type)) return doubles(increasing(std::move(v)));
+    return floats(increasing(std::vector<float>(v.begin(), v.end())));
+}
+
+IsovalueSet IsovalueSet::for_range(ValueType type, double vmin, double vmax, std::size_t bins) {
+    if (is_integer(type) && vmax - vmin < double(max_default_integers))
+        return integers(std::int64_t(vmin), std::int64_t(vmax));
+    return uniform(vmin, vmax, bins, type);
 }
 
 IsovalueSet IsovalueSet::for_volume(const Volume& v, std::size_t bins) {
-    ValueRange r = value_range(v);
-    if (is_integer(v.type())) return integers(std::int64_t(r.min), std::int64_t(r.max));
-    return uniform(r.min, r.max, bins);
+    const ValueRange r = value_range(v);
+    return for_range(v.type(), r.min, r.max, bins);
+}
+
+IsovalueSet IsovalueSet::single(ValueType type, double s) {
+    if (!std::isfinite(s)) throw InputError("isovalue must be a finite number");
+    if (is_integer(type)) {
+        const std::int64_t c = integer_isovalue(s);
+        return integers(c, c);
+    }
+    if (type == ValueType::float64) return doubles({s});
+    return floats({float(s)});
 }
 
 IsovalueSet IsovalueSet::parse_range(const std::string& spec, ValueType type) {
@@ -62,18 +106,31 @@ IsovalueSet IsovalueSet::parse_range(const std::string& spec, ValueType type) {
     if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(step) || step <= 0 || b < a)
         throw InputError("--isovalues '" + spec + "': need A <= B and STEP > 0");
     double n = std::floor((b - a) / step * (1 + 1e-12)) + 1;
-    if (n > double(1 << 24)) throw InputError("--isovalues '" + spec + "': more than 2^24 isovalues");
-    if (is_integer(type)) {
-        if (a != std::floor(a) || b != std::floor(b) || step != 1)
-            throw InputError("--isovalues '" + spec + "': integer data takes integer A:B:1");
+    if (n > double(max_isovalues)) throw InputError("--isovalues '" + spec + "': more than 2^24 isovalues");
+    const bool integer_range = a == std::floor(a) && b == std::floor(b) && step == 1;
+    if (is_integer(type) && (integer_range || !is_wide(type))) {
+        if (!integer_range)
+            throw InputError("--isovalues '" + spec + "': " + value_type_name(type) + " data takes integer A:B:1");
+        if (std::fabs(a) > 1e15 || std::fabs(b) > 1e15)
+            throw InputError("--isovalues '" + spec + "': integers beyond +-1e15");
         return integers(std::int64_t(a), std::int64_t(b));
     }
-    std::vector<float> v;
-    for (double j = 0; j < n; ++j) {
-        float s = float(a + j * step);
-        if (v.empty() || v.back() < s) v.push_back(s);
-    }
-    return floats(std::move(v));
+    std::vector<double> v(static_cast<std::size_t>(n));
+    for (std::size_t j = 0; j < v.size(); ++j) v[j] = a + double(j) * step;
+    if (float64_list(type)) return doubles(increasing(std::move(v)));
+    return floats(increasing(std::vector<float>(v.begin(), v.end())));
+}
+
+bool IsovalueSet::matches(ValueType t) const {
+    if (integer_) return is_integer(t);
+    return float64_ ? is_wide(t) : t == ValueType::float32;
+}
+
+std::string IsovalueSet::text(std::size_t j) const {
+    if (integer_) return std::to_string(first_ + std::int64_t(j));
+    char buf[40];
+    std::snprintf(buf, sizeof buf, float64_ ? "%.17g" : "%.9g", values_[j]);
+    return buf;
 }
 
 const SpanCurves& SpanResult::get(SpanKind k) const {
@@ -105,7 +162,7 @@ struct SpanCounter::Impl {
     bool zero_copy = false;      // level 0 read in place from host memory
     std::size_t wg = 1, partial_rows = 1;
 
-    Buffer<float> iso_buf;
+    Buffer<unsigned char> iso_buf;  // the isovalue list as float or double
     std::vector<Buffer<unsigned char>> level_buf;    // slab of each level
     Buffer<int> partial;
     std::vector<std::vector<Buffer<long long>>> hist;  // [kind][level]
@@ -126,12 +183,10 @@ struct SpanCounter::Impl {
         : ctx(c), iso(i), type(t), dims(d), opt(o) {
         if (opt.levels < 1 || opt.levels > 16) throw InputError("--levels must be between 1 and 16");
         if (opt.kinds.empty()) throw std::logic_error("SpanCounter: no kind requested");
-        if (iso.integer() != is_integer(type))
+        if (!iso.matches(type))
             throw std::logic_error("SpanCounter: isovalue set does not match the value type");
         check_dims(dims, "volume");
         nbins = iso.size() + 1;
-        if (iso.integer() && (iso.first() < -32768 || iso.first() + std::int64_t(iso.size()) > 65536))
-            throw InputError("isovalues: integer range outside the 16-bit types");
         align = std::size_t(1) << (opt.levels - 1);
         z_end = opt.z_end ? opt.z_end : dims.nz;
         if (opt.z_begin % align != 0 || opt.z_begin >= z_end || z_end > dims.nz ||
@@ -168,12 +223,13 @@ struct SpanCounter::Impl {
         if (variant != "private" && variant != "atomic")
             throw std::logic_error("unknown span variant '" + variant + "'");
         global_hist = variant == "atomic" && nbins * sizeof(int) > ctx.tuning.local_hist_bytes;
-        std::string options = defines({{"T", opencl_type_name(type)}});
+        std::string options = type_options(type);
         if (iso.integer()) options += " -DINTEGER_VALUES";
+        if (iso.float64()) options += " -DISO_DOUBLE -DFP64";
         if (global_hist) options += " -DGLOBAL_HIST";
 
         with_cl_errors([&] {
-            subsample = ctx.kernel("pyramid", "subsample", defines({{"T", opencl_type_name(type)}}));
+            subsample = ctx.kernel("pyramid", "subsample", type_options(type));
             accumulate = ctx.kernel("span", "accumulate_partials", options);
             for (SpanKind k : opt.kinds) {
                 std::string name = std::string(k == SpanKind::cubes ? "count_cubes_" : "count_edges_") + variant;
@@ -192,8 +248,16 @@ struct SpanCounter::Impl {
                 if (global_hist) partial_rows = std::min<std::size_t>(partial_rows, 16);
             }
 
-            std::vector<float> isov = iso.integer() ? std::vector<float>{0.f} : iso.float_values();
-            iso_buf = Buffer<float>(ctx, isov.size(), CL_MEM_READ_ONLY);
+            // The list in its own type (one unused value for integer sets).
+            std::vector<unsigned char> isov;
+            const auto put = [&](const auto& list) {
+                isov.resize(list.size() * sizeof(list[0]));
+                std::memcpy(isov.data(), list.data(), isov.size());
+            };
+            if (iso.integer()) put(std::vector<float>{0.f});
+            else if (iso.float64()) put(iso.list());
+            else put(std::vector<float>(iso.list().begin(), iso.list().end()));
+            iso_buf = Buffer<unsigned char>(ctx, isov.size(), CL_MEM_READ_ONLY);
             iso_buf.write(ctx.queue(), isov.data(), isov.size());
             zero_copy = ctx.tuning.zero_copy;
             for (int l = 0; l < opt.levels; ++l) {
@@ -231,7 +295,7 @@ struct SpanCounter::Impl {
         k.setArg(a++, int(ld.ny));
         k.setArg(a++, int(ld.nz));
         if (!cubes) k.setArg(a++, int(last));
-        k.setArg(a++, int(iso.integer() ? iso.first() : 0));
+        k.setArg(a++, cl_long(iso.integer() ? iso.first() : 0));
         k.setArg(a++, iso_buf.get());
         k.setArg(a++, int(iso.size()));
         k.setArg(a++, int(nbins));

@@ -12,14 +12,16 @@ namespace clfractal {
 
 namespace {
 
+// Integer sets bin by value; lists compare in double, exact for every value type and for
+// float32 and float64 isovalues alike.
 template <class T> struct Binner {
-    int vmin = 0;
-    const float* iso = nullptr;
+    std::int64_t vmin = 0;
+    const double* iso = nullptr;
     int niso = 0;
     bool integer = true;
     int operator()(T v) const {
-        if (integer) return std::clamp(int(v) - vmin + 1, 0, niso);
-        return int(std::upper_bound(iso, iso + niso, float(v)) - iso);
+        if (integer) return int(std::clamp<std::int64_t>(std::int64_t(v) - vmin + 1, 0, niso));
+        return int(std::upper_bound(iso, iso + niso, double(v)) - iso);
     }
 };
 
@@ -90,7 +92,7 @@ void count_edges(const T* v, const Dims& d, const Binner<T>& bin, std::int64_t* 
 
 SpanResult count_spans_openmp(const Volume& v, const IsovalueSet& iso, const SpanOptions& opt) {
     if (opt.levels < 1 || opt.levels > 16) throw InputError("--levels must be between 1 and 16");
-    if (iso.integer() != is_integer(v.type()))
+    if (!iso.matches(v.type()))
         throw std::logic_error("count_spans_openmp: isovalue set does not match the value type");
     auto t0 = std::chrono::steady_clock::now();
     const std::size_t nbins = iso.size() + 1;
@@ -109,8 +111,8 @@ SpanResult count_spans_openmp(const Volume& v, const IsovalueSet& iso, const Spa
                 using T = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
                 Binner<T> bin;
                 bin.integer = iso.integer();
-                bin.vmin = int(iso.first());
-                bin.iso = iso.float_values().data();
+                bin.vmin = iso.first();
+                bin.iso = iso.list().data();
                 bin.niso = int(iso.size());
 #pragma omp parallel
                 {

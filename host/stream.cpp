@@ -16,14 +16,12 @@ namespace {
 // Float slices must be finite, like whole volumes (DESIGN §1).
 void check_slice(const void* slice, ValueType type, std::size_t nx, std::size_t ny, std::size_t z) {
     if (!slice) throw std::logic_error("push_slice: null slice");
-    if (type != ValueType::float32) return;
-    const float* p = static_cast<const float*>(slice);
-    const std::size_t n = nx * ny;
-    for (std::size_t i = 0; i < n; ++i)
-        if (!std::isfinite(p[i]))
-            throw InputError("slice " + std::to_string(z) + ": float data contains " +
-                             (std::isnan(p[i]) ? "NaN" : p[i] > 0 ? "Inf" : "-Inf") + " at (" +
-                             std::to_string(i % nx) + "," + std::to_string(i / nx) + ")");
+    const std::size_t n = nx * ny, i = first_non_finite(slice, type, n);
+    if (i == n) return;
+    const double f = visit_type(type, [&](auto zero) { return double(static_cast<const decltype(zero)*>(slice)[i]); });
+    throw InputError("slice " + std::to_string(z) + ": float data contains " +
+                     (std::isnan(f) ? "NaN" : f > 0 ? "Inf" : "-Inf") + " at (" + std::to_string(i % nx) + "," +
+                     std::to_string(i / nx) + ")");
 }
 
 std::size_t checked_slice_bytes(std::size_t nx, std::size_t ny, ValueType type) {

@@ -2,49 +2,61 @@
 #include "clfractal/volume.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <limits>
 #include <new>
 #include <type_traits>
 #include <utility>
 
 namespace clfractal {
 
-std::size_t value_size(ValueType t) {
-    switch (t) {
-    case ValueType::uint8: return 1;
-    case ValueType::uint16:
-    case ValueType::int16: return 2;
-    case ValueType::float32: return 4;
-    }
-    throw std::logic_error("value_size: invalid ValueType");
+namespace {
+
+struct TypeRow {
+    const char* name;
+    std::size_t size;
+    const char* opencl;
+    const char* nrrd;
+    bool integer;
+    double min, max;
+};
+
+// The rows of CLFRACTAL_VALUE_TYPES, indexed by the enumerator.
+constexpr TypeRow type_rows[] = {
+#define CLFRACTAL_ROW(e, c, cl, nrrd, integer) \
+    {#e, sizeof(c), cl, nrrd, integer, double(std::numeric_limits<c>::lowest()), double(std::numeric_limits<c>::max())},
+    CLFRACTAL_VALUE_TYPES(CLFRACTAL_ROW)
+#undef CLFRACTAL_ROW
+};
+
+const TypeRow& row(ValueType t) {
+    const auto i = std::size_t(t);
+    if (i >= std::size(type_rows)) throw std::logic_error("invalid ValueType " + std::to_string(i));
+    return type_rows[i];
 }
 
-const char* value_type_name(ValueType t) {
-    switch (t) {
-    case ValueType::uint8: return "uint8";
-    case ValueType::uint16: return "uint16";
-    case ValueType::int16: return "int16";
-    case ValueType::float32: return "float32";
-    }
-    throw std::logic_error("value_type_name: invalid ValueType");
-}
+}  // namespace
 
-const char* opencl_type_name(ValueType t) {
-    switch (t) {
-    case ValueType::uint8: return "uchar";
-    case ValueType::uint16: return "ushort";
-    case ValueType::int16: return "short";
-    case ValueType::float32: return "float";
-    }
-    throw std::logic_error("opencl_type_name: invalid ValueType");
-}
+std::size_t value_size(ValueType t) { return row(t).size; }
+const char* value_type_name(ValueType t) { return row(t).name; }
+const char* opencl_type_name(ValueType t) { return row(t).opencl; }
+const char* nrrd_type_name(ValueType t) { return row(t).nrrd; }
+bool is_integer(ValueType t) { return row(t).integer; }
+bool is_wide(ValueType t) { return t == ValueType::int32 || t == ValueType::uint32 || t == ValueType::float64; }
+double type_min(ValueType t) { return row(t).min; }
+double type_max(ValueType t) { return row(t).max; }
 
 ValueType parse_value_type(std::string_view name) {
-    if (name == "uint8" || name == "uchar") return ValueType::uint8;
-    if (name == "uint16" || name == "ushort") return ValueType::uint16;
-    if (name == "int16" || name == "short") return ValueType::int16;
-    if (name == "float32" || name == "float") return ValueType::float32;
-    throw InputError("unknown value type '" + std::string(name) +
-                     "' (expected uint8, uint16, int16 or float32)");
+    for (ValueType t : all_value_types)
+        if (name == value_type_name(t) || name == opencl_type_name(t)) return t;
+    throw InputError("unknown value type '" + std::string(name) + "' (expected " + value_type_names() + ")");
+}
+
+std::string value_type_names() {
+    std::string s;
+    for (ValueType t : all_value_types) s += std::string(s.empty() ? "" : ", ") + value_type_name(t);
+    return s;
 }
 
 std::size_t Dims::cubes() const {
@@ -96,6 +108,47 @@ ValueRange value_range(const Volume& v) {
         }
         return ValueRange{static_cast<double>(lo), static_cast<double>(hi)};
     });
+}
+
+std::size_t first_non_finite(const void* data, ValueType t, std::size_t n) {
+    return visit_type(t, [&](auto zero) {
+        using T = decltype(zero);
+        if constexpr (std::is_integral_v<T>) {
+            return n;
+        } else {
+            const T* p = static_cast<const T*>(data);
+            return std::size_t(std::find_if(p, p + n, [](T f) { return !std::isfinite(f); }) - p);
+        }
+    });
+}
+
+void convert_values(const void* src, ValueType from, void* dst, ValueType to, std::size_t n) {
+    visit_type(from, [&](auto from_zero) {
+        visit_type(to, [&](auto to_zero) {
+            using S = decltype(from_zero);
+            using D = decltype(to_zero);
+            const S* in = static_cast<const S*>(src);
+            D* out = static_cast<D*>(dst);
+            const double lo = double(std::numeric_limits<D>::lowest()), hi = double(std::numeric_limits<D>::max());
+#pragma omp parallel for schedule(static)
+            for (long long i = 0; i < (long long)n; ++i) {
+                const S x = in[i];
+                if constexpr (std::is_integral_v<D>) {
+                    // Every value of every type is exact in double, except int64-sized ones we do not have.
+                    out[i] = D(std::clamp(std::nearbyint(double(x)), lo, hi));
+                } else {
+                    out[i] = D(std::clamp(double(x), lo, hi));
+                }
+            }
+        });
+    });
+}
+
+Volume convert_volume(const Volume& v, ValueType to) {
+    Volume out(v.dims(), to, v.name);
+    out.spacing = v.spacing;
+    convert_values(v.data(), v.type(), out.data(), to, v.vertices());
+    return out;
 }
 
 }  // namespace clfractal

@@ -20,6 +20,7 @@
 
 #include "clfractal/synthetic.hpp"
 #include "io_formats.hpp"
+#include "nrrd_types.hpp"
 
 namespace fs = std::filesystem;
 
@@ -30,7 +31,7 @@ constexpr bool host_big_endian = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
 
 /// Only the canonical names appear in NAME_XxYxZ_TYPE.raw, so no aliases here.
 std::optional<ValueType> canonical_value_type(std::string_view text) {
-    for (ValueType t : {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32})
+    for (ValueType t : all_value_types)
         if (text == value_type_name(t)) return t;
     return std::nullopt;
 }
@@ -79,6 +80,11 @@ template <class T> void byte_swap(T* p, std::size_t n) {
             std::memcpy(&u, &p[i], 4);
             u = __builtin_bswap32(u);
             std::memcpy(&p[i], &u, 4);
+        } else if constexpr (sizeof(T) == 8) {
+            std::uint64_t u;
+            std::memcpy(&u, &p[i], 8);
+            u = __builtin_bswap64(u);
+            std::memcpy(&p[i], &u, 8);
         }
     }
 }
@@ -113,28 +119,13 @@ struct NrrdIoStateNix {
 using NrrdPtr = std::unique_ptr<Nrrd, NrrdNuke>;
 using NrrdIoPtr = std::unique_ptr<NrrdIoState, NrrdIoStateNix>;
 
-int nrrd_type_of(ValueType t) {
-    switch (t) {
-    case ValueType::uint8: return nrrdTypeUChar;
-    case ValueType::uint16: return nrrdTypeUShort;
-    case ValueType::int16: return nrrdTypeShort;
-    case ValueType::float32: return nrrdTypeFloat;
-    }
-    throw std::logic_error("nrrd_type_of: invalid ValueType");
-}
-
-/// NRRD type → ValueType; float64 is read as float32 (DESIGN §1).
-ValueType value_type_of_nrrd(int nrrd_type, const std::string& path) {
-    switch (nrrd_type) {
-    case nrrdTypeUChar: return ValueType::uint8;
-    case nrrdTypeUShort: return ValueType::uint16;
-    case nrrdTypeShort: return ValueType::int16;
-    case nrrdTypeFloat:
-    case nrrdTypeDouble: return ValueType::float32;
-    default:
-        throw InputError(path + ": unsupported NRRD type '" + airEnumStr(nrrdType, nrrd_type) +
-                         "' (expected uchar, ushort, short, float or double)");
-    }
+/// NRRD type → ValueType, or an InputError naming the file.
+ValueType nrrd_value_type(int nrrd_type, const std::string& path) {
+    if (const std::optional<ValueType> t = value_type_of_nrrd(nrrd_type)) return *t;
+    std::string names;
+    for (ValueType t : all_value_types) names += std::string(names.empty() ? "" : ", ") + nrrd_type_name(t);
+    throw InputError(path + ": unsupported NRRD type '" + airEnumStr(nrrdType, nrrd_type) + "' (expected " + names +
+                     ")");
 }
 
 /// Spacing of one axis: the scalar spacing or the length of the space direction.
@@ -214,7 +205,7 @@ Volume read_raw(const std::string& path, const RawOptions& opt) {
             type = canonical_value_type(type_text);
             if (!type)
                 throw InputError(path + ": unknown value type '" + type_text +
-                                 "' in the file name (expected uint8, uint16, int16 or float32)");
+                                 "' in the file name (expected " + value_type_names() + ")");
         }
     }
     check_dims(*dims, path);
@@ -251,7 +242,7 @@ Volume read_nrrd(const std::string& path) {
     if (header->dim != 3)
         throw InputError(path + ": NRRD has " + std::to_string(header->dim) +
                          " axes; only 3D scalar volumes are supported");
-    const ValueType type = value_type_of_nrrd(header->type, path);
+    const ValueType type = nrrd_value_type(header->type, path);
     const Dims dims{header->axis[0].size, header->axis[1].size, header->axis[2].size};
     check_dims(dims, path);
 
@@ -260,14 +251,7 @@ Volume read_nrrd(const std::string& path) {
         throw InputError(path + ": cannot read NRRD: " + biff_message());
 
     Volume v(dims, type, path);
-    if (nrrd->type == nrrdTypeDouble) {
-        const double* in = static_cast<const double*>(nrrd->data);
-        float* out = v.as<float>();
-        const std::size_t n = v.vertices();
-        for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(in[i]);
-    } else {
-        std::memcpy(v.data(), nrrd->data, v.size_bytes());
-    }
+    std::memcpy(v.data(), nrrd->data, v.size_bytes());
     for (unsigned a = 0; a < 3; ++a) v.spacing[a] = axis_spacing(nrrd.get(), a);
     read_nrrd_orientation(nrrd.get(), v);
     return v;
@@ -295,6 +279,7 @@ Volume read_volume(const std::string& spec, const RawOptions& raw, FiniteCheck f
         }
     }
     if (finite == FiniteCheck::reject) check_finite(v, spec);
+    if (raw.as && *raw.as != v.type()) v = convert_volume(v, *raw.as);
     v.name = spec;
     return v;
 }
@@ -360,37 +345,41 @@ std::vector<std::string> describe_volume_file(const std::string& spec, const Raw
     return lines;
 }
 
-NonFinite count_non_finite(const float* p, std::size_t n) {
+NonFinite count_non_finite(const void* data, ValueType t, std::size_t n) {
+    NonFinite r{0, 0, n};
+    if (is_integer(t)) return r;
     // A branch-free parallel pass for the common all-finite case; the first bad index is
     // only searched for when there is one.
     std::size_t nan = 0, inf = 0;
+    visit_type(t, [&](auto zero) {
+        const auto* p = static_cast<const decltype(zero)*>(data);
 #pragma omp parallel for reduction(+ : nan, inf) schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-        nan += std::isnan(p[i]);
-        inf += std::isinf(p[i]);
-    }
-    NonFinite r{nan, inf, n};
-    if (nan + inf) r.first = std::size_t(std::find_if(p, p + n, [](float f) { return !std::isfinite(f); }) - p);
+        for (std::size_t i = 0; i < n; ++i) {
+            nan += std::isnan(p[i]);
+            inf += std::isinf(p[i]);
+        }
+    });
+    r.nan = nan;
+    r.inf = inf;
+    if (nan + inf) r.first = first_non_finite(data, t, n);
     return r;
 }
 
-std::string non_finite_message(const std::string& what, const NonFinite& nf, const float* p, const Dims& d,
+std::string non_finite_message(const std::string& what, const NonFinite& nf, double first_value, const Dims& d,
                                std::size_t offset) {
     std::string counts;
     if (nf.nan) counts = std::to_string(nf.nan) + " NaN";
     if (nf.inf) counts += (counts.empty() ? "" : " and ") + std::to_string(nf.inf) + " infinite";
     const std::size_t i = offset + nf.first;
-    const float f = p[nf.first];
-    return what + ": float data contains " + counts + " value" + (nf.nan + nf.inf > 1 ? "s" : "") +
-           " (the first, " + (std::isnan(f) ? "NaN" : f > 0 ? "Inf" : "-Inf") + ", at vertex (" +
+    return what + ": float data contains " + counts + " value" + (nf.nan + nf.inf > 1 ? "s" : "") + " (the first, " +
+           (std::isnan(first_value) ? "NaN" : first_value > 0 ? "Inf" : "-Inf") + ", at vertex (" +
            std::to_string(i % d.nx) + "," + std::to_string(i / d.nx % d.ny) + "," + std::to_string(i / (d.nx * d.ny)) +
            ")); counting, filtering and meshing need finite values";
 }
 
 void check_finite(const Volume& v, const std::string& what) {
-    if (v.type() != ValueType::float32) return;
-    const NonFinite nf = count_non_finite(v.as<float>(), v.vertices());
-    if (nf.nan + nf.inf) throw InputError(non_finite_message(what, nf, v.as<float>(), v.dims(), 0));
+    const NonFinite nf = count_non_finite(v.data(), v.type(), v.vertices());
+    if (nf.nan + nf.inf) throw InputError(non_finite_message(what, nf, v.value(nf.first), v.dims(), 0));
 }
 
 }  // namespace clfractal

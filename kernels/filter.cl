@@ -1,8 +1,9 @@
 // Denoising filters (DESIGN §1 "Filters"; thesis chapter 4 and §6.3): 3×3×3 median,
 // separable Gaussian, 3D bilateral, each plain or masked by the local fractal dimension.
 //
-// Defines: -DT=uchar|ushort|short|float the value type; -DINTEGER_VALUES for the integer
-// types (results rounded to nearest even and saturated to the type); -DRADIUS=r for the
+// Defines: -DT (and -DT_IS_<T>) the value type; -DINTEGER_VALUES for the integer types
+// (results rounded to nearest even and saturated to the type); -DACC_DOUBLE for double
+// accumulation (below); -DRADIUS=r for the
 // Gaussian and bilateral kernels; -DMASKED for the fractal-targeted kernels, which take the
 // LD field `ld` of the output slices and a float threshold `h`, and filter only where
 // ld > h (NaN never qualifies), copying the input elsewhere.
@@ -21,46 +22,72 @@
 //    work-item, all of them shared with its neighbours);
 //  - median_tiled (GPUs, -DTILE_X -DTILE_Y): the median through local-memory tiles.
 
-#ifdef INTEGER_VALUES
-#define TO_T(v) CONVERT_SAT(v)
-#if defined(T_IS_uchar)
-#define CONVERT_SAT(v) convert_uchar_sat_rte(v)
-#elif defined(T_IS_ushort)
-#define CONVERT_SAT(v) convert_ushort_sat_rte(v)
-#else
-#define CONVERT_SAT(v) convert_short_sat_rte(v)
-#endif
-#else
-#define TO_T(v) (v)
-#endif
-
-#ifndef RADIUS
-#define RADIUS 1
-#endif
-
-// Vectors of VEC = 16 neighbouring x (the CPU kernels): TV the value vector, FV float16,
-// IV the int16 that relational functions return, SEL_CAST the select() mask for TV.
+// One row per value type (T_IS_<OpenCL type> from the host): TV the vector of VEC values,
+// SEL_CAST the select() mask for TV from an int16 relational result, CONVERT_SAT(_V) the
+// rounding (to nearest even) and saturating conversion of integer results.
 #define VEC 16
-#define FV float16
 #define IV int16
 #define VLOAD vload16
 #define VSTORE vstore16
 #if defined(T_IS_uchar)
 #define TV uchar16
 #define SEL_CAST(m) convert_char16(m)
+#define CONVERT_SAT(v) convert_uchar_sat_rte(v)
 #define CONVERT_SAT_V(v) convert_uchar16_sat_rte(v)
+#elif defined(T_IS_char)
+#define TV char16
+#define SEL_CAST(m) convert_char16(m)
+#define CONVERT_SAT(v) convert_char_sat_rte(v)
+#define CONVERT_SAT_V(v) convert_char16_sat_rte(v)
 #elif defined(T_IS_ushort)
 #define TV ushort16
 #define SEL_CAST(m) convert_short16(m)
+#define CONVERT_SAT(v) convert_ushort_sat_rte(v)
 #define CONVERT_SAT_V(v) convert_ushort16_sat_rte(v)
 #elif defined(T_IS_short)
 #define TV short16
 #define SEL_CAST(m) convert_short16(m)
+#define CONVERT_SAT(v) convert_short_sat_rte(v)
 #define CONVERT_SAT_V(v) convert_short16_sat_rte(v)
+#elif defined(T_IS_uint)
+#define TV uint16
+#define SEL_CAST(m) (m)
+#define CONVERT_SAT(v) convert_uint_sat_rte(v)
+#define CONVERT_SAT_V(v) convert_uint16_sat_rte(v)
+#elif defined(T_IS_int)
+#define TV int16
+#define SEL_CAST(m) (m)
+#define CONVERT_SAT(v) convert_int_sat_rte(v)
+#define CONVERT_SAT_V(v) convert_int16_sat_rte(v)
+#elif defined(T_IS_double)
+#define TV double16
+#define SEL_CAST(m) convert_long16(m)
+#define CONVERT_SAT(v) (v)
+#define CONVERT_SAT_V(v) (v)
 #else
 #define TV float16
 #define SEL_CAST(m) (m)
+#define CONVERT_SAT(v) (v)
 #define CONVERT_SAT_V(v) (v)
+#endif
+#define TO_T(v) CONVERT_SAT(v)
+
+// The accumulator of the Gaussian and bilateral filters (weights, sums, the Gaussian's
+// temporaries): float, or double with -DACC_DOUBLE (int32, uint32 and float64 data, whose
+// values a float does not hold). ACCV is its vector of VEC, LDV the vector of LD values.
+#ifdef ACC_DOUBLE
+typedef double acc_t;
+#define ACCV double16
+#define CONVERT_ACCV(v) convert_double16(v)
+#else
+typedef float acc_t;
+#define ACCV float16
+#define CONVERT_ACCV(v) convert_float16(v)
+#endif
+#define LDV float16
+
+#ifndef RADIUS
+#define RADIUS 1
 #endif
 
 inline int clamp_index(int i, int n) { return clamp(i, 0, n - 1); }
@@ -181,7 +208,7 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
         }
         for (; x + VEC <= nx - 1; x += VEC) {
 #ifdef MASKED
-            const IV sel = isgreater(vload16(0, m + x), (FV)h);
+            const IV sel = isgreater(vload16(0, m + x), (LDV)h);
             if (!any(sel)) {
                 VSTORE(VLOAD(0, c + x), 0, o + x);
                 continue;
@@ -250,8 +277,8 @@ void median_tiled(__global const T* restrict in, int nx, int ny, int nz_in, int 
 
 // ------------------------------------------------------------------ Gaussian
 
-// Three passes with normalised weights w[0..2 RADIUS] (w[RADIUS + i] for offset i), float
-// accumulation: z (input type -> float), y (float -> float), x (float -> output type,
+// Three passes with normalised weights w[0..2 RADIUS] (w[RADIUS + i] for offset i), acc_t
+// accumulation: z (input type -> acc_t), y (acc_t -> acc_t), x (acc_t -> output type,
 // rounded and saturated for integer types; masked: selected vertices only). Each pass
 // accumulates in offset order -RADIUS .. RADIUS.
 
@@ -259,7 +286,7 @@ void median_tiled(__global const T* restrict in, int nx, int ny, int nz_in, int 
 
 // Output rows (y, z) of the pass over z: reads `in` (nz_in slices of T).
 __kernel void gauss_z_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
-                           __constant float* w, __global float* restrict out) {
+                           __constant acc_t* w, __global acc_t* restrict out) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t nrows = (size_t)ny * (size_t)nz_out;
     const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
@@ -268,40 +295,40 @@ __kernel void gauss_z_rows(__global const T* restrict in, int nx, int ny, int nz
         __global const T* p[2 * RADIUS + 1];
         for (int k = -RADIUS; k <= RADIUS; ++k)
             p[k + RADIUS] = in + ((size_t)clamp_index(z_begin + z + k, nz_in) * (size_t)ny + (size_t)y) * (size_t)nx;
-        __global float* o = out + r * (size_t)nx;
+        __global acc_t* o = out + r * (size_t)nx;
         int x = 0;
         for (; x + VEC <= nx; x += VEC) {
-            FV acc = 0;
-            for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * convert_float16(VLOAD(0, p[k] + x));
+            ACCV acc = 0;
+            for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * CONVERT_ACCV(VLOAD(0, p[k] + x));
             vstore16(acc, 0, o + x);
         }
         for (; x < nx; ++x) {
-            float acc = 0;
-            for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * (float)p[k][x];
+            acc_t acc = 0;
+            for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * (acc_t)p[k][x];
             o[x] = acc;
         }
     }
 }
 
-__kernel void gauss_y_rows(__global const float* restrict in, int nx, int ny, int nz, __constant float* w,
-                           __global float* restrict out) {
+__kernel void gauss_y_rows(__global const acc_t* restrict in, int nx, int ny, int nz, __constant acc_t* w,
+                           __global acc_t* restrict out) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t nrows = (size_t)ny * (size_t)nz;
     const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
     for (size_t r = r0; r < r1; ++r) {
         const int y = (int)(r % (size_t)ny), z = (int)(r / (size_t)ny);
-        __global const float* p[2 * RADIUS + 1];
+        __global const acc_t* p[2 * RADIUS + 1];
         for (int k = -RADIUS; k <= RADIUS; ++k)
             p[k + RADIUS] = in + ((size_t)z * (size_t)ny + (size_t)clamp_index(y + k, ny)) * (size_t)nx;
-        __global float* o = out + r * (size_t)nx;
+        __global acc_t* o = out + r * (size_t)nx;
         int x = 0;
         for (; x + VEC <= nx; x += VEC) {
-            FV acc = 0;
+            ACCV acc = 0;
             for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * vload16(0, p[k] + x);
             vstore16(acc, 0, o + x);
         }
         for (; x < nx; ++x) {
-            float acc = 0;
+            acc_t acc = 0;
             for (int k = 0; k <= 2 * RADIUS; ++k) acc += w[k] * p[k][x];
             o[x] = acc;
         }
@@ -309,13 +336,13 @@ __kernel void gauss_y_rows(__global const float* restrict in, int nx, int ny, in
 }
 
 // `orig` is the input (nz_in slices of T) for the unselected vertices of the masked kernel.
-__kernel void gauss_x_rows(__global const float* restrict in, int nx, int ny, int nz, __constant float* w,
+__kernel void gauss_x_rows(__global const acc_t* restrict in, int nx, int ny, int nz, __constant acc_t* w,
                            __global T* restrict out, __global const T* restrict orig, int z_begin MASK_ARGS) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t nrows = (size_t)ny * (size_t)nz;
     const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
     for (size_t r = r0; r < r1; ++r) {
-        __global const float* p = in + r * (size_t)nx;
+        __global const acc_t* p = in + r * (size_t)nx;
         __global T* o = out + r * (size_t)nx;
 #ifdef MASKED
         __global const T* c = orig + ((size_t)z_begin * (size_t)ny) * (size_t)nx + r * (size_t)nx;
@@ -329,22 +356,22 @@ __kernel void gauss_x_rows(__global const float* restrict in, int nx, int ny, in
         int x = 0;
         for (; x < nx; ++x) {
             if (x >= RADIUS && x + RADIUS + VEC <= nx) break;
-            float acc = 0;
+            acc_t acc = 0;
             for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * p[clamp_index(x + k, nx)];
             STORE_X(x, acc);
         }
         for (; x + RADIUS + VEC <= nx; x += VEC) {
-            FV acc = 0;
+            ACCV acc = 0;
             for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * vload16(0, p + x + k);
 #ifdef MASKED
-            const IV sel = isgreater(vload16(0, m + x), (FV)h);
+            const IV sel = isgreater(vload16(0, m + x), (LDV)h);
             VSTORE(select(VLOAD(0, c + x), CONVERT_SAT_V(acc), SEL_CAST(sel)), 0, o + x);
 #else
             VSTORE(CONVERT_SAT_V(acc), 0, o + x);
 #endif
         }
         for (; x < nx; ++x) {
-            float acc = 0;
+            acc_t acc = 0;
             for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * p[clamp_index(x + k, nx)];
             STORE_X(x, acc);
         }
@@ -354,29 +381,29 @@ __kernel void gauss_x_rows(__global const float* restrict in, int nx, int ny, in
 
 // One work-item per vertex: global size (nx, ny, nz_out) exactly.
 __kernel void gauss_z_vertices(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
-                               __constant float* w, __global float* restrict out) {
+                               __constant acc_t* w, __global acc_t* restrict out) {
     const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
-    float acc = 0;
+    acc_t acc = 0;
     for (int k = -RADIUS; k <= RADIUS; ++k)
         acc += w[k + RADIUS] *
-               (float)in[((size_t)clamp_index(z_begin + z + k, nz_in) * (size_t)ny + (size_t)y) * (size_t)nx + x];
+               (acc_t)in[((size_t)clamp_index(z_begin + z + k, nz_in) * (size_t)ny + (size_t)y) * (size_t)nx + x];
     out[((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + x] = acc;
 }
 
-__kernel void gauss_y_vertices(__global const float* restrict in, int nx, int ny, int nz, __constant float* w,
-                               __global float* restrict out) {
+__kernel void gauss_y_vertices(__global const acc_t* restrict in, int nx, int ny, int nz, __constant acc_t* w,
+                               __global acc_t* restrict out) {
     const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
-    float acc = 0;
+    acc_t acc = 0;
     for (int k = -RADIUS; k <= RADIUS; ++k)
         acc += w[k + RADIUS] * in[((size_t)z * (size_t)ny + (size_t)clamp_index(y + k, ny)) * (size_t)nx + x];
     out[((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + x] = acc;
 }
 
-__kernel void gauss_x_vertices(__global const float* restrict in, int nx, int ny, int nz, __constant float* w,
+__kernel void gauss_x_vertices(__global const acc_t* restrict in, int nx, int ny, int nz, __constant acc_t* w,
                                __global T* restrict out, __global const T* restrict orig, int z_begin MASK_ARGS) {
     const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
     const size_t row = ((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx;
-    float acc = 0;
+    acc_t acc = 0;
     for (int k = -RADIUS; k <= RADIUS; ++k) acc += w[k + RADIUS] * in[row + clamp_index(x + k, nx)];
 #ifdef MASKED
     out[row + x] = ld[row + x] > h ? TO_T(acc) : orig[(size_t)z_begin * (size_t)ny * (size_t)nx + row + x];
@@ -397,19 +424,19 @@ __kernel void gauss_x_vertices(__global const float* restrict in, int nx, int ny
 // dimension of v: sigma_r(v) = sigma_r * clamp(LD(v) - 2, 0, 1). Where LD(v) <= 2 or is
 // undefined the value is kept; in the noisiest regions (LD -> 3) the filter approaches the
 // plain bilateral filter with sigma_r. `ld` then holds LD of the output slices.
-inline float bilateral_at(__global const T* in, int nx, int ny, int nz_in, int x, int y, int zin,
-                          __constant float* ws, float inv_2sr2) {
-    const float c = (float)in[((size_t)zin * (size_t)ny + (size_t)y) * (size_t)nx + x];
-    float num = 0, den = 0;
+inline acc_t bilateral_at(__global const T* in, int nx, int ny, int nz_in, int x, int y, int zin,
+                          __constant acc_t* ws, acc_t inv_2sr2) {
+    const acc_t c = (acc_t)in[((size_t)zin * (size_t)ny + (size_t)y) * (size_t)nx + x];
+    acc_t num = 0, den = 0;
     int k = 0;
     for (int dz = -RADIUS; dz <= RADIUS; ++dz) {
         const size_t zo = (size_t)clamp_index(zin + dz, nz_in) * (size_t)ny;
         for (int dy = -RADIUS; dy <= RADIUS; ++dy) {
             __global const T* row = in + (zo + (size_t)clamp_index(y + dy, ny)) * (size_t)nx;
             for (int dx = -RADIUS; dx <= RADIUS; ++dx, ++k) {
-                const float f = (float)row[clamp_index(x + dx, nx)];
-                const float d = f - c;
-                const float wgt = ws[k] * exp(-d * d * inv_2sr2);
+                const acc_t f = (acc_t)row[clamp_index(x + dx, nx)];
+                const acc_t d = f - c;
+                const acc_t wgt = ws[k] * exp(-d * d * inv_2sr2);
                 num += wgt * f;
                 den += wgt;
             }
@@ -425,11 +452,11 @@ inline float bilateral_at(__global const T* in, int nx, int ny, int nz_in, int x
 #endif
 
 // The range term of vertex i (output-slab index); returns false where v keeps its value.
-inline bool range_term(size_t i, float inv_2sr2, float* out_inv BILATERAL_ARGS) {
+inline bool range_term(size_t i, acc_t inv_2sr2, acc_t* out_inv BILATERAL_ARGS) {
 #ifdef LD_GUIDED
     if (isnan(ld[i]) || !(ld[i] > 2.0f)) return false;
     const float t = min(ld[i] - 2.0f, 1.0f);
-    *out_inv = inv_2sr2 / (t * t);
+    *out_inv = inv_2sr2 / ((acc_t)t * (acc_t)t);  // t = LD - 2 is exact in float
     return true;
 #else
     *out_inv = inv_2sr2;
@@ -448,19 +475,19 @@ inline bool range_term(size_t i, float inv_2sr2, float* out_inv BILATERAL_ARGS) 
 
 // bilateral_at for VEC neighbouring columns x0 .. x0 + VEC - 1, all with x0 - RADIUS >= 0
 // and x0 + VEC + RADIUS <= nx; `inv` the range term per column.
-inline FV bilateral_vec(__global const T* in, int nx, int ny, int nz_in, int x0, int y, int zin,
-                        __constant float* ws, FV inv) {
-    const FV c = convert_float16(VLOAD(0, in + ((size_t)zin * (size_t)ny + (size_t)y) * (size_t)nx + x0));
-    FV num = 0, den = 0;
+inline ACCV bilateral_vec(__global const T* in, int nx, int ny, int nz_in, int x0, int y, int zin,
+                        __constant acc_t* ws, ACCV inv) {
+    const ACCV c = CONVERT_ACCV(VLOAD(0, in + ((size_t)zin * (size_t)ny + (size_t)y) * (size_t)nx + x0));
+    ACCV num = 0, den = 0;
     int k = 0;
     for (int dz = -RADIUS; dz <= RADIUS; ++dz) {
         const size_t zo = (size_t)clamp_index(zin + dz, nz_in) * (size_t)ny;
         for (int dy = -RADIUS; dy <= RADIUS; ++dy) {
             __global const T* row = in + (zo + (size_t)clamp_index(y + dy, ny)) * (size_t)nx + x0;
             for (int dx = -RADIUS; dx <= RADIUS; ++dx, ++k) {
-                const FV f = convert_float16(VLOAD(0, row + dx));
-                const FV d = f - c;
-                const FV wgt = ws[k] * exp(-d * d * inv);
+                const ACCV f = CONVERT_ACCV(VLOAD(0, row + dx));
+                const ACCV d = f - c;
+                const ACCV wgt = ws[k] * exp(-d * d * inv);
                 num += wgt * f;
                 den += wgt;
             }
@@ -472,7 +499,7 @@ inline FV bilateral_vec(__global const T* in, int nx, int ny, int nz_in, int x0,
 // Output rows of the slab: VEC columns at a time where the cube stays inside the row (blocks
 // without a selected vertex copied), the border columns one by one.
 __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
-                             __constant float* ws, float inv_2sr2, __global T* restrict out BILATERAL_ARGS) {
+                             __constant acc_t* ws, acc_t inv_2sr2, __global T* restrict out BILATERAL_ARGS) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t nrows = (size_t)ny * (size_t)nz_out;
     const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
@@ -486,23 +513,23 @@ __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int 
                 // The interior, VEC columns at a time.
                 for (; x + VEC + RADIUS <= nx; x += VEC) {
 #if defined(LD_GUIDED)
-                    const FV l = vload16(0, ld + r * (size_t)nx + x);
-                    const IV sel = isgreater(l, (FV)2.0f);
+                    const LDV l = vload16(0, ld + r * (size_t)nx + x);
+                    const IV sel = isgreater(l, (LDV)2.0f);
                     if (!any(sel)) {
                         VSTORE(VLOAD(0, c + x), 0, o + x);
                         continue;
                     }
-                    const FV t = select((FV)1.0f, fmin(l - 2.0f, 1.0f), sel);
-                    const FV inv = inv_2sr2 / (t * t);
+                    const LDV t = select((LDV)1.0f, fmin(l - 2.0f, 1.0f), sel);
+                    const ACCV inv = inv_2sr2 / (CONVERT_ACCV(t) * CONVERT_ACCV(t));  // t is exact
 #elif defined(MASKED)
-                    const IV sel = isgreater(vload16(0, ld + r * (size_t)nx + x), (FV)h);
+                    const IV sel = isgreater(vload16(0, ld + r * (size_t)nx + x), (LDV)h);
                     if (!any(sel)) {
                         VSTORE(VLOAD(0, c + x), 0, o + x);
                         continue;
                     }
-                    const FV inv = inv_2sr2;
+                    const ACCV inv = inv_2sr2;
 #else
-                    const FV inv = inv_2sr2;
+                    const ACCV inv = inv_2sr2;
 #endif
                     const TV f = CONVERT_SAT_V(bilateral_vec(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv));
 #if defined(LD_GUIDED) || defined(MASKED)
@@ -514,7 +541,7 @@ __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int 
             }
             if (x >= nx) break;
             const size_t i = r * (size_t)nx + (size_t)x;
-            float inv;
+            acc_t inv;
             const bool on = RANGE_TERM(i, inv_2sr2, &inv);
             o[x] = on ? TO_T(bilateral_at(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv)) : c[x];
         }
@@ -522,10 +549,10 @@ __kernel void bilateral_rows(__global const T* restrict in, int nx, int ny, int 
 }
 
 __kernel void bilateral_vertices(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
-                                 __constant float* ws, float inv_2sr2, __global T* restrict out BILATERAL_ARGS) {
+                                 __constant acc_t* ws, acc_t inv_2sr2, __global T* restrict out BILATERAL_ARGS) {
     const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
     const size_t i = ((size_t)z * (size_t)ny + (size_t)y) * (size_t)nx + (size_t)x;
-    float inv;
+    acc_t inv;
     const bool on = RANGE_TERM(i, inv_2sr2, &inv);
     out[i] = on ? TO_T(bilateral_at(in, nx, ny, nz_in, x, y, z_begin + z, ws, inv))
                 : in[((size_t)(z_begin + z) * (size_t)ny + (size_t)y) * (size_t)nx + x];

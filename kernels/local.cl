@@ -3,9 +3,9 @@
 //   (sat.cl)           its summed-area table
 //   local_dimension_*  two box queries per vertex, one in G and one in G', and the log ratio
 //
-// -DT=uchar|ushort|short|float is the value type, -DC=uint|ulong the count type. Integer
-// data (-DINTEGER_VALUES) compares with the integer ceil(s), which selects exactly the cubes
-// a < s <= b selects for a real s; float data compares with s as a float.
+// -DT is the value type, -DC=uint|ulong the count type. s is an iso_t (kernels/common.cl):
+// integer data (-DINTEGER_VALUES) compares with the integer ceil(s), which selects exactly
+// the cubes a < s <= b selects for a real s; float data with s in its own type.
 //
 // Padding: the table of a grid of nx × ny × nz vertices has nx × ny × nz entries, entry
 // (x, y, z) holding cube (x - 1, y - 1, z - 1) and the planes x = 0, y = 0, z = 0 holding 0.
@@ -16,12 +16,6 @@
 #define C uint
 #endif
 
-#ifdef INTEGER_VALUES
-typedef int iso_t;
-#else
-typedef float iso_t;
-#endif
-
 // Two variants of each kernel, chosen per device (Tuning::local_variant):
 //  - *_vertices (GPUs): one work-item per table entry or vertex.
 //  - *_rows (CPUs): local size 1 and a few work-items per core, each walking a contiguous
@@ -30,7 +24,7 @@ typedef float iso_t;
 
 inline C intersected(T a, T b, iso_t s) {
 #ifdef INTEGER_VALUES
-    return (int)a < s && s <= (int)b;
+    return (long)a < s && s <= (long)b;
 #else
     return a < s && s <= b;
 #endif

@@ -7,8 +7,10 @@
 // OUT_MAX (round half away from zero, clamp, convert) or float32 output.
 //
 // The result is float(value) + amplitude * draw, one float multiply and one float add,
-// each correctly rounded (IEEE); contraction into fused multiply-adds is switched off so
-// that the host reproduces every value bit for bit.
+// each correctly rounded (IEEE); with -DNOISE_DOUBLE (int32, uint32 and float64 input,
+// whose values a float does not hold) the add is double(value) + double(amplitude * draw).
+// Contraction into fused multiply-adds is switched off so that the host reproduces every
+// value bit for bit.
 #pragma OPENCL FP_CONTRACT OFF
 
 #ifndef OUT_T
@@ -95,9 +97,14 @@ inline float noise_draw(ulong mixed_seed, ulong index) {
 __kernel void add_noise(__global const T* restrict in, __global OUT_T* restrict out, ulong first,
                         ulong mixed_seed, float amplitude) {
     const size_t i = get_global_id(0);
+#ifdef NOISE_DOUBLE
+    const float product = amplitude * noise_draw(mixed_seed, first + i);
+    const double noisy = (double)in[i] + (double)product;
+#else
     const float noisy = (float)in[i] + amplitude * noise_draw(mixed_seed, first + i);
+#endif
 #ifdef KEEP_TYPE
-    out[i] = (OUT_T)clamp(round(noisy), (float)OUT_MIN, (float)OUT_MAX);
+    out[i] = (OUT_T)clamp(round(noisy), OUT_MIN, OUT_MAX);
 #else
     out[i] = noisy;
 #endif

@@ -1,21 +1,15 @@
 // Smooth isosurface construction (DESIGN §1; thesis chapter 5), Algorithm 1 on the device:
 // which grid edges are high fractal. The queue of Algorithm 2 runs on the host.
 //
-// -DT=uchar|ushort|short|float is the value type. Integer data (-DINTEGER_VALUES) compares
-// with the integer ceil(s), which selects exactly the edges a < s <= b selects for a real s;
-// float data compares with s as a float. The threshold comes in as the largest float <= h,
+// -DT is the value type and s an iso_t (kernels/common.cl): integer data (-DINTEGER_VALUES)
+// compares with the integer ceil(s), which selects exactly the edges a < s <= b selects for a
+// real s; float data compares with s in its own type. The threshold comes in as the largest float <= h,
 // so that for a float LD, LD > h_f iff LD > h.
-
-#ifdef INTEGER_VALUES
-typedef int iso_t;
-#else
-typedef float iso_t;
-#endif
 
 // Edge (p, q) is intersected iff min < s <= max.
 inline bool edge_intersected(T p, T q, iso_t s) {
 #ifdef INTEGER_VALUES
-    const int a = min((int)p, (int)q), b = max((int)p, (int)q);
+    const long a = min((long)p, (long)q), b = max((long)p, (long)q);
 #else
     const T a = min(p, q), b = max(p, q);
 #endif

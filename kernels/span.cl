@@ -51,7 +51,7 @@
 // loops vectorise; keeping them apart from the scattered stores also spares reloads.
 #define CHUNK 64
 __kernel void count_cubes_private(__global const T* restrict vol, int nx, int ny, int nzs,
-                                  int vmin, __global const float* restrict iso, int niso,
+                                  long vmin, __global const ISO_T* restrict iso, int niso,
                                   int nbins, __global int* restrict partial) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     __global int* h = partial + item * (size_t)nbins;
@@ -101,7 +101,7 @@ __kernel void count_cubes_private(__global const T* restrict vol, int nx, int ny
     } while (0)
 
 __kernel void count_edges_private(__global const T* restrict vol, int nx, int ny, int nzs, int last_slab,
-                                  int vmin, __global const float* restrict iso, int niso,
+                                  long vmin, __global const ISO_T* restrict iso, int niso,
                                   int nbins, __global int* restrict partial) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     __global int* h = partial + item * (size_t)nbins;
@@ -125,7 +125,7 @@ __kernel void count_edges_private(__global const T* restrict vol, int nx, int ny
 }
 
 __kernel void count_cubes_atomic(__global const T* vol, int nx, int ny, int nzs,
-                                int vmin, __global const float* iso, int niso,
+                                long vmin, __global const ISO_T* iso, int niso,
                                 int nbins, __global int* partial, __local int* lh) {
     HIST_BEGIN
     const size_t cx = (size_t)(nx - 1), cy = (size_t)(ny - 1);
@@ -144,7 +144,7 @@ __kernel void count_cubes_atomic(__global const T* vol, int nx, int ny, int nzs,
 }
 
 __kernel void count_edges_atomic(__global const T* vol, int nx, int ny, int nzs, int last_slab,
-                                int vmin, __global const float* iso, int niso,
+                                long vmin, __global const ISO_T* iso, int niso,
                                 int nbins, __global int* partial, __local int* lh) {
     HIST_BEGIN
     const size_t zrows = last_slab ? (size_t)nzs : (size_t)(nzs - 1);

@@ -23,8 +23,13 @@ clf_type c_type(ValueType t) {
     case ValueType::uint8: return CLF_UINT8;
     case ValueType::uint16: return CLF_UINT16;
     case ValueType::int16: return CLF_INT16;
-    default: return CLF_FLOAT32;
+    case ValueType::float32: return CLF_FLOAT32;
+    case ValueType::int8: return CLF_INT8;
+    case ValueType::int32: return CLF_INT32;
+    case ValueType::uint32: return CLF_UINT32;
+    case ValueType::float64: return CLF_FLOAT64;
     }
+    return clf_type(-1);
 }
 
 struct CContext {
@@ -43,10 +48,12 @@ TEST_CASE("curves through the C ABI equal the C++ library's and the reference co
     CContext cc;
     CHECK(std::string(clf_context_description(cc.c)) == testutil::ctx().description());
     std::uint32_t seed = 7;
-    for (ValueType t : {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32}) {
+    for (ValueType t : all_value_types) {
         for (Dims d : {Dims{13, 7, 11}, Dims{2, 2, 2}, Dims{1, 5, 9}}) {
-            const bool unsigned_type = t == ValueType::uint8 || t == ValueType::uint16;
-            Volume v = testutil::random_volume(d, t, unsigned_type ? 0 : -40, 200, seed++);
+            const bool unsigned_type = type_min(t) == 0;
+            // int32 over most of its range: uniform float64 isovalues.
+            Volume v = t == ValueType::int32 ? testutil::random_volume(d, t, -2000000000, 2000000000, seed++)
+                                             : testutil::random_volume(d, t, unsigned_type ? 0 : -40, 100, seed++);
             clf_volume* cv = nullptr;
             REQUIRE(clf_volume_create(v.data(), d.nx, d.ny, d.nz, c_type(t), &cv) == CLF_OK);
             size_t dims[3];
@@ -60,7 +67,7 @@ TEST_CASE("curves through the C ABI equal the C++ library's and the reference co
                     clf_curve_options_default(&o);
                     o.kind = kind;
                     o.levels = levels;
-                    o.bins = is_integer(t) ? 0 : 40;
+                    o.bins = is_integer(t) && !is_wide(t) ? 0 : 40;
                     clf_curve* curve = nullptr;
                     REQUIRE(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_OK);
                     const SpanKind k = kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes;
@@ -120,11 +127,36 @@ TEST_CASE("an explicit float isovalue list and the LD field through the C ABI") 
     Volume expect = local_fractal_dimension(testutil::ctx(), v, 0.25, 4);
     CHECK(std::memcmp(ld.data(), expect.data(), expect.size_bytes()) == 0);
     clf_volume_destroy(cv);
+
+    // The same list on float64 and int32 data: float64 isovalues of those float values;
+    // an 8/16-bit integer volume takes no list.
+    for (ValueType t : {ValueType::float64, ValueType::int32}) {
+        CAPTURE(value_type_name(t));
+        const Volume w = convert_volume(v, t);
+        REQUIRE(clf_volume_create(w.data(), 12, 10, 9, c_type(t), &cv) == CLF_OK);
+        CHECK(clf_volume_type(cv) == c_type(t));
+        REQUIRE(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_OK);
+        const auto want = ref::cubes_brute(w, IsovalueSet::doubles(std::vector<double>(list.begin(), list.end())));
+        for (std::size_t j = 0; j < list.size(); ++j) CHECK(clf_curve_count(curve, 0, j) == want[j]);
+        clf_curve_destroy(curve);
+        REQUIRE(clf_local_dimension(cc.c, cv, 0.25, 4, ld.data()) == CLF_OK);
+        expect = local_fractal_dimension(testutil::ctx(), w, 0.25, 4);
+        CHECK(std::memcmp(ld.data(), expect.data(), expect.size_bytes()) == 0);
+        clf_volume_destroy(cv);
+    }
+    const Volume u = convert_volume(v, ValueType::int16);
+    REQUIRE(clf_volume_create(u.data(), 12, 10, 9, CLF_INT16, &cv) == CLF_OK);
+    CHECK(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_ERROR_INPUT);
+    clf_volume_destroy(cv);
+    const double d64[8] = {0, 1, 2, std::numeric_limits<double>::infinity(), 4, 5, 6, 7};
+    CHECK(clf_volume_create(d64, 2, 2, 2, CLF_FLOAT64, &cv) == CLF_ERROR_INPUT);
+    CHECK(std::string(clf_last_error()).find("Inf") != std::string::npos);
+    CHECK(clf_volume_create(d64, 2, 2, 2, clf_type(8), &cv) == CLF_ERROR_INPUT);
 }
 
 TEST_CASE("a stream through the C ABI gives the whole-volume curve after every slice") {
     CContext cc;
-    for (ValueType t : {ValueType::uint8, ValueType::int16, ValueType::float32}) {
+    for (ValueType t : {ValueType::uint8, ValueType::int16, ValueType::float32, ValueType::int32, ValueType::float64}) {
         CAPTURE(value_type_name(t));
         Volume v = testutil::random_volume({9, 7, 13}, t, t == ValueType::uint8 ? 0 : -30, 60, 17);
         const ValueRange r = value_range(v);
@@ -142,8 +174,7 @@ TEST_CASE("a stream through the C ABI gives the whole-volume curve after every s
             if (z < 1 || z % 4 != 0) continue;
             Volume part(Dims{9, 7, z + 1}, t);
             std::memcpy(part.data(), v.data(), (z + 1) * slice);
-            IsovalueSet iso = is_integer(t) ? IsovalueSet::integers(std::int64_t(r.min), std::int64_t(r.max))
-                                            : IsovalueSet::uniform(r.min, r.max, 50);
+            const IsovalueSet iso = IsovalueSet::for_range(t, r.min, r.max, 50);
             for (clf_kind kind : {CLF_BOX, CLF_EDGE}) {
                 const SpanKind k = kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes;
                 clf_curve* curve = nullptr;

@@ -305,5 +305,93 @@ expect 0 'auto: isovalue [0-9]+, the middle of the clean band' -- "$bin" local s
 expect 2 'clfractal: error: --iso auto: rough.nrrd has no clean band' -- "$bin" -q mesh rough.nrrd --iso auto -o auto.ply
 [ ! -e auto.ply ] && pass || fail "--iso auto without a band wrote a mesh"
 
+# Value types of revision 2: an int32 raw file over a wide range (uniform float64 isovalues)
+# and a float64 NRRD whose values float32 cannot tell apart, counted against the definition
+# in plain Python (a < s <= b in double, every cube of G and G'); CSV isovalues round-trip
+# (17 significant digits for float64); --as float32 converts on read.
+python3 - <<'PY' || fail "writing the int32 and float64 fixtures"
+import struct
+n = 9 * 8 * 7
+vals = [((i * 2654435761) % 4294967291) - 2147483645 for i in range(n)]
+vals[0], vals[1] = -2147483648, 2147483647
+open("w_9x8x7_int32.raw", "wb").write(struct.pack("<%di" % n, *vals))
+d = [1 + ((i * 7919) % 41) * 2.0 ** -40 + (i % 3) * 0.125 for i in range(n)]
+open("f64.nrrd", "wb").write(b"NRRD0004\ntype: double\ndimension: 3\nsizes: 9 8 7\nendian: little\nencoding: raw\n\n"
+                            + struct.pack("<%dd" % n, *d))
+PY
+expect 0 'int32' -- "$bin" info w_9x8x7_int32.raw
+expect 0 'uniform float64 list' -- "$bin" info w_9x8x7_int32.raw
+expect 0 'float64' -- "$bin" info f64.nrrd
+expect 0 'mean FD' -- "$bin" -q fd w_9x8x7_int32.raw --csv w.csv
+expect 0 'mean FD' -- "$bin" -q fd f64.nrrd --csv f64.csv
+expect 0 'mean FD' -- "$bin" -q fd f64.nrrd --as float32 --csv f64as32.csv
+expect 0 'float32' -- "$bin" info f64.nrrd --as float32
+python3 - <<'PY' && pass || fail "int32 / float64 / --as float32 CSV against the definition"
+import struct
+def read(path, fmt, size, skip=0):
+    data = open(path, "rb").read()[skip:]
+    return list(struct.unpack("<%d%s" % (len(data) // size, fmt), data))
+def level(v, dims):
+    nx, ny, nz = dims
+    m = [(n - 1) // 2 + 1 for n in dims]
+    return [v[2 * x + nx * (2 * y + ny * 2 * z)] for z in range(m[2]) for y in range(m[1]) for x in range(m[0])], m
+def cube_counts(v, dims, iso):
+    nx, ny, nz = dims
+    out = [0] * len(iso)
+    for z in range(nz - 1):
+        for y in range(ny - 1):
+            for x in range(nx - 1):
+                c = [v[x + i + nx * (y + j + ny * (z + k))] for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+                a, b = min(c), max(c)
+                for s in range(len(iso)):
+                    if a < iso[s] <= b:
+                        out[s] += 1
+    return out
+def uniform(lo, hi, k=256):
+    s = []
+    for j in range(k):
+        x = lo + (j + 1) * (hi - lo) / k
+        if not s or s[-1] < x:
+            s.append(x)
+    return s
+def f32(x):
+    return struct.unpack("<f", struct.pack("<f", x))[0]
+def check(csv, v, iso, digits):
+    rows = [r.split(",") for r in open(csv).read().splitlines()[1:]]
+    assert len(rows) == len(iso), (csv, len(rows), len(iso))
+    back = (lambda x: f32(x)) if digits == 9 else (lambda x: x)  # 9 digits: float32 round trip
+    assert [back(float(r[0])) for r in rows] == iso, csv
+    assert all(len(r[0].replace("-", "").replace(".", "").split("e")[0].lstrip("0")) <= digits for r in rows), csv
+    dims = (9, 8, 7)
+    sub, sdims = level(v, dims)
+    assert [int(r[1]) for r in rows] == cube_counts(v, dims, iso), csv
+    assert [int(r[2]) for r in rows] == cube_counts(sub, sdims, iso), csv
+    assert sum(int(r[1]) for r in rows) > 0, csv
+w = read("w_9x8x7_int32.raw", "i", 4)
+check("w.csv", w, uniform(min(w), max(w)), 17)
+header = open("f64.nrrd", "rb").read().index(b"\n\n") + 2
+d = read("f64.nrrd", "d", 8, header)
+check("f64.csv", d, uniform(min(d), max(d)), 17)
+assert any(len(r.split(",")[0]) > 12 for r in open("f64.csv").read().splitlines()[1:])  # 17 digits printed
+d32 = [f32(x) for x in d]
+iso32 = []
+for x in uniform(min(d32), max(d32)):
+    if not iso32 or iso32[-1] < f32(x):
+        iso32.append(f32(x))
+check("f64as32.csv", d32, iso32, 9)
+PY
+expect 0 'streamed, mmap' -- "$bin" -q fd w_9x8x7_int32.raw --stream --csv w_stream.csv
+cmp -s w.csv w_stream.csv && pass || fail "int32 streamed CSV differs from the in-core CSV"
+expect 0 'mean FD' -- "$bin" -q fd w_9x8x7_int32.raw --isovalues -2147483648:2147483647:1073741823.5 --csv w_list.csv
+[ "$(wc -l < w_list.csv)" -eq 6 ] && pass || fail "int32 float64 isovalue range rows: $(wc -l < w_list.csv)"
+expect 0 'float64' -- "$bin" -q filter f64.nrrd --median -o f64_median.nrrd
+expect 0 'float64' -- "$bin" info f64_median.nrrd
+expect 0 'compared as float64' -- "$bin" -q local f64.nrrd --iso 1.2 --window 4 -o f64_ld.nrrd
+expect 0 'int32' -- "$bin" -q smooth w_9x8x7_int32.raw --iso 0.5 --threshold 2.2 -o w_smooth.nrrd
+expect 0 'every isovalue equals' -- "$bin" -q components f64.nrrd --bins 16 --verify
+expect 2 "clfractal: error: unknown value type 'int64'" -- "$bin" fd f64.nrrd --as int64
+head -c 64 /dev/zero > z_2x2x2_int64.raw
+expect 2 "clfractal: error: .*z_2x2x2_int64.raw.*unknown value type 'int64'" -- "$bin" fd z_2x2x2_int64.raw
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

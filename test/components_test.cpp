@@ -5,6 +5,7 @@
 // correlation against a plain two-pass Pearson.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -59,7 +60,7 @@ Volume binary(Dims d, const std::function<bool(double, double, double)>& inside)
 }
 
 const Connectivity modes[] = {Connectivity::cube, Connectivity::freudenthal};
-const ValueType types[] = {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32};
+const auto& types = all_value_types;
 
 }  // namespace
 
@@ -73,7 +74,10 @@ TEST_CASE("sweep equals the labelling identity on random grids, every isovalue, 
         for (ValueType t : types)
             for (Connectivity m : modes) {
                 // Few levels (many ties) and many levels; negative values for int16 and float.
-                const long lo = t == ValueType::int16 || t == ValueType::float32 ? -6 : 0;
+                const long lo = t == ValueType::int16 || t == ValueType::float32 || t == ValueType::int8 ? -6
+                                : t == ValueType::int32                                           ? -2147483647 - 1
+                                : t == ValueType::uint32 ? 4294967000
+                                : t == ValueType::float64 ? -6 : 0;
                 CAPTURE(dims_string(d));
                 CAPTURE(value_type_name(t));
                 CAPTURE(connectivity_name(m));
@@ -100,6 +104,19 @@ TEST_CASE("wide value ranges: uint16 and int16 extremes, float isovalue lists") 
         // A float list that includes values below, at and above the data.
         Volume f = testutil::random_volume({8, 6, 5}, ValueType::float32, -20, 20, 79);
         CHECK(check_curve(f, m, IsovalueSet::floats({-100.f, -10.f, -0.5f, 0.f, 0.25f, 3.f, 9.5f, 10.f, 11.f, 100.f})) == 0);
+        // int32 and uint32 over their whole range (uniform float64 isovalues, key sort), and
+        // float64 values a float32 cannot tell apart (comparison sort, double isovalues).
+        for (ValueType t : {ValueType::int32, ValueType::uint32}) {
+            Volume w = testutil::random_volume({7, 6, 5}, t, long(type_min(t)), long(type_max(t)), 80);
+            REQUIRE(IsovalueSet::for_volume(w, 64).float64());
+            CHECK(check_curve(w, m) == 0);
+        }
+        Volume d(Dims{7, 8, 6}, ValueType::float64);
+        const Volume k = testutil::random_volume(d.dims(), ValueType::int16, 0, 12, 81);
+        for (std::size_t i = 0; i < d.vertices(); ++i) d.as<double>()[i] = 1 + std::ldexp(k.value(i), -40);
+        const ComponentCurve cd = count_components(testutil::ctx(), d, IsovalueSet::for_volume(d, 24), m);
+        CHECK(*std::max_element(cd.components.begin(), cd.components.end()) > 0);
+        CHECK(check_curve(d, m, IsovalueSet::for_volume(d, 24)) == 0);
     }
 }
 

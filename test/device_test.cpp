@@ -4,6 +4,9 @@
 #include <cstdlib>
 
 #include "clfractal/device.hpp"
+#include "clfractal/filter.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/span.hpp"
 #include "test_util.hpp"
 
 using namespace clfractal;
@@ -86,6 +89,42 @@ TEST_CASE("launch sizes are checked before enqueueing") {
                          DeviceError);
     CHECK_THROWS_WITH_AS(ctx().launch(k, cl::NDRange(1 << 20), cl::NDRange(1 << 20)),
                          doctest::Contains("CL_KERNEL_WORK_GROUP_SIZE"), DeviceError);
+}
+
+TEST_CASE("without cl_khr_fp64: one clear error naming the extension and --as float32") {
+    // This device has the extension (PoCL CPU); clearing Tuning::allow_fp64 makes it behave
+    // as one without it.
+    testutil::TuningGuard guard;
+    REQUIRE(ctx().has_fp64());
+    const clfractal::Volume f64 = testutil::random_volume({6, 5, 4}, clfractal::ValueType::float64, -9, 9, 1);
+    const clfractal::Volume i32 = testutil::random_volume({6, 5, 4}, clfractal::ValueType::int32, -9, 9, 2);
+    CHECK(clfractal::count_spans(ctx(), f64, clfractal::IsovalueSet::for_volume(f64)).curves.size() == 1);
+    ctx().tuning.allow_fp64 = false;
+    const auto clear = [](auto&& f) {
+        try {
+            f();
+        } catch (const clfractal::InputError& e) {
+            const std::string m = e.what();
+            return m.find("cl_khr_fp64") != std::string::npos && m.find("--as float32") != std::string::npos &&
+                   m.find(ctx().description()) != std::string::npos && m.find('\n') == std::string::npos;
+        }
+        return false;
+    };
+    // Programs already built and cached for float64 are refused as well.
+    CHECK(clear([&] { clfractal::count_spans(ctx(), f64, clfractal::IsovalueSet::for_volume(f64)); }));
+    CHECK(clear([&] { clfractal::local_fractal_dimension(ctx(), f64, 0.5, 4); }));
+    CHECK(clear([&] { clfractal::median_filter(ctx(), f64); }));
+    // int32 and uint32 filters accumulate in double; their median and counts need no fp64.
+    CHECK(clear([&] { clfractal::gaussian_filter(ctx(), i32, 1.0); }));
+    CHECK(clfractal::median_filter(ctx(), i32).type() == clfractal::ValueType::int32);
+    CHECK(clfractal::count_spans(ctx(), i32, clfractal::IsovalueSet::for_volume(i32)).curves.size() == 1);
+    // A wide int32 range compares against float64 isovalues: double again.
+    clfractal::Volume wide = i32;
+    wide.as<std::int32_t>()[0] = 2000000000;
+    CHECK(clear([&] { clfractal::count_spans(ctx(), wide, clfractal::IsovalueSet::for_volume(wide)); }));
+    // Converted on read (--as float32), everything runs.
+    const clfractal::Volume f32 = clfractal::convert_volume(f64, clfractal::ValueType::float32);
+    CHECK(clfractal::count_spans(ctx(), f32, clfractal::IsovalueSet::for_volume(f32)).curves.size() == 1);
 }
 
 }  // TEST_SUITE("device")

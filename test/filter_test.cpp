@@ -19,17 +19,17 @@ using testutil::ctx;
 
 namespace {
 
-// Tolerances against the exact result x (double):
-//  - float data: |got - x| <= 1e-5 (1 + |x|) (float32 accumulation of at most a few hundred
-//    terms);
-//  - integer data: |got - clamp(x)| <= 0.5 + 1e-5 (1 + |x|), i.e. correctly rounded except
-//    where x is within float32 accumulation error of a tie, where it may round the other way
+// Tolerances against the exact result x (double), with e the accumulation's relative error:
+// 1e-5 for float32 accumulation (at most a few hundred terms), 1e-12 for double (int32,
+// uint32, float64: include/clfractal/filter.hpp):
+//  - float data: |got - x| <= e (1 + |x|);
+//  - integer data: |got - clamp(x)| <= 0.5 + e (1 + |x|), i.e. correctly rounded except
+//    where x is within accumulation error of a tie, where it may round the other way
 //    (at most 1 level off).
 bool within(ValueType t, double got, double x) {
-    if (t == ValueType::float32) return std::fabs(got - x) <= 1e-5 * (1 + std::fabs(x));
-    const double lo = t == ValueType::uint8 ? 0 : t == ValueType::uint16 ? 0 : -32768;
-    const double hi = t == ValueType::uint8 ? 255 : t == ValueType::uint16 ? 65535 : 32767;
-    return std::fabs(got - std::clamp(x, lo, hi)) <= 0.5 + 1e-5 * (1 + std::fabs(x));
+    const double e = is_wide(t) ? 1e-12 : 1e-5;
+    if (!is_integer(t)) return std::fabs(got - x) <= e * (1 + std::fabs(x));
+    return std::fabs(got - std::clamp(x, type_min(t), type_max(t))) <= 0.5 + e * (1 + std::fabs(x));
 }
 
 void check_close(const Volume& got, const std::vector<double>& want) {
@@ -80,6 +80,9 @@ Volume test_volume(const Dims& d, ValueType t, std::uint32_t seed) {
     case ValueType::uint8: return testutil::random_volume(d, t, 0, 255, seed);
     case ValueType::uint16: return testutil::random_volume(d, t, 0, 65535, seed);
     case ValueType::int16: return testutil::random_volume(d, t, -32768, 32767, seed);
+    case ValueType::int8:
+    case ValueType::int32:
+    case ValueType::uint32: return testutil::random_volume(d, t, long(type_min(t)), long(type_max(t)), seed);
     default: return testutil::random_volume(d, t, -200, 200, seed);
     }
 }
@@ -219,6 +222,41 @@ TEST_CASE("targeted filter changes exactly the vertices with LD > h") {
                             }
                         }
                 }
+            }
+    }
+}
+
+TEST_CASE("revision 2 types: median exact, Gaussian and bilateral within tolerance, targeted and LD-guided") {
+    testutil::TuningGuard guard;
+    std::uint32_t seed = 400;
+    for (const char* variant : variants) {
+        ctx().tuning.filter_variant = variant;
+        for (ValueType t : {ValueType::int8, ValueType::int32, ValueType::uint32, ValueType::float64})
+            for (const Dims& d : {Dims{2, 2, 2}, Dims{1, 5, 7}, Dims{19, 6, 9}, Dims{33, 4, 3}}) {
+                CAPTURE(variant);
+                CAPTURE(value_type_name(t));
+                CAPTURE(dims_string(d));
+                const Volume v = test_volume(d, t, seed++);
+                check_equal(median_filter(ctx(), v), reference::median_filter(v));
+                const Volume g = gaussian_filter(ctx(), v, 1.0);
+                CHECK(g.type() == t);
+                check_close(g, reference::gaussian_filter(v, 1.0));
+                const Volume small = testutil::random_volume(d, t, 0, 40, seed++);
+                check_close(bilateral_filter(ctx(), small, 1.0, 12.0), reference::bilateral_filter(small, 1.0, 12.0));
+                // Targeted (h = 2: a mixed selection) and LD-guided, against the full filters.
+                const double iso = 20;
+                const Volume ld = local_fractal_dimension(ctx(), small, iso, 4);
+                for (const FilterSpec& s : {FilterSpec::median(), FilterSpec::gaussian(0.8), FilterSpec::bilateral(1, 4)}) {
+                    CAPTURE(s.describe());
+                    const Volume full = apply_filter(ctx(), small, s);
+                    const TargetedResult r = targeted_filter(ctx(), small, s, iso, 2.0, 4);
+                    std::size_t bad = 0;
+                    for (std::size_t i = 0; i < small.vertices(); ++i)
+                        bad += r.volume.value(i) != (ld.as<float>()[i] > 2.0f ? full.value(i) : small.value(i));
+                    CHECK(bad == 0);
+                }
+                const TargetedResult lb = ld_bilateral_filter(ctx(), small, 1, 6, iso, 4);
+                check_close(lb.volume, reference::bilateral_filter(small, 1, 6, ld.as<float>()));
             }
     }
 }

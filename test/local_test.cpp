@@ -2,6 +2,7 @@
 // same NaN pattern exactly, values within 1e-6.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -64,6 +65,10 @@ const Case cases[] = {
     {{17, 9, 5}, ValueType::uint16, 1000, 1006}, {{11, 13, 7}, ValueType::int16, -5, 5},
     {{19, 6, 9}, ValueType::float32, -8, 8},    {{16, 16, 16}, ValueType::uint8, 0, 3},
     {{15, 14, 13}, ValueType::float32, -3, 3},
+    // Revision 2 types: values where a float32 isovalue would round (int32 near 2^31,
+    // uint32 near 2^32), int8, float64.
+    {{13, 9, 8}, ValueType::int32, 2147483000, 2147483006}, {{9, 11, 7}, ValueType::uint32, 4294967280, 4294967290},
+    {{8, 7, 9}, ValueType::int8, -3, 3},                    {{11, 6, 10}, ValueType::float64, -8, 8},
 };
 
 // Isovalues of a case: a vertex value, a value between vertex values (for integer data a
@@ -104,7 +109,7 @@ TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy g
     };
     std::vector<Input> inputs;
     std::uint32_t seed = 50;
-    for (const Case& c : {cases[2], cases[3], cases[7], cases[9], cases[10], cases[11]})
+    for (const Case& c : {cases[2], cases[3], cases[7], cases[9], cases[10], cases[11], cases[13], cases[16]})
         for (int k : {2, 6}) {
             Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
             const double iso = isovalues(c)[1];
@@ -130,6 +135,19 @@ TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy g
                 }
     ctx().tuning.local_variant = "no-such-variant";
     CHECK_THROWS_AS(local_fractal_dimension(ctx(), inputs[0].v, 1, 2), std::logic_error);
+}
+
+TEST_CASE("float64 LD compares in double: values a float32 cannot tell apart") {
+    Volume v(Dims{12, 10, 9}, ValueType::float64);
+    const Volume k = testutil::random_volume(v.dims(), ValueType::int16, 0, 40, 61);
+    for (std::size_t i = 0; i < v.vertices(); ++i) v.as<double>()[i] = 1 + std::ldexp(k.value(i), -40);
+    const double iso = 1 + std::ldexp(20.5, -40);
+    CHECK(check_field(local_fractal_dimension(ctx(), v, iso, 4), ref::local_dimension_brute(v, iso, 4)) > 100);
+    CHECK(check_field(local_fractal_dimension_openmp(v, iso, 4), ref::local_dimension_brute(v, iso, 4)) > 100);
+    // In float32 every value and the isovalue are 1: nothing is intersected.
+    const Volume f = convert_volume(v, ValueType::float32);
+    const Volume ld = local_fractal_dimension(ctx(), f, iso, 4);
+    CHECK(std::all_of(ld.as<float>(), ld.as<float>() + ld.vertices(), [](float x) { return std::isnan(x); }));
 }
 
 TEST_CASE("the OpenMP baseline and the summed-area reference equal the brute force") {

@@ -94,6 +94,8 @@ TEST_CASE("one vertex per intersected grid edge: the count is E(s) from count_sp
         {{2, 2, 2}, ValueType::uint8, 0, 5},      {{9, 8, 7}, ValueType::uint8, 0, 20},
         {{5, 11, 3}, ValueType::uint16, 990, 1020}, {{7, 6, 9}, ValueType::int16, -15, 15},
         {{8, 9, 6}, ValueType::float32, -20, 20}, {{13, 2, 5}, ValueType::int16, -3, 3},
+        {{6, 7, 5}, ValueType::int8, -128, -100}, {{7, 5, 6}, ValueType::int32, 2147483620, 2147483647},
+        {{5, 6, 7}, ValueType::uint32, 4294967270, 4294967295}, {{8, 6, 7}, ValueType::float64, -20, 20},
     };
     std::uint32_t seed = 3;
     for (const Case& c : cases) {
@@ -105,9 +107,10 @@ TEST_CASE("one vertex per intersected grid edge: the count is E(s) from count_sp
         // multiple of 1/4 in the range, so half of the isovalues equal vertex values.
         IsovalueSet iso = IsovalueSet::for_volume(v);
         if (!iso.integer()) {
-            std::vector<float> s;
-            for (long k = 2 * c.lo; k <= 2 * c.hi + 1; ++k) s.push_back(float(k) / 4);
-            iso = IsovalueSet::floats(s);
+            std::vector<double> s;
+            for (long k = 2 * c.lo; k <= 2 * c.hi + 1; ++k) s.push_back(double(k) / 4);
+            iso = c.t == ValueType::float64 ? IsovalueSet::doubles(s)
+                                            : IsovalueSet::floats(std::vector<float>(s.begin(), s.end()));
         }
         const auto edges = count_spans(ctx(), v, iso, SpanOptions{{SpanKind::edges}, 1, 0}).get(SpanKind::edges).counts[0];
         const auto freudenthal = ref::freudenthal_edges_brute(v, iso);

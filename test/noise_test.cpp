@@ -208,14 +208,17 @@ TEST_CASE("Counter-based draws: uniform is the top of uniform_noise, Gaussian ha
 
 TEST_CASE("Device noise equals the host definition on every vertex, for every slab split") {
     const std::vector<Dims> sizes{{7, 5, 3}, {1, 1, 13}, {2, 3, 1}, {17, 2, 11}, {31, 29, 7}};
-    const std::vector<ValueType> types{ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32};
     for (const Dims& d : sizes)
-        for (ValueType t : types) {
-            const long lo = t == ValueType::int16 ? -300 : 0, hi = t == ValueType::uint8 ? 255 : 700;
+        for (ValueType t : all_value_types) {
+            // The integer types' extremes are reached (clamps); int32/uint32/float64 add in double.
+            long lo = t == ValueType::int16 ? -300 : 0, hi = t == ValueType::uint8 ? 255 : 700;
+            if (t == ValueType::int8) lo = -128, hi = 127;
+            if (t == ValueType::int32) lo = -2147483647 - 1, hi = 2147483647;
+            if (t == ValueType::uint32) lo = 4294967000, hi = 4294967295;
             const Volume v = testutil::random_volume(d, t, lo, hi, 21);
             for (bool keep : {false, true}) {
                 NoiseOptions opt;
-                opt.amplitude = t == ValueType::uint8 ? 40 : 2.5;  // uint8 hits both clamps
+                opt.amplitude = t == ValueType::uint8 || t == ValueType::int8 ? 40 : 2.5;  // hits both clamps
                 opt.seed = 99;
                 opt.keep_type = keep;
                 const Volume ref = add_noise_host(v, opt);

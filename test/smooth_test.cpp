@@ -105,6 +105,10 @@ const Case cases[] = {
     {{11, 13, 7}, ValueType::int16, -9, 9},      {{19, 6, 9}, ValueType::float32, -8, 8},
     {{16, 16, 16}, ValueType::uint8, 0, 6},      {{15, 14, 13}, ValueType::float32, -7, 7},
     {{23, 19, 17}, ValueType::int16, -32768, -32758},
+    // Revision 2 types; int32 and uint32 near their maxima (a float32 isovalue would round),
+    // int8 at its minimum (the gaussian variant clamps there).
+    {{13, 9, 8}, ValueType::int32, 2147483000, 2147483012}, {{9, 11, 7}, ValueType::uint32, 4294967270, 4294967290},
+    {{11, 8, 9}, ValueType::int8, -128, -118},              {{12, 7, 10}, ValueType::float64, -8, 8},
 };
 
 double mid_isovalue(const Case& c) {

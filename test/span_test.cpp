@@ -1,6 +1,8 @@
 // Span counts on the device against the plain reference (test/reference), exactly.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -42,6 +44,13 @@ const Case cases[] = {
     {{31, 17, 23}, ValueType::uint16, 1000, 1100},
     // x-rows of 64 and 65 cubes and longer: the CPU kernel works in chunks of 64 cubes.
     {{66, 4, 3}, ValueType::uint8, 0, 255},    {{129, 3, 2}, ValueType::float32, -50, 50},
+    // The types of revision 2: int8; int32 and uint32 with narrow ranges far from 0 (every
+    // integer) and with the whole type's range (uniform float64 isovalues); float64.
+    {{13, 7, 11}, ValueType::int8, -128, 127}, {{5, 1, 7}, ValueType::int8, -3, 3},
+    {{11, 9, 7}, ValueType::int32, 1000000000, 1000000300},
+    {{12, 7, 9}, ValueType::int32, -2147483647 - 1, 2147483647},
+    {{9, 11, 6}, ValueType::uint32, 0, 4294967295}, {{10, 8, 9}, ValueType::uint32, 4294967000, 4294967295},
+    {{19, 6, 9}, ValueType::float64, -20, 20}, {{67, 3, 4}, ValueType::float64, -300, 300},
 };
 
 }  // namespace
@@ -228,7 +237,8 @@ TEST_CASE("every kernel variant gives the reference counts") {
         ctx().tuning.private_items = var.items;
         ctx().tuning.local_hist_bytes = var.local_hist_bytes;
         ctx().tuning.zero_copy = var.zero_copy;
-        for (const Case& c : {cases[6], cases[8], cases[9], cases[11], cases[1], cases[4]}) {
+        for (const Case& c : {cases[6], cases[8], cases[9], cases[11], cases[1], cases[4], cases[17], cases[19],
+                              cases[20], cases[21], cases[23]}) {
             CAPTURE(var.name); CAPTURE(var.work_group); CAPTURE(var.items); CAPTURE(var.local_hist_bytes);
             CAPTURE(var.zero_copy);
             Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
@@ -248,7 +258,96 @@ TEST_CASE("the OpenMP baseline gives the reference counts") {
     }
 }
 
+TEST_CASE("float64 and wide int32/uint32 data: isovalues in the data's own type, compared exactly") {
+    testutil::TuningGuard guard;
+    SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 2, 0};
+    const auto counted = [](const SpanResult& r) {
+        std::uint64_t n = 0;
+        for (auto& c : r.curves) n += *std::max_element(c.counts[0].begin(), c.counts[0].end());
+        return n;
+    };
+    // float64 values 1 + k 2^-40: all of them are 1.0f in float32, so a float32 shortcut
+    // counts nothing. Isovalues on the values (ties) and between them.
+    Volume f(Dims{15, 12, 11}, ValueType::float64);
+    Volume k = testutil::random_volume(f.dims(), ValueType::int16, 0, 40, 3);
+    for (std::size_t i = 0; i < f.vertices(); ++i) f.as<double>()[i] = 1 + std::ldexp(k.value(i), -40);
+    std::vector<double> s;
+    for (int j = 0; j <= 80; ++j) s.push_back(1 + std::ldexp(0.5 * j, -40));
+    const IsovalueSet fs = IsovalueSet::doubles(s);
+    // The same comparisons in float32 find nothing: the check below can fail.
+    const Volume f32 = convert_volume(f, ValueType::float32);
+    const IsovalueSet fs32 = IsovalueSet::floats({float(s[41])});
+    CHECK(fs32.value(0) == 1.0);
+    CHECK(ref::cubes_brute(f32, fs32) == std::vector<std::uint64_t>{0});
+    const IsovalueSet fdef = IsovalueSet::for_volume(f, 64);
+    CHECK(fdef.float64());
+    for (const IsovalueSet& iso : {fs, fdef})
+        for (const char* variant : {"private", "atomic"}) {
+            CAPTURE(variant);
+            ctx().tuning.span_variant = variant;
+            const SpanResult r = count_spans(ctx(), f, iso, opt);
+            check_against_reference(f, iso, r, 2);
+            CHECK(counted(r) > 100);
+            check_against_reference(f, iso, count_spans_openmp(f, iso, opt), 2);
+        }
+    ctx().tuning = guard.saved;
+
+    // int32 values just below 2^31 and uint32 values just below 2^32, 0..300 apart, with the
+    // type's extremes present (a wide range: uniform float64 isovalues by default).
+    // Isovalues on every value and halfway: float32 would merge 64 neighbours into one.
+    for (ValueType t : {ValueType::int32, ValueType::uint32}) {
+        CAPTURE(value_type_name(t));
+        const double top = type_max(t);
+        Volume v = testutil::random_volume(Dims{13, 9, 10}, t, long(top) - 300, long(top), 8);
+        visit(v, [&](auto* p) { p[0] = decltype(p[0] + 0)(type_min(t)); });
+        const IsovalueSet def = IsovalueSet::for_volume(v, 256);
+        CHECK(def.float64());
+        CHECK(def.size() == 256);
+        CHECK(def.value(255) == top);
+        const IsovalueSet fine =
+            IsovalueSet::parse_range(std::to_string(long(top) - 301) + ".5:" + std::to_string(long(top)) + ":0.5", t);
+        REQUIRE(fine.float64());
+        CHECK(fine.size() == 602);
+        for (const IsovalueSet& iso : {def, fine}) {
+            const SpanResult r = count_spans(ctx(), v, iso, opt);
+            check_against_reference(v, iso, r, 2);
+            check_against_reference(v, iso, count_spans_openmp(v, iso, opt), 2);
+            CHECK(counted(r) > 0);
+        }
+        // The narrow part alone: every integer, 2^31 - 1 and 2^32 - 1 included.
+        const IsovalueSet ints = IsovalueSet::parse_range(std::to_string(long(top) - 300) + ":" +
+                                                              std::to_string(long(top)) + ":1", t);
+        REQUIRE(ints.integer());
+        check_against_reference(v, ints, count_spans(ctx(), v, ints, opt), 2);
+    }
+}
+
 TEST_CASE("isovalue sets: parsing and validation") {
+    // The default set: every integer up to 65,536 of them, else uniform float64 values.
+    CHECK(IsovalueSet::for_range(ValueType::int32, -5, 65530).integer());
+    CHECK(IsovalueSet::for_range(ValueType::int32, -5, 65531).float64());
+    CHECK(IsovalueSet::for_range(ValueType::uint32, 0, 4294967295.0, 10).size() == 10);
+    CHECK(IsovalueSet::for_range(ValueType::int8, -128, 127).size() == 256);
+    CHECK(IsovalueSet::for_range(ValueType::float64, 0, 1, 3).float64());
+    CHECK_FALSE(IsovalueSet::for_range(ValueType::float32, 0, 1, 3).float64());
+    CHECK(IsovalueSet::uniform(0, 1, 3, ValueType::float64).value(0) == 1.0 / 3);
+    CHECK(IsovalueSet::uniform(0, 1, 3, ValueType::float32).value(0) == double(float(1.0 / 3)));
+    // Round-trip text: 9 significant digits for float32, 17 for float64.
+    CHECK(IsovalueSet::doubles({0.1}).text(0) == "0.10000000000000001");
+    CHECK(IsovalueSet::floats({0.1f}).text(0) == "0.100000001");
+    CHECK(IsovalueSet::integers(-3, 4).text(1) == "-2");
+    CHECK(IsovalueSet::single(ValueType::int32, 2147483000.5).value(0) == 2147483001.0);
+    CHECK(IsovalueSet::single(ValueType::float64, 0.1).value(0) == 0.1);
+    CHECK(IsovalueSet::single(ValueType::float32, 0.1).value(0) == double(0.1f));
+    CHECK(IsovalueSet::parse_range("0:10:2", ValueType::int32).float64());
+    CHECK(IsovalueSet::parse_range("0:10:1", ValueType::uint32).integer());
+    CHECK_THROWS_AS(IsovalueSet::parse_range("0:10:2", ValueType::int8), InputError);
+    CHECK_THROWS_AS(IsovalueSet::integers(0, std::int64_t(1) << 24), InputError);
+    CHECK(IsovalueSet::doubles({1, 2}).matches(ValueType::int32));
+    CHECK_FALSE(IsovalueSet::doubles({1, 2}).matches(ValueType::int16));
+    CHECK_FALSE(IsovalueSet::floats({1, 2}).matches(ValueType::float64));
+    CHECK_THROWS_AS(count_spans(ctx(), Volume(Dims{2, 2, 2}, ValueType::float64), IsovalueSet::floats({1})),
+                    std::logic_error);
     IsovalueSet r = IsovalueSet::parse_range("0.5:2:0.5", ValueType::float32);
     CHECK(r.size() == 4);
     CHECK(r.value(3) == 2.0);

@@ -59,6 +59,8 @@ const Case cases[] = {
     {{5, 1, 19}, ValueType::int16, -4, 4},     {{2, 2, 11}, ValueType::float32, -6, 6},
     {{13, 3, 37}, ValueType::int16, -300, 40}, {{6, 7, 137}, ValueType::float32, -20, 20},
     {{3, 4, 1}, ValueType::uint8, 0, 3},
+    {{5, 4, 70}, ValueType::int32, -2147483647 - 1, 2147483647}, {{4, 6, 23}, ValueType::float64, -9, 9},
+    {{6, 3, 21}, ValueType::uint32, 4294967000, 4294967295},     {{3, 5, 17}, ValueType::int8, -128, 127},
 };
 
 class TempDir {
@@ -219,6 +221,7 @@ TEST_CASE("streamed LD equals the whole-volume field: all types, windows, batche
         {{9, 7, 23}, ValueType::uint8, 0, 10},   {{6, 11, 17}, ValueType::uint16, 0, 10},
         {{5, 4, 20}, ValueType::int16, -5, 5},   {{8, 6, 15}, ValueType::float32, -5, 5},
         {{4, 3, 3}, ValueType::uint8, 0, 10},    {{3, 3, 1}, ValueType::uint8, 0, 10},
+        {{5, 6, 13}, ValueType::int32, -3, 4},   {{6, 5, 12}, ValueType::float64, -5, 5},
     };
     std::uint32_t seed = 21;
     for (const Case& c : ld_cases) {
@@ -314,7 +317,7 @@ TEST_CASE("out-of-core LD: tiny z-slabs give the in-core field exactly") {
 TEST_CASE("slice readers equal read_volume: raw, big-endian raw, NRRD raw/gzip, detached header, float64") {
     TempDir dir;
     std::uint32_t seed = 41;
-    for (ValueType t : {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32}) {
+    for (ValueType t : all_value_types) {
         CAPTURE(value_type_name(t));
         const Volume v = testutil::random_volume(Dims{11, 6, 9}, t, -100, 200, seed++);
         const std::string raw = dir.file(std::string("v_11x6x9_") + value_type_name(t) + ".raw");
@@ -367,11 +370,12 @@ TEST_CASE("slice readers equal read_volume: raw, big-endian raw, NRRD raw/gzip, 
         }
     }
 
-    // A detached header pointing at a raw file, and float64 data converted to float32.
-    const Volume f = testutil::random_volume(Dims{5, 4, 6}, ValueType::float32, -9, 9, 7);
-    std::vector<double> doubles(f.vertices());
-    for (std::size_t i = 0; i < f.vertices(); ++i) doubles[i] = double(f.as<float>()[i]);
-    write_bytes(dir.file("d.raw"), doubles.data(), doubles.size() * 8);
+    // A detached header pointing at a raw file of float64 data (values float32 does not
+    // hold), read as it is and converted on read (--as float32, --as int16).
+    Volume f(Dims{5, 4, 6}, ValueType::float64);
+    const Volume base = testutil::random_volume(f.dims(), ValueType::float32, -9, 9, 7);
+    for (std::size_t i = 0; i < f.vertices(); ++i) f.as<double>()[i] = base.value(i) + 1e-9 * double(i);
+    write_bytes(dir.file("d.raw"), f.data(), f.size_bytes());
     {
         std::ofstream h(dir.file("d.nhdr"));
         h << "NRRD0004\ntype: double\ndimension: 3\nsizes: 5 4 6\nencoding: raw\nendian: little\ndata file: d.raw\n";
@@ -379,6 +383,13 @@ TEST_CASE("slice readers equal read_volume: raw, big-endian raw, NRRD raw/gzip, 
     CHECK(std::string(SliceReader(dir.file("d.nhdr")).method()) == "mmap");
     CHECK(same_bytes(read_by_slices(dir.file("d.nhdr"), 2), f));
     CHECK(same_bytes(read_by_slices(dir.file("d.nhdr"), 2), read_volume(dir.file("d.nhdr"))));
+    for (ValueType as : {ValueType::float32, ValueType::int16}) {
+        RawOptions opt;
+        opt.as = as;
+        CHECK(SliceReader(dir.file("d.nhdr"), opt).type() == as);
+        CHECK(same_bytes(read_by_slices(dir.file("d.nhdr"), 4, opt), convert_volume(f, as)));
+        CHECK(same_bytes(read_by_slices(dir.file("d.nhdr"), 4, opt), read_volume(dir.file("d.nhdr"), opt)));
+    }
 
     // synthetic: specs are read whole and served slice by slice.
     CHECK(std::string(SliceReader("synthetic:sphere:12").method()) == "memory");

@@ -25,8 +25,7 @@ using namespace clfractal;
 
 namespace {
 
-const ValueType all_types[] = {ValueType::uint8, ValueType::uint16, ValueType::int16,
-                               ValueType::float32};
+const auto& all_types = all_value_types;
 
 /// A fresh directory under the system temp directory, removed with its contents.
 class TempDir {
@@ -105,8 +104,8 @@ Volume pattern(Dims d, ValueType t) {
     visit(v, [n = v.vertices()](auto* p) {
         using T = std::remove_pointer_t<decltype(p)>;
         for (std::size_t i = 0; i < n; ++i) {
-            if constexpr (std::is_same_v<T, float>)
-                p[i] = static_cast<float>(i) * 0.37f - 5.5f;
+            if constexpr (std::is_floating_point_v<T>)
+                p[i] = static_cast<T>(i) * T(0.37) - T(5.5);  // float64: not float32 values
             else if (i == 0)
                 p[i] = std::numeric_limits<T>::min();
             else if (i == 1)
@@ -123,15 +122,6 @@ void check_same(const Volume& a, const Volume& b) {
     REQUIRE(a.type() == b.type());
     REQUIRE(a.size_bytes() == b.size_bytes());
     CHECK(std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
-}
-
-const char* nrrd_type_name(ValueType t) {
-    switch (t) {
-    case ValueType::uint8: return "uchar";
-    case ValueType::uint16: return "ushort";
-    case ValueType::int16: return "short";
-    default: return "float";
-    }
 }
 
 std::string nrrd_header(const std::string& type, const std::string& sizes,
@@ -157,12 +147,34 @@ TEST_CASE("value types: sizes, names, parsing") {
     CHECK(value_size(ValueType::uint16) == 2);
     CHECK(value_size(ValueType::int16) == 2);
     CHECK(value_size(ValueType::float32) == 4);
+    CHECK(value_size(ValueType::int8) == 1);
+    CHECK(value_size(ValueType::int32) == 4);
+    CHECK(value_size(ValueType::uint32) == 4);
+    CHECK(value_size(ValueType::float64) == 8);
+    CHECK(std::size(all_value_types) == 8);
     for (ValueType t : all_types) CHECK(parse_value_type(value_type_name(t)) == t);
+    for (ValueType t : all_types) CHECK(parse_value_type(opencl_type_name(t)) == t);
+    CHECK(std::string(opencl_type_name(ValueType::int8)) == "char");
+    CHECK(std::string(opencl_type_name(ValueType::uint32)) == "uint");
+    CHECK(std::string(opencl_type_name(ValueType::float64)) == "double");
+    CHECK(std::string(nrrd_type_name(ValueType::int8)) == "signed char");
+    CHECK(std::string(nrrd_type_name(ValueType::uint32)) == "unsigned int");
+    CHECK(type_min(ValueType::int8) == -128);
+    CHECK(type_max(ValueType::uint32) == 4294967295.0);
+    CHECK(type_min(ValueType::int32) == -2147483648.0);
+    CHECK(is_integer(ValueType::int8));
+    CHECK(is_integer(ValueType::uint32));
+    CHECK_FALSE(is_integer(ValueType::float64));
+    CHECK(is_wide(ValueType::int32));
+    CHECK(is_wide(ValueType::float64));
+    CHECK_FALSE(is_wide(ValueType::int16));
+    CHECK_FALSE(is_wide(ValueType::float32));
+    CHECK(contains(input_error([] { parse_value_type("int64"); }), "int64"));
+    CHECK(contains(input_error([] { parse_value_type("int64"); }), "float64"));
     CHECK(parse_value_type("uchar") == ValueType::uint8);
     CHECK(parse_value_type("ushort") == ValueType::uint16);
     CHECK(parse_value_type("short") == ValueType::int16);
     CHECK(parse_value_type("float") == ValueType::float32);
-    CHECK(contains(input_error([] { parse_value_type("int32"); }), "int32"));
     CHECK(is_integer(ValueType::int16));
     CHECK_FALSE(is_integer(ValueType::float32));
 }
@@ -217,9 +229,18 @@ TEST_CASE("raw names: NAME_XxYxZ_TYPE.raw") {
     REQUIRE(parse_raw_name("m4_31x22x25_float32.raw", d, t));
     CHECK(d == Dims{31, 22, 25});
     CHECK(t == ValueType::float32);
+    REQUIRE(parse_raw_name("sim_4x5x6_float64.raw", d, t));
+    CHECK(t == ValueType::float64);
+    REQUIRE(parse_raw_name("ct_4x5x6_int32.raw", d, t));
+    CHECK(t == ValueType::int32);
+    REQUIRE(parse_raw_name("ct_4x5x6_uint32.raw", d, t));
+    CHECK(t == ValueType::uint32);
+    REQUIRE(parse_raw_name("ct_4x5x6_int8.raw", d, t));
+    CHECK(t == ValueType::int8);
 
     for (const char* bad : {"bonsai.raw", "bonsai_256x256_uint8.raw", "bonsai_256x256x256x2_uint8.raw",
-                            "bonsai_256x256x256_int32.raw", "bonsai_256x256x256_uchar.raw",
+                            "bonsai_256x256x256_int64.raw", "bonsai_256x256x256_uchar.raw",
+                            "bonsai_256x256x256_double.raw",
                             "bonsai_256x256x256_uint8.dat", "bonsai_256x256x256_uint8.raw.gz",
                             "_256x256x256_uint8.raw", "b_256xx256x256_uint8.raw",
                             "b_256x256x256x_uint8.raw", "b_+2x2x2_uint8.raw", "b_2x2x2z_uint8.raw",
@@ -354,8 +375,13 @@ TEST_CASE("NRRD: hand-written gzip, space directions, float64") {
     write_file(f64, nrrd_header("double", "2 2 2", "endian: little\nencoding: raw\n") +
                         bytes_of(d64, sizeof d64));
     const Volume d = read_volume(f64);
-    REQUIRE(d.type() == ValueType::float32);
-    for (std::size_t i = 0; i < 8; ++i) CHECK(d.value(i) == static_cast<float>(d64[i]));
+    REQUIRE(d.type() == ValueType::float64);
+    for (std::size_t i = 0; i < 8; ++i) CHECK(d.value(i) == d64[i]);
+    RawOptions as;
+    as.as = ValueType::float32;
+    const Volume df = read_volume(f64, as);
+    REQUIRE(df.type() == ValueType::float32);
+    for (std::size_t i = 0; i < 8; ++i) CHECK(df.value(i) == double(static_cast<float>(d64[i])));
 }
 
 TEST_CASE("bad raw files name the file and the problem") {
@@ -376,11 +402,11 @@ TEST_CASE("bad raw files name the file and the problem") {
     CHECK(contains(m, unnamed));
     CHECK(contains(m, "needs --dims and --type"));
 
-    const std::string unknown_type = dir.file("t_4x4x4_int32.raw");
-    write_file(unknown_type, std::string(256, 'a'));
+    const std::string unknown_type = dir.file("t_4x4x4_int64.raw");
+    write_file(unknown_type, std::string(512, 'a'));
     m = input_error([&] { read_volume(unknown_type); });
     CHECK(contains(m, unknown_type));
-    CHECK(contains(m, "unknown value type 'int32'"));
+    CHECK(contains(m, "unknown value type 'int64'"));
 
     const std::string zero = dir.file("t_0x4x4_uint8.raw");
     write_file(zero, "");
@@ -422,7 +448,7 @@ TEST_CASE("NaN and Inf in float data are rejected with the vertex") {
                   ", at vertex (1,2,1)); counting, filtering and meshing need finite values");
         // `info` keeps them (FiniteCheck::keep) and counts them.
         const Volume kept = read_volume(path, {}, FiniteCheck::keep);
-        const NonFinite nf = count_non_finite(kept.as<float>(), kept.vertices());
+        const NonFinite nf = count_non_finite(kept.data(), kept.type(), kept.vertices());
         CHECK(nf.nan + nf.inf == 2);
         CHECK(nf.nan == (k == 1 ? 0u : 1u));
         CHECK(nf.first == 1 + 4 * (2 + 3 * 1));
@@ -437,6 +463,56 @@ TEST_CASE("NaN and Inf in float data are rejected with the vertex") {
     CHECK(input_error([&] { read_volume(nrrd); }) ==
           nrrd + ": float data contains 1 NaN value (the first, NaN, at vertex (0,0,0)); counting, filtering and "
                  "meshing need finite values");
+}
+
+TEST_CASE("float64 NaN is rejected; --as converts any type, rounding and saturating") {
+    TempDir dir;
+    std::vector<double> values(24, 0.5);
+    values[3 + 4 * (1 + 3 * 1)] = -std::numeric_limits<double>::infinity();  // vertex (3,1,1)
+    const std::string path = dir.file("f_4x3x2_float64.raw");
+    write_file(path, bytes_of(values.data(), values.size() * sizeof(double)));
+    CHECK(input_error([&] { read_volume(path); }) == path + ": float data contains 1 infinite value (the first, -Inf, at vertex (3,1,1)); counting, filtering and meshing need finite values");
+    RawOptions as;
+    as.as = ValueType::uint8;  // the check comes first, on the stored values
+    CHECK(contains(input_error([&] { read_volume(path, as); }), "-Inf, at vertex (3,1,1)"));
+
+    // Every conversion of the rules: integers round to nearest even and saturate; floats
+    // round to nearest and saturate to +-max.
+    const double in[] = {-1e300, -3e9, -2.5, -0.5, 0.5, 1.5, 2.5, 1e-300, 16777217.0, 4294967295.0, 5e9, 1e300};
+    Volume v(Dims{12, 1, 1}, ValueType::float64);
+    std::copy(std::begin(in), std::end(in), v.as<double>());
+    const Volume i8 = convert_volume(v, ValueType::int8), u32 = convert_volume(v, ValueType::uint32),
+                 i32 = convert_volume(v, ValueType::int32), f32 = convert_volume(v, ValueType::float32);
+    const double want_i8[] = {-128, -128, -2, -0.0, 0, 2, 2, 0, 127, 127, 127, 127};
+    const double want_u32[] = {0, 0, 0, 0, 0, 2, 2, 0, 16777217, 4294967295.0, 4294967295.0, 4294967295.0};
+    const double want_i32[] = {-2147483648.0, -2147483648.0, -2, 0, 0, 2, 2, 0, 16777217, 2147483647, 2147483647,
+                               2147483647};
+    for (std::size_t i = 0; i < 12; ++i) {
+        CAPTURE(in[i]);
+        CHECK(i8.value(i) == want_i8[i]);
+        CHECK(u32.value(i) == want_u32[i]);
+        CHECK(i32.value(i) == want_i32[i]);
+        CHECK(std::isfinite(f32.value(i)));
+        CHECK(f32.value(i) == double(float(std::clamp(in[i], -3.4028234663852886e38, 3.4028234663852886e38))));
+    }
+    // Exact whenever the target holds the value: int32 -> float64 -> int32.
+    Volume w(Dims{3, 1, 1}, ValueType::int32);
+    w.as<std::int32_t>()[0] = std::numeric_limits<std::int32_t>::min();
+    w.as<std::int32_t>()[1] = 16777217;  // not a float32
+    w.as<std::int32_t>()[2] = std::numeric_limits<std::int32_t>::max();
+    const Volume back = convert_volume(convert_volume(w, ValueType::float64), ValueType::int32);
+    CHECK(std::memcmp(back.data(), w.data(), w.size_bytes()) == 0);
+
+    // --as on a raw file: int32 read as int16 saturates, as float32 rounds.
+    const std::string raw = dir.file("w_3x1x1_int32.raw");
+    write_file(raw, bytes_of(w.data(), w.size_bytes()));
+    as.as = ValueType::int16;
+    const Volume s = read_volume(raw, as);
+    REQUIRE(s.type() == ValueType::int16);
+    CHECK(s.value(0) == -32768);
+    CHECK(s.value(1) == 32767);
+    as.as = ValueType::float32;
+    CHECK(read_volume(raw, as).value(1) == 16777216.0);
 }
 
 TEST_CASE("bad NRRD files name the file and teem's reason") {
@@ -454,9 +530,11 @@ TEST_CASE("bad NRRD files name the file and teem's reason") {
     check_bad("short_data.nrrd", nrrd_header("ushort", "4 4 4") + std::string(127, 'a'),
               "cannot read NRRD");
     check_bad("unknown_type.nrrd", nrrd_header("foo", "2 2 2") + "abcdefgh", "foo");
-    check_bad("int.nrrd", nrrd_header("int", "2 2 2", "endian: little\nencoding: raw\n") + std::string(32, 'a'),
-              "unsupported NRRD type 'int'");
-    check_bad("char.nrrd", nrrd_header("signed char", "2 2 2") + std::string(8, 'a'),
+    check_bad("int64.nrrd",
+              nrrd_header("long long", "2 2 2", "endian: little\nencoding: raw\n") + std::string(64, 'a'),
+              "unsupported NRRD type");
+    check_bad("uint64.nrrd",
+              nrrd_header("unsigned long long", "2 2 2", "endian: little\nencoding: raw\n") + std::string(64, 'a'),
               "unsupported NRRD type");
     check_bad("huge.nrrd", nrrd_header("uchar", "100000 100000 100000") + "abcdefgh",
               "dims 100000x100000x100000 exceed the maximum of 2^40 vertices");

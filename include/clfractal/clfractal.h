@@ -29,7 +29,17 @@ typedef enum clf_status {
     CLF_ERROR_INTERNAL = 4       /* anything else */
 } clf_status;
 
-typedef enum clf_type { CLF_UINT8 = 0, CLF_UINT16 = 1, CLF_INT16 = 2, CLF_FLOAT32 = 3 } clf_type;
+/* Value types. float64 needs a device with cl_khr_fp64 (else CLF_ERROR_INPUT naming it). */
+typedef enum clf_type {
+    CLF_UINT8 = 0,
+    CLF_UINT16 = 1,
+    CLF_INT16 = 2,
+    CLF_FLOAT32 = 3,
+    CLF_INT8 = 4,
+    CLF_INT32 = 5,
+    CLF_UINT32 = 6,
+    CLF_FLOAT64 = 7
+} clf_type;
 
 /* Box dimension counts intersected cubes (eq. 2.5), edge dimension grid edges (eq. 3.1). */
 typedef enum clf_kind { CLF_BOX = 0, CLF_EDGE = 1 } clf_kind;
@@ -41,12 +51,15 @@ typedef struct clf_stream clf_stream;   /* a volume arriving slice by slice */
 
 /* Options of a curve. Zero-initialise and set what you need; clf_curve_options_default
  * gives box dimension, 2 levels (eq. 2.5), default isovalues (every integer of the value
- * range, or 256 uniform float values). */
+ * range when it holds at most 65,536 integers, else 256 uniform values: float32 values for
+ * float32 data, float64 values for the others). */
 typedef struct clf_curve_options {
     clf_kind kind;
     int levels;              /* pyramid levels 0..levels-1, >= 2; 2 = the thesis' ratio */
-    size_t bins;             /* float data: number of uniform isovalues (0: 256) */
-    const float* isovalues;  /* float data: an explicit sorted list instead of bins */
+    size_t bins;             /* float and int32/uint32 data: number of uniform isovalues (0: 256) */
+    const float* isovalues;  /* float and int32/uint32 data: an explicit sorted list instead of
+                                bins (float64 isovalues with these values for float64, int32
+                                and uint32 data) */
     size_t isovalue_count;
 } clf_curve_options;
 
@@ -107,9 +120,10 @@ void clf_curve_summary(const clf_curve* curve, uint64_t min_count, clf_summary* 
 /* ---- slice streaming (scanner pipelines): memory for a few slices only ---- */
 
 /* A stream of nx * ny slices of `type`, pushed in z order. Its isovalues: options->isovalues
- * (float data), else every integer of `range` = {min, max} (integer data; NULL: the type's
- * whole range), else options->bins (default 256) uniform values over `range` (float data:
- * required, since the stream cannot know the values to come). options->levels as for
+ * (float and int32/uint32 data), else for integer data the default set of `range` = {min,
+ * max} (NULL: the type's whole range): every integer when it holds at most 65,536, else
+ * options->bins (default 256) uniform values; for float data options->bins uniform values
+ * over `range` (required, since the stream cannot know the values to come). options->levels as for
  * curves; both kinds (box and edge) are counted. */
 clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, clf_type type, const clf_curve_options* options,
                              const double* range, clf_stream** out);

@@ -38,15 +38,17 @@ struct ComponentCurve {
     double seconds = 0;                    ///< wall time of sorting, sweeps and prefix sum (no compilation)
 };
 
-/// components(s) for every isovalue of `iso` (integer data: integers, float data: compared
-/// as float32, exactly as the span counts). The ordering is a counting sort for 8/16-bit
-/// data (histogram on the device) and a parallel sort for float data; the two sweeps run
+/// components(s) for every isovalue of `iso` (integers or a list in the data's own type,
+/// compared exactly as the span counts). The ordering is a counting sort for integer data
+/// whose range holds at most 2^20 values (histogram on the device), else a parallel sort
+/// (32-bit keys for 32-bit types, comparisons for float64); the two sweeps run
 /// on the host (they are sequential). Memory: 8 bytes per vertex (16 above 2^32 vertices)
 /// beyond the volume.
 ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet& iso,
                                 Connectivity mode = Connectivity::cube);
 
-/// components(s) at one isovalue (float data: s rounded to float32).
+/// components(s) at one isovalue (IsovalueSet::single: integer data ceil(s), float32 data s
+/// rounded to float32, float64 data s).
 std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue,
                                  Connectivity mode = Connectivity::cube);
 

@@ -85,6 +85,9 @@ struct Tuning {
     /// Largest count total kept in 32-bit tables; above it tables are 64-bit. Tests
     /// lower it to force the 64-bit kernels.
     std::uint64_t sat_max_32bit = 0xffffffffu;
+    /// Whether programs may use double (-DFP64) on a device with cl_khr_fp64; tests clear
+    /// it to check the error a device without the extension gives.
+    bool allow_fp64 = true;
 };
 
 /// A context on one device with one in-order queue and a thread-safe program cache.
@@ -112,7 +115,9 @@ public:
 
     /// Program of `family` (kernels/<family>.cl, after kernels/common.cl) built with
     /// `options` (-D defines), compiled once per (family, options) and cached. Build
-    /// failures throw DeviceError with the options and the build log.
+    /// failures throw DeviceError with the options and the build log. Options with -DFP64
+    /// (double values or accumulators) on a device without cl_khr_fp64 (or with
+    /// tuning.allow_fp64 cleared) throw InputError naming the extension and `--as float32`.
     const cl::Program& program(const std::string& family, const std::string& options);
     /// A fresh kernel object (kernels carry their arguments, so each caller gets its own).
     cl::Kernel kernel(const std::string& family, const std::string& name, const std::string& options);

@@ -5,14 +5,19 @@
 // value of the nearest border vertex (scipy's mode='nearest').
 //   - median: the median of the 27 values of the 3×3×3 neighbourhood (exact, any type);
 //   - Gaussian: separable, radius r = ceil(3 sigma), normalised weights
-//     exp(-i^2 / (2 sigma^2)), i = -r..r, float32 accumulation along z, then y, then x;
+//     exp(-i^2 / (2 sigma^2)), i = -r..r, accumulation along z, then y, then x;
 //     integer outputs rounded to nearest (ties to even) and clamped to the type's range;
 //   - bilateral: over the cube of radius r = ceil(2 sigma_s),
 //     out(v) = sum_w ws(w) wr(w) f(w) / sum_w ws(w) wr(w) with the spatial weight
 //     ws = exp(-|w - v|^2 / (2 sigma_s^2)) and the range weight
-//     wr = exp(-(f(w) - f(v))^2 / (2 sigma_r^2)); float32 accumulation, integer outputs
-//     rounded and clamped as for the Gaussian. (DESIGN gives no definition; the radius
-//     2 sigma_s keeps the cube at 125 neighbours for sigma_s = 1.)
+//     wr = exp(-(f(w) - f(v))^2 / (2 sigma_r^2)); integer outputs rounded and clamped as
+//     for the Gaussian. (DESIGN gives no definition; the radius 2 sigma_s keeps the cube at
+//     125 neighbours for sigma_s = 1.)
+// Accumulation (weights, sums, the Gaussian's temporaries): float32 for the types a float32
+// holds exactly (8/16-bit integers, float32), as DESIGN states; double for int32, uint32 and
+// float64, whose values a float32 would round by up to 2^-24 of their magnitude (128 for
+// an int32 near 2^31) before any filtering. These need cl_khr_fp64 (else an InputError
+// suggesting --as float32).
 //
 // Fractal-targeted filtering (thesis §4.3): the filter's value only where the local fractal
 // dimension LD(v) (local.hpp) for isovalue s and window k is > h (NaN never qualifies), the

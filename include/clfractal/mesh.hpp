@@ -59,7 +59,7 @@ struct Mesh {
 };
 
 /// The isosurface f = s of `v`. For float32 data s is rounded to float32 first, as every
-/// float isovalue is (DESIGN §1). An axis of fewer than 2 vertices has no cubes: the mesh
+/// float32 isovalue is (DESIGN §1); other types compare in double, exactly. An axis of fewer than 2 vertices has no cubes: the mesh
 /// is then empty. Throws InputError when the mesh would exceed 2^31 - 1 vertices or
 /// triangles (the PLY index type).
 Mesh extract_isosurface(const Volume& v, double s, MeshMethod method = MeshMethod::marching_cubes);

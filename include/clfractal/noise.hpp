@@ -111,8 +111,10 @@ struct NoiseOptions {
     double amplitude = 0;          ///< mu of uniform [-mu, mu]; standard deviation of Gaussian
     std::uint64_t seed = 1;
     /// false: the result is float32, v = float(value) + float(amplitude) * draw (two float32
-    /// operations, no fused multiply-add). true: that value rounded to nearest (half away from
-    /// zero) and clamped to the input's type.
+    /// operations, no fused multiply-add; for int32, uint32 and float64 input the add is
+    /// double(value) + double(float(amplitude) * draw), rounded to float32). true: that value
+    /// rounded to nearest (half away from zero) and clamped to the input's type (float64
+    /// input: kept in double).
     bool keep_type = false;
     /// Largest slab in z-slices (0: from the device's largest allocation). Results are the
     /// same for every slab size: each vertex's draw depends only on its global index.

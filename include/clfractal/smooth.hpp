@@ -19,8 +19,8 @@
 // (spacing is ignored). Arithmetic, in double:
 //   - integer data: the decrement is rounded to nearest, halves up (floor(x + 0.5)), and the
 //     result clamped to the type's minimum; a decrement that rounds to 0 changes nothing;
-//   - float data: f(w) - Delta * weight, clamped to -FLT_MAX, rounded to float32 (to
-//     nearest, so never above f(w)).
+//   - float data: f(w) - Delta * weight, clamped to the type's lowest value (-FLT_MAX,
+//     -DBL_MAX), rounded to the type (float32: to nearest, so never above f(w)).
 // So values never increase, and f(v) := f(u) exactly.
 //
 // Termination and cost: once an edge's two ends are below s it is never intersected again,

@@ -29,8 +29,8 @@ namespace clfractal {
 /// that the stream goes on afterwards.
 class SpanStream {
 public:
-    /// Counts cubes and edges, levels 0..levels-1. `iso` must match the type (integer
-    /// sets for integer data, float lists for float32).
+    /// Counts cubes and edges, levels 0..levels-1. `iso` must match the type
+    /// (IsovalueSet::matches).
     SpanStream(Context& ctx, std::size_t nx, std::size_t ny, ValueType type, IsovalueSet iso, int levels = 2);
     /// Counts only the given kinds (SpanResult::curves in this order).
     SpanStream(Context& ctx, std::size_t nx, std::size_t ny, ValueType type, IsovalueSet iso, int levels,

@@ -12,18 +12,55 @@
 
 namespace clfractal {
 
-enum class ValueType { uint8, uint16, int16, float32 };
+/// The value types, one row each (DESIGN §1 "Value types", revision 2):
+///   X(enumerator, C++ type, OpenCL C type, NRRD type name, integer?)
+/// Everything type-dependent (sizes, names, the kernels' -DT=..., teem's types, the C ABI's
+/// clf_type, the ranges integer results saturate to) is derived from this table; adding a
+/// type is one row here plus one enumerator in clfractal.h.
+#define CLFRACTAL_VALUE_TYPES(X)                                  \
+    X(uint8, std::uint8_t, "uchar", "unsigned char", true)        \
+    X(uint16, std::uint16_t, "ushort", "unsigned short", true)    \
+    X(int16, std::int16_t, "short", "short", true)                \
+    X(float32, float, "float", "float", false)                    \
+    X(int8, std::int8_t, "char", "signed char", true)             \
+    X(int32, std::int32_t, "int", "int", true)                    \
+    X(uint32, std::uint32_t, "uint", "unsigned int", true)        \
+    X(float64, double, "double", "double", false)
+
+/// Enumerators in table order (their values are those of the C ABI's clf_type).
+enum class ValueType {
+#define CLFRACTAL_ENUMERATOR(e, c, cl, nrrd, integer) e,
+    CLFRACTAL_VALUE_TYPES(CLFRACTAL_ENUMERATOR)
+#undef CLFRACTAL_ENUMERATOR
+};
+
+/// Every value type, in table order.
+constexpr ValueType all_value_types[] = {
+#define CLFRACTAL_LIST(e, c, cl, nrrd, integer) ValueType::e,
+    CLFRACTAL_VALUE_TYPES(CLFRACTAL_LIST)
+#undef CLFRACTAL_LIST
+};
 
 /// Bytes per value.
 std::size_t value_size(ValueType t);
-/// "uint8", "uint16", "int16", "float32".
+/// "uint8", "int32", "float64", ...: the names of NAME_XxYxZ_TYPE.raw files and messages.
 const char* value_type_name(ValueType t);
-/// The OpenCL C type of the values, for -DT=...: "uchar", "ushort", "short", "float".
+/// The OpenCL C type of the values, for -DT=...: "uchar", "int", "double", ...
 const char* opencl_type_name(ValueType t);
-/// Parses a type name (also accepts "uchar", "ushort", "short", "float"); throws InputError.
+/// The NRRD "type:" name teem reads and writes ("signed char", "unsigned int", ...).
+const char* nrrd_type_name(ValueType t);
+/// Parses a type name (also the OpenCL names "uchar", "int", "float", ...); throws InputError.
 ValueType parse_value_type(std::string_view name);
-/// True for the integer types, whose isovalue set is every integer in the value range.
-inline bool is_integer(ValueType t) { return t != ValueType::float32; }
+/// "uint8, uint16, ..., float64": the names, for messages.
+std::string value_type_names();
+/// True for the integer types.
+bool is_integer(ValueType t);
+/// True for the types whose values a float32 does not hold exactly (int32, uint32,
+/// float64): their isovalue lists are float64 and their filters accumulate in double.
+bool is_wide(ValueType t);
+/// Smallest and largest value of an integer type (integer results saturate to them).
+double type_min(ValueType t);
+double type_max(ValueType t);
 
 struct Dims {
     std::size_t nx = 0, ny = 0, nz = 0;
@@ -92,12 +129,26 @@ struct ValueRange {
 /// Smallest and largest value (for float data NaN must not be present).
 ValueRange value_range(const Volume& v);
 
+/// Index of the first NaN or Inf among the n values of type t at `data`; n when all are
+/// finite (always for integer types).
+std::size_t first_non_finite(const void* data, ValueType t, std::size_t n);
+
+/// Converts n values of type `from` to type `to` (`--as TYPE`): integer targets round to
+/// nearest (ties to even) and saturate to the type's range; float targets round to nearest
+/// and saturate to +-max (no value becomes infinite). Exact whenever `to` holds the value.
+void convert_values(const void* src, ValueType from, void* dst, ValueType to, std::size_t n);
+/// The volume converted to `to` (a copy of name, dims and spacing).
+Volume convert_volume(const Volume& v, ValueType to);
+
 /// Maps a C++ type to its ValueType.
 template <class T> struct value_type_of;
-template <> struct value_type_of<std::uint8_t> { static constexpr ValueType value = ValueType::uint8; };
-template <> struct value_type_of<std::uint16_t> { static constexpr ValueType value = ValueType::uint16; };
-template <> struct value_type_of<std::int16_t> { static constexpr ValueType value = ValueType::int16; };
-template <> struct value_type_of<float> { static constexpr ValueType value = ValueType::float32; };
+#define CLFRACTAL_TYPE_OF(e, c, cl, nrrd, integer) \
+    template <> struct value_type_of<c> { static constexpr ValueType value = ValueType::e; };
+CLFRACTAL_VALUE_TYPES(CLFRACTAL_TYPE_OF)
+#undef CLFRACTAL_TYPE_OF
+
+/// Calls f(T()) with a value of the C++ type of `t` (to dispatch on a type alone).
+template <class F> decltype(auto) visit_type(ValueType t, F&& f);
 
 /// Calls f(T*) / f(const T*) with the volume's typed data.
 template <class F> decltype(auto) visit(Volume& v, F&& f);
@@ -112,21 +163,20 @@ template <class T> const T* Volume::as() const {
     if (value_type_of<T>::value != type_) throw std::logic_error("Volume::as: type mismatch");
     return reinterpret_cast<const T*>(bytes_.data());
 }
-template <class F> decltype(auto) visit(Volume& v, F&& f) {
-    switch (v.type()) {
-    case ValueType::uint8: return f(v.as<std::uint8_t>());
-    case ValueType::uint16: return f(v.as<std::uint16_t>());
-    case ValueType::int16: return f(v.as<std::int16_t>());
-    default: return f(v.as<float>());
+template <class F> decltype(auto) visit_type(ValueType t, F&& f) {
+    switch (t) {
+#define CLFRACTAL_CASE(e, c, cl, nrrd, integer) \
+    case ValueType::e: return f(c());
+        CLFRACTAL_VALUE_TYPES(CLFRACTAL_CASE)
+#undef CLFRACTAL_CASE
     }
+    throw std::logic_error("visit_type: invalid ValueType");
+}
+template <class F> decltype(auto) visit(Volume& v, F&& f) {
+    return visit_type(v.type(), [&](auto zero) -> decltype(auto) { return f(v.as<decltype(zero)>()); });
 }
 template <class F> decltype(auto) visit(const Volume& v, F&& f) {
-    switch (v.type()) {
-    case ValueType::uint8: return f(v.as<std::uint8_t>());
-    case ValueType::uint16: return f(v.as<std::uint16_t>());
-    case ValueType::int16: return f(v.as<std::int16_t>());
-    default: return f(v.as<float>());
-    }
+    return visit_type(v.type(), [&](auto zero) -> decltype(auto) { return f(v.as<decltype(zero)>()); });
 }
 
 }  // namespace clfractal

@@ -17,6 +17,9 @@ struct RawOptions {
     bool big_endian = false;         ///< --endian big
     std::string series;              ///< --series UID: the DICOM series of a directory to read
     bool scaled = false;             ///< --scaled: apply NIfTI scl_slope/scl_inter
+    /// --as T: convert the values to T on read, whatever the format (convert_values: may
+    /// round, e.g. float64 -> float32, and saturates to T's range).
+    std::optional<ValueType> as;
 };
 
 /// Parses NAME_XxYxZ_TYPE.raw (the directory part is ignored). Returns false when the
@@ -26,8 +29,9 @@ bool parse_raw_name(const std::string& path, Dims& dims, ValueType& type);
 /// Reads a headerless raw file. The file size must equal nx*ny*nz*size(type) exactly.
 Volume read_raw(const std::string& path, const RawOptions& opt = {});
 
-/// Reads a NRRD file (.nrrd or .nhdr) with teem. 3D scalar data only; uint8, uint16,
-/// int16, float32 kept, float64 converted to float32, other types rejected.
+/// Reads a NRRD file (.nrrd or .nhdr) with teem. 3D scalar data only, of the eight value
+/// types (NRRD signed char, unsigned char, short, unsigned short, int, unsigned int, float,
+/// double); 64-bit integers are rejected.
 Volume read_nrrd(const std::string& path);
 
 /// Whether read_volume rejects float data holding NaN or Inf (everything that counts,
@@ -37,7 +41,8 @@ enum class FiniteCheck { reject, keep };
 /// Reads a volume given as a path or as "synthetic:NAME[:N]". The format is told by the
 /// content: NRRD, DICOM (a file, or a directory of a series), NIfTI (also gzip), TIFF (a
 /// multi-page file, or a directory of slices), MetaImage; anything else is raw.
-/// Float data with NaN or Inf is rejected unless `finite` is keep. Every problem is an
+/// Float data with NaN or Inf is rejected unless `finite` is keep; with raw.as the values
+/// are then converted. Every problem is an
 /// InputError whose message names the file and the problem.
 Volume read_volume(const std::string& spec, const RawOptions& raw = {}, FiniteCheck finite = FiniteCheck::reject);
 
@@ -55,15 +60,17 @@ void write_volume(const Volume& v, const std::string& path, const Volume* grid =
 /// temporary file renamed into place, so no half-written file is ever left behind.
 void write_nrrd(const Volume& v, const std::string& path, bool gzip = false);
 
-/// The NaN and infinite values of n floats, and the index of the first (n when none).
+/// The NaN and infinite values of n values of type t (none for integer types), and the
+/// index of the first (n when none).
 struct NonFinite {
     std::size_t nan = 0, inf = 0, first = 0;
 };
-NonFinite count_non_finite(const float* p, std::size_t n);
+NonFinite count_non_finite(const void* data, ValueType t, std::size_t n);
 
 /// The one message for non-finite input: `what`, how many NaN / infinite values, and the
-/// first one's vertex coordinates in a grid of `d` (p[0] being vertex `offset`).
-std::string non_finite_message(const std::string& what, const NonFinite& nf, const float* p, const Dims& d,
+/// first one's (value `first_value`) vertex coordinates in a grid of `d`, the data starting
+/// at vertex `offset`.
+std::string non_finite_message(const std::string& what, const NonFinite& nf, double first_value, const Dims& d,
                                std::size_t offset);
 
 /// Throws InputError if float data holds NaN or Inf (names `what`, the counts and the

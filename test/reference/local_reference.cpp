@@ -45,7 +45,7 @@ template std::vector<std::uint32_t> summed_area_table_direct(const std::vector<s
 template std::vector<std::uint64_t> summed_area_table_direct(const std::vector<std::uint64_t>&, const Dims&);
 
 std::vector<std::uint8_t> cube_indicator(const Volume& v, double iso) {
-    const double s = clfractal::is_integer(v.type()) ? iso : double(float(iso));
+    const double s = v.type() == clfractal::ValueType::float32 ? double(float(iso)) : iso;
     const Dims d = v.dims();
     const Dims c{d.nx - 1, d.ny - 1, d.nz - 1};
     if (d.cubes() == 0) return {};

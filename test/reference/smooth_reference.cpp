@@ -20,14 +20,7 @@ double compared_isovalue(const Volume& v, double iso) {
     return v.type() == ValueType::float32 ? double(float(iso)) : iso;
 }
 
-double type_minimum(ValueType t) {
-    switch (t) {
-    case ValueType::uint8:
-    case ValueType::uint16: return 0;
-    case ValueType::int16: return -32768;
-    default: return -double(FLT_MAX);
-    }
-}
+double type_minimum(ValueType t) { return clfractal::type_min(t); }
 
 std::vector<double> values_of(const Volume& v) {
     std::vector<double> f(v.vertices());
@@ -109,6 +102,8 @@ SmoothOutcome smooth(const Volume& v, const std::vector<double>& ld, double iso,
                         double lowered;
                         if (v.type() == ValueType::float32)
                             lowered = double(float(std::max(type_minimum(v.type()), f[w] - amount)));
+                        else if (v.type() == ValueType::float64)
+                            lowered = std::max(type_minimum(v.type()), f[w] - amount);
                         else
                             lowered = std::max(type_minimum(v.type()), f[w] - std::floor(amount + 0.5));
                         if (lowered != f[w]) {

@@ -138,10 +138,12 @@ void warn_isovalue_outside(const Volume& v, double iso) {
 
 void RawArgs::add(CLI::App* app) {
     app->add_option("--dims", dims, "raw file dimensions X,Y,Z");
-    app->add_option("--type", type, "raw file value type: uint8|uint16|int16|float32");
+    app->add_option("--type", type, "raw file value type: " + value_type_names());
     app->add_option("--endian", endian, "raw file byte order")->check(CLI::IsMember({"little", "big"}));
     app->add_option("--series", series, "DICOM: the series (SeriesInstanceUID) of a directory to read");
     app->add_flag("--scaled", scaled, "NIfTI: apply scl_slope/scl_inter to the stored values");
+    app->add_option("--as", as, "convert the values to this type on read, from any format (" + value_type_names() +
+                                    "); may round (float64 -> float32 keeps 24 bits) and saturates to the type's range");
 }
 
 RawOptions RawArgs::options() const {
@@ -162,17 +164,14 @@ RawOptions RawArgs::options() const {
     o.big_endian = endian == "big";
     o.series = series;
     o.scaled = scaled;
+    if (!as.empty()) o.as = parse_value_type(as);
     return o;
 }
 
-// An isovalue written so that it reads back to the same float32 / integer.
-std::string iso_string(const IsovalueSet& iso, std::size_t j) {
-    char buf[64];
-    if (iso.integer())
-        std::snprintf(buf, sizeof buf, "%lld", (long long)(iso.first() + std::int64_t(j)));
-    else
-        std::snprintf(buf, sizeof buf, "%.9g", double(iso.float_values()[j]));
-    return buf;
+std::string iso_string(const IsovalueSet& iso, std::size_t j) { return iso.text(j); }
+
+std::string compared_as(ValueType t) {
+    return is_integer(t) ? "" : std::string(" (compared as ") + value_type_name(t) + ")";
 }
 
 std::string fd_string(double d) {

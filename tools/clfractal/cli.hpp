@@ -49,16 +49,21 @@ double checked_isovalue(const clfractal::Volume& v, double iso);
 /// cube's span [a, b] lies inside [vmin, vmax], so s <= vmin or s > vmax intersects none.
 void warn_isovalue_outside(const clfractal::Volume& v, double iso);
 
-/// Options that say how to read a headerless raw file.
+/// Options that say how to read a headerless raw file, and --as (any file).
 struct RawArgs {
-    std::string dims, type, endian = "little", series;
+    std::string dims, type, endian = "little", series, as;
     bool scaled = false;
     void add(CLI::App* app);
     clfractal::RawOptions options() const;
 };
 
-/// An isovalue written so that it reads back to the same float32 / integer.
+/// An isovalue written so that it reads back to the same integer, float32 (9 significant
+/// digits) or float64 (17).
 std::string iso_string(const clfractal::IsovalueSet& iso, std::size_t j);
+
+/// How a single isovalue is compared, for reports: "" (integer data: ceil(s)),
+/// " (compared as float32)" or " (compared as float64)".
+std::string compared_as(clfractal::ValueType t);
 
 /// A dimension for CSV: empty where undefined (NaN).
 std::string fd_string(double d);

@@ -60,8 +60,8 @@ struct ComponentsArgs {
 int run_components(const ComponentsArgs& a) {
     Volume v = read_volume(a.volume, a.raw.options());
     const Connectivity mode = parse_connectivity(a.connectivity);
-    if (a.bins && is_integer(v.type()))
-        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     IsovalueSet iso = !a.isovalues.empty() ? IsovalueSet::parse_range(a.isovalues, v.type())
                                            : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
     Context& ctx = Context::shared();
@@ -97,8 +97,8 @@ int run_components(const ComponentsArgs& a) {
                     if (b < 0 || b >= double(iso.size())) continue;
                     j = std::size_t(b);
                 } else {
-                    const auto& f = iso.float_values();
-                    j = std::size_t(std::upper_bound(f.begin(), f.end(), float(x)) - f.begin());
+                    const auto& f = iso.list();  // exact in double for every list type
+                    j = std::size_t(std::upper_bound(f.begin(), f.end(), x) - f.begin());
                     if (j >= f.size()) continue;
                 }
                 changes[j] = 1;

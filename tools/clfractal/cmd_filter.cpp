@@ -50,9 +50,7 @@ struct AtIso {
     double fd = NAN;
 };
 AtIso measure(Context& ctx, const Volume& v, double s) {
-    IsovalueSet iso = is_integer(v.type())
-                          ? IsovalueSet::integers(std::int64_t(std::ceil(s)), std::int64_t(std::ceil(s)))
-                          : IsovalueSet::floats({float(s)});
+    const IsovalueSet iso = IsovalueSet::single(v.type(), s);
     SpanResult r = count_spans(ctx, v, iso);
     AtIso m;
     m.cubes = r.get(SpanKind::cubes).counts[0][0];
@@ -77,9 +75,7 @@ int run_filter_stream(const FilterArgs& a, const FilterSpec& spec) {
     Context& ctx = Context::shared();
     cli::progress(spec.describe() + " where LD > " + std::to_string(a.threshold) + ", slice by slice (" +
                   reader.method() + "), " + dims_string(d) + " " + value_type_name(t) + " on " + ctx.description());
-    const IsovalueSet iso = is_integer(t) ? IsovalueSet::integers(std::int64_t(std::ceil(a.iso)),
-                                                                  std::int64_t(std::ceil(a.iso)))
-                                          : IsovalueSet::floats({float(a.iso)});
+    const IsovalueSet iso = IsovalueSet::single(t, a.iso);
     SpanStream before(ctx, d.nx, d.ny, t, iso, 2, {SpanKind::cubes}), after(ctx, d.nx, d.ny, t, iso, 2, {SpanKind::cubes});
     const auto t0 = std::chrono::steady_clock::now();
     SliceWriter writer(a.output, d, t, reader);

@@ -40,7 +40,7 @@ int run_smooth(SmoothArgs a) {
     const double n = double(std::max<std::size_t>(1, v.vertices()));
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
               << "device      " << ctx.description() << "\n"
-              << "isovalue    " << a.iso << (is_integer(v.type()) ? "" : " (compared as float32)") << ", threshold "
+              << "isovalue    " << a.iso << compared_as(v.type()) << ", threshold "
               << a.threshold << ", window " << a.window << ", variant " << smooth_variant_name(variant);
     if (variant == SmoothVariant::gaussian) std::cout << " (tau " << a.tau << ")";
     std::cout << "\n"

@@ -55,7 +55,7 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
     // NaN and Inf are reported, not refused: an LD field is float data with NaN where LD is
     // undefined. Range, mean and histogram are those of the finite values.
     Volume v = read_volume(spec, raw.options(), FiniteCheck::keep);
-    const NonFinite nf = v.type() == ValueType::float32 ? count_non_finite(v.as<float>(), v.vertices()) : NonFinite{};
+    const NonFinite nf = count_non_finite(v.data(), v.type(), v.vertices());
     const std::size_t finite = v.vertices() - nf.nan - nf.inf;
     double lo = INFINITY, hi = -INFINITY, sum = 0, sum2 = 0;
     visit(v, [&](const auto* p) {
@@ -111,7 +111,8 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
         return 0;
     }
     IsovalueSet iso = IsovalueSet::for_volume(v);
-    std::cout << "isovalues " << iso.size() << (iso.integer() ? " (every integer of the range)" : " (uniform float list)")
+    std::cout << "isovalues " << iso.size() << (iso.integer() ? " (every integer of the range)"
+                                                 : iso.float64() ? " (uniform float64 list)" : " (uniform float32 list)")
               << "\n";
     return 0;
 }
@@ -157,8 +158,8 @@ int cmd_fd(const FdArgs& a) {
     const Dims dims = a.stream ? streamed.dims : v.dims();
     const ValueType type = a.stream ? streamed.type : v.type();
     if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
-    if (a.bins && is_integer(type))
-        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    if (a.bins && is_integer(type) && !is_wide(type))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     IsovalueSet iso = a.stream ? streamed.spans.isovalues
                       : !a.isovalues.empty() ? IsovalueSet::parse_range(a.isovalues, type)
                                              : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
@@ -291,7 +292,7 @@ int cmd_local(LocalArgs a) {
 
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
               << "device      " << ctx.description() << "\n"
-              << "isovalue    " << a.iso << (is_integer(v.type()) ? "" : " (compared as float32)") << ", window "
+              << "isovalue    " << a.iso << compared_as(v.type()) << ", window "
               << a.window << "\n"
               << std::fixed << std::setprecision(2) << "defined     " << s.defined << " of " << s.vertices
               << " vertices (" << 100.0 * double(s.defined) / double(s.vertices) << "%, near the surface)\n";
@@ -505,7 +506,7 @@ int main(int argc, char** argv) {
     gen->add_option("--noise", gen_opt.noise, "uniform noise amplitude mu");
     gen->add_option("--seed", gen_opt.seed, "noise / point seed");
     gen->add_option("--points", gen_opt.points, "number of points for 'points'");
-    gen->add_option("--type", gen_type, "convert to uint8|uint16|int16|float32");
+    gen->add_option("--type", gen_type, "convert to " + value_type_names());
     gen->add_option("-o,--output", gen_out, "output .nrrd, .nii or .nii.gz")->required();
 
     auto* mesh = app.add_subcommand("mesh", "isosurface mesh as PLY (marching cubes or tetrahedra), optional preview PNG");

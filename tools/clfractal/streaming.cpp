@@ -21,8 +21,8 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
                            std::size_t bins, int levels, SpanKind kind) {
     SliceReader reader(volume, raw);
     const Dims d = reader.dims();
-    if (bins && is_integer(reader.type()))
-        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    if (bins && is_integer(reader.type()) && !is_wide(reader.type()))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     StreamedSpans out{d, reader.type(), {}, reader.method()};
     IsovalueSet iso;
     // uint8 without --isovalues: one pass, counting every value 0..255 and cropping the
@@ -36,8 +36,7 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
         // The default set needs the value range: one more pass over the file.
         progress("reading the value range of " + volume + " (" + out.method + ")");
         const ValueRange r = value_range(reader);
-        iso = is_integer(reader.type()) ? IsovalueSet::integers(std::int64_t(r.min), std::int64_t(r.max))
-                                        : IsovalueSet::uniform(r.min, r.max, bins ? bins : 256);
+        iso = IsovalueSet::for_range(reader.type(), r.min, r.max, bins ? bins : 256);
     }
     Context& ctx = Context::shared();
     progress("streaming " + std::to_string(iso.size()) + " isovalues of " + dims_string(d) + " " +
@@ -106,7 +105,7 @@ int cmd_local_stream(const std::string& volume, const RawOptions& raw, double is
     const double vertices = double(d.vertices());
     std::cout << "volume      " << volume << "  " << dims_string(d) << " " << value_type_name(reader.type()) << "\n"
               << "device      " << ctx.description() << "\n"
-              << "isovalue    " << iso << (is_integer(reader.type()) ? "" : " (compared as float32)") << ", window "
+              << "isovalue    " << iso << compared_as(reader.type()) << ", window "
               << window << "\n"
               << std::fixed << std::setprecision(2) << "defined     " << defined << " of " << d.vertices()
               << " vertices (" << 100.0 * double(defined) / vertices << "%, near the surface)\n";

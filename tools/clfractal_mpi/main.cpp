@@ -44,7 +44,7 @@ int run(const Args& a, int rank, int size) {
     const Dims dims = reader.dims();
     const ValueType type = reader.type();
     if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
-    if (a.bins && is_integer(type))
+    if (a.bins && is_integer(type) && !is_wide(type))
         throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     const auto parts = split_slices(dims.nz, a.levels, std::size_t(size));
     const bool has_part = std::size_t(rank) < parts.size();
@@ -71,8 +71,7 @@ int run(const Args& a, int rank, int size) {
     MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
     IsovalueSet iso;
     if (!a.isovalues.empty()) iso = IsovalueSet::parse_range(a.isovalues, type);
-    else if (is_integer(type)) iso = IsovalueSet::integers(std::int64_t(-global[0]), std::int64_t(global[1]));
-    else iso = IsovalueSet::uniform(-global[0], global[1], a.bins ? a.bins : 256);
+    else iso = IsovalueSet::for_range(type, -global[0], global[1], a.bins ? a.bins : 256);
 
     const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
     Context& ctx = Context::shared();
