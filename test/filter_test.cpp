@@ -241,6 +241,9 @@ TEST_CASE("revision 2 types: median exact, Gaussian and bilateral within toleran
                 const Volume g = gaussian_filter(ctx(), v, 1.0);
                 CHECK(g.type() == t);
                 check_close(g, reference::gaussian_filter(v, 1.0));
+                // int8 and uint32 differ from int32 only in their conversions (checked above):
+                // the masked and bilateral kernels, costly to compile, run for int32 and float64.
+                if (t == ValueType::int8 || t == ValueType::uint32) continue;
                 const Volume small = testutil::random_volume(d, t, 0, 40, seed++);
                 check_close(bilateral_filter(ctx(), small, 1.0, 12.0), reference::bilateral_filter(small, 1.0, 12.0));
                 // Targeted (h = 2: a mixed selection) and LD-guided, against the full filters.
