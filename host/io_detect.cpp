@@ -282,7 +282,7 @@ Format detect_format(const std::string& path) {
         if (tiff && !dicom) return Format::directory_tiff;
         if (dicom && !tiff) return Format::directory_dicom;
         if (tiff && dicom) throw InputError(path + ": the directory holds both TIFF and DICOM files");
-        throw InputError(path + ": the directory holds no DICOM series and no TIFF slices");
+        throw InputError(path + ": a directory, not a regular file, and it holds no DICOM series or TIFF slices");
     }
     const std::vector<unsigned char> b = head_bytes(path, 1024);
     const unsigned char* p = b.data();

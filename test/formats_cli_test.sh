@@ -101,6 +101,8 @@ mkdir -p dcm_mixed && cp dcm/*.dcm dcm_mixed/
 "$fixtures" dicom u16.nrrd dcm_mixed 1.2.826.0.1.3 0 || fail "fixture mixed"
 bad_input 'dcm_mixed: 2 DICOM series of 23 files each; choose one with --series UID' -- "$bin" -q filter dcm_mixed --median
 expect 0 'changed' -- "$bin" -q filter dcm_mixed --series 1.2.826.0.1.3 --median -o mixed.nrrd
+expect 2 '  1\.2\.826\.0\.1\.3 +23 files' -- "$bin" info dcm_mixed
+expect 0 '\* 1\.2\.826\.0\.1\.3 +23 files' -- "$bin" info dcm_mixed --series 1.2.826.0.1.3
 cp -r dcm dcm_text && echo "scanner notes" > dcm_text/notes.dcm
 bad_input 'notes\.dcm: not a readable DICOM file' -- "$bin" -q filter dcm_text --median
 cp -r slices slices_bad && "$fixtures" tiffdir u16.nrrd slices_u16 && cp slices_u16/slice5.tif slices_bad/slice99.tif

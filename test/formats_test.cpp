@@ -6,6 +6,9 @@
 #include <doctest/doctest.h>
 
 #include <gdcmAttribute.h>
+#include <gdcmImageChangeTransferSyntax.h>
+#include <gdcmImageReader.h>
+#include <gdcmImageWriter.h>
 #include <gdcmWriter.h>
 #include <nifti2_io.h>
 #include <tiffio.h>
@@ -161,14 +164,44 @@ TEST_CASE("DICOM series by GDCM: shuffled files, rescale to int16, spacing, orie
     for (std::size_t z = 0; z < nz; ++z) reader.read(&streamed[z * nx * ny], 1);
     CHECK(streamed == hu);
 
-    // NIfTI written from it keeps spacing and orientation.
-    write_volume(v, dir / "out.nii.gz");
-    const Volume back = read_volume(dir / "out.nii.gz");
-    check_values(back, hu);
-    for (int a = 0; a < 3; ++a) {
-        CHECK(back.spacing[a] == doctest::Approx(v.spacing[a]));
-        CHECK(back.origin[a] == doctest::Approx(v.origin[a]));
-        for (int r = 0; r < 3; ++r) CHECK(back.axes[a][r] == doctest::Approx(v.axes[a][r]));
+    // NIfTI and NRRD written from it keep spacing and orientation.
+    for (const char* name : {"out.nii.gz", "out.nrrd"}) {
+        CAPTURE(name);
+        write_volume(v, dir / name);
+        const Volume back = read_volume(dir / name);
+        check_values(back, hu);
+        CHECK(back.oriented);
+        for (int a = 0; a < 3; ++a) {
+            CHECK(back.spacing[a] == doctest::Approx(v.spacing[a]));
+            CHECK(back.origin[a] == doctest::Approx(v.origin[a]));
+            for (int r = 0; r < 3; ++r) CHECK(back.axes[a][r] == doctest::Approx(v.axes[a][r]));
+        }
+    }
+}
+
+TEST_CASE("DICOM compressed transfer syntaxes that GDCM decodes: JPEG lossless, RLE") {
+    for (const gdcm::TransferSyntax::TSType ts :
+         {gdcm::TransferSyntax::JPEGLosslessProcess14_1, gdcm::TransferSyntax::RLELossless}) {
+        CAPTURE(gdcm::TransferSyntax::GetTSString(ts));
+        TempDir dir("dicom_ts");
+        const std::vector<std::uint16_t> stored = write_series(dir, "1.2.3.40", 10, 9, 5, 4000, 1, -1024, 17);
+        for (const auto& e : fs::directory_iterator(dir.path)) {
+            gdcm::ImageReader r;
+            r.SetFileName(e.path().c_str());
+            REQUIRE(r.Read());
+            gdcm::ImageChangeTransferSyntax change;
+            change.SetTransferSyntax(ts);
+            change.SetInput(r.GetImage());
+            REQUIRE(change.Change());
+            gdcm::ImageWriter w;
+            w.SetFile(r.GetFile());
+            w.SetImage(change.GetOutput());
+            w.SetFileName(e.path().c_str());
+            REQUIRE(w.Write());
+        }
+        std::vector<std::int16_t> hu(stored.size());
+        for (std::size_t i = 0; i < hu.size(); ++i) hu[i] = std::int16_t(int(stored[i]) - 1024);
+        check_values(read_volume(dir.path.string()), hu);
     }
 }
 
