@@ -146,9 +146,14 @@ public:
         check_dims(dims, file_);
         type = value_type_for(page_.kind, file_);
         buffer_.resize(std::size_t(page_.width) * page_.height * stored_kind_size(page_.kind));
+        current_ = pages - 1;
     }
     void read_slice(std::size_t z, void* dst) override {
-        if (!TIFFSetDirectory(tiff_.get(), tdir_t(z))) throw InputError(file_ + ": cannot reach page " + std::to_string(z));
+        // In z order the next page is one step on; anything else is looked up.
+        const bool moved = z == current_ || (z == current_ + 1 ? TIFFReadDirectory(tiff_.get()) == 1
+                                                               : TIFFSetDirectory(tiff_.get(), tdir_t(z)) == 1);
+        if (!moved) throw InputError(file_ + ": cannot reach page " + std::to_string(z));
+        current_ = z;
         read_page(tiff_.get(), page_, buffer_.data(), file_, z);
         convert_values(buffer_.data(), page_.kind, std::size_t(page_.width) * page_.height, dst, type);
     }
@@ -158,6 +163,7 @@ private:
     TiffPtr tiff_;
     Page page_;
     std::vector<unsigned char> buffer_;
+    std::size_t current_ = 0;  // the page the TIFF handle is on
 };
 
 /// A directory of single-page files, in natural name order; one file open at a time.

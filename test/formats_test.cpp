@@ -304,6 +304,31 @@ TEST_CASE("NIfTI by nifticlib: .nii.gz, .nii, .hdr/.img; scl_slope only under --
     check_values(c, f32);
     check_counts(c);
 
+    // NIfTI-2 (540-byte header, made by nifticlib).
+    {
+        const int64_t dims[8] = {3, int64_t(nx), int64_t(ny), int64_t(nz), 1, 1, 1, 1};
+        nifti_2_header* h = nifti_make_new_n2_header(dims, DT_INT16);
+        REQUIRE(h);
+        h->vox_offset = 544;
+        std::memcpy(h->magic, "n+2\0\r\n\032\n", 8);
+        std::string file(reinterpret_cast<const char*>(h), 540);
+        std::free(h);
+        file += std::string(4, '\0') + std::string(reinterpret_cast<const char*>(i16.data()), i16.size() * 2);
+        gzFile g = gzopen((dir / "n2.nii.gz").c_str(), "wb");
+        REQUIRE(gzwrite(g, file.data(), unsigned(file.size())) == int(file.size()));
+        gzclose(g);
+    }
+    check_values(read_volume(dir / "n2.nii.gz"), i16);
+    CHECK(describe_volume_file(dir / "n2.nii.gz")[1].find("NIfTI-2, stored INT16") != std::string::npos);
+    // The writer uses NIfTI-2 where an axis exceeds 32767 vertices.
+    Volume wide(Dims{40000, 2, 2}, ValueType::uint8);
+    for (std::size_t i = 0; i < wide.vertices(); ++i) static_cast<std::uint8_t*>(wide.data())[i] = std::uint8_t(i % 251);
+    write_volume(wide, dir / "wide.nii.gz");
+    const Volume wide_back = read_volume(dir / "wide.nii.gz");
+    CHECK(wide_back.dims() == wide.dims());
+    CHECK(std::memcmp(wide_back.data(), wide.data(), wide.size_bytes()) == 0);
+    CHECK(describe_volume_file(dir / "wide.nii.gz")[1].find("NIfTI-2") != std::string::npos);
+
     // Found by content, whatever the name.
     fs::copy_file(dir / "a.nii.gz", dir / "scan.data");
     check_values(read_volume(dir / "scan.data"), i16);
@@ -415,6 +440,9 @@ TEST_CASE("MetaImage: LOCAL raw, .mhd + .raw big-endian, zlib CompressedData; a 
     write_text(dir / "c.mha", header + "CompressedData = True\nCompressedDataSize = " + std::to_string(zn) +
                                   "\nElementDataFile = LOCAL\n" + zdata);
     check_values(read_volume(dir / "c.mha"), i16);
+    write_text(dir / "d.zraw", zdata);
+    write_text(dir / "d.mhd", header + "CompressedData = True\nElementDataFile = d.zraw\n");
+    check_values(read_volume(dir / "d.mhd"), i16);
     write_text(dir / "cut.mha", header + "CompressedData = True\nElementDataFile = LOCAL\n" + zdata.substr(0, zn / 2));
     CHECK(error_of([&] { read_volume(dir / "cut.mha"); }).rfind(dir / "cut.mha" + ": MetaImage compressed data", 0) == 0);
 
