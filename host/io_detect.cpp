@@ -218,7 +218,6 @@ bool nifti_magic(const unsigned char* b, std::size_t n) {
         const std::int32_t size = int32_at(b, swap);
         if (size == 348 && (std::memcmp(b + 344, "n+1", 4) == 0 || std::memcmp(b + 344, "ni1", 4) == 0)) return true;
         if (size == 540 && (std::memcmp(b + 4, "n+2", 4) == 0 || std::memcmp(b + 4, "ni2", 4) == 0)) return true;
-        if (size == 348 && n >= 348) return true;  // an ANALYZE 7.5 / NIfTI .hdr: nifticlib reads it
     }
     return false;
 }
@@ -284,6 +283,8 @@ Format detect_format(const std::string& path) {
         if (tiff && dicom) throw InputError(path + ": the directory holds both TIFF and DICOM files");
         throw InputError(path + ": a directory, not a regular file, and it holds no DICOM series or TIFF slices");
     }
+    // .raw is headerless data by name (NAME_XxYxZ_TYPE.raw, or a MetaImage's data file).
+    if (lower_extension(path) == ".raw") return Format::raw;
     const std::vector<unsigned char> b = head_bytes(path, 1024);
     const unsigned char* p = b.data();
     const std::size_t n = b.size();
@@ -300,7 +301,9 @@ Format detect_format(const std::string& path) {
     if (metaimage_header(p, n)) return Format::metaimage;
     const std::string ext = lower_extension(path);
     if (ext == ".nrrd" || ext == ".nhdr") return Format::nrrd;
-    if (ext == ".nii" || ext == ".hdr") return Format::nifti;
+    // A .hdr without the NIfTI magic (ANALYZE 7.5): nifticlib reads it when sizeof_hdr says so.
+    if (ext == ".hdr" && n >= 4 && (int32_at(p, false) == 348 || int32_at(p, true) == 348)) return Format::nifti;
+    if (ext == ".nii") return Format::nifti;
     if (ext == ".img" && fs::exists(fs::path(path).replace_extension(".hdr"), ec)) return Format::nifti;
     if (ext == ".mha" || ext == ".mhd") return Format::metaimage;
     if (ext == ".tif" || ext == ".tiff") return Format::tiff;

@@ -329,6 +329,12 @@ TEST_CASE("NIfTI by nifticlib: .nii.gz, .nii, .hdr/.img; scl_slope only under --
     CHECK(std::memcmp(wide_back.data(), wide.data(), wide.size_bytes()) == 0);
     CHECK(describe_volume_file(dir / "wide.nii.gz")[1].find("NIfTI-2") != std::string::npos);
 
+    // A .raw file is raw data whatever its first bytes look like.
+    std::string tiff_like = "II*";
+    tiff_like += std::string(4 * 4 * 4 - 3, '\0');
+    write_text(dir / "looks_4x4x4_uint8.raw", tiff_like);
+    CHECK(read_volume(dir / "looks_4x4x4_uint8.raw").value(0) == 'I');
+
     // Found by content, whatever the name.
     fs::copy_file(dir / "a.nii.gz", dir / "scan.data");
     check_values(read_volume(dir / "scan.data"), i16);
