@@ -183,7 +183,7 @@ public:
             throw InputError(first + ": multi-frame DICOM files are not supported (one slice per file)");
         const std::vector<double> iop = numbers(sc.GetValue(first.c_str(), tag_orientation));
         if (iop.size() != 6 && se.files.size() > 1)
-            throw InputError(first + ": no ImageOrientationPatient; the slices cannot be ordered");
+            throw InputError(first + ": no ImageOrientationPatient; the slices cannot be ordered (truncated, or not an image)");
         std::array<double, 3> row{1, 0, 0}, col{0, 1, 0}, normal{0, 0, 1};
         if (iop.size() == 6) {
             row = {iop[0], iop[1], iop[2]};
@@ -206,7 +206,7 @@ public:
                                      "'s; one series must not mix orientations");
             const std::vector<double> ipp = numbers(sc.GetValue(name, tag_position));
             if (ipp.size() != 3 && se.files.size() > 1)
-                throw InputError(f + ": no ImagePositionPatient; the slices cannot be ordered");
+                throw InputError(f + ": no ImagePositionPatient; the slices cannot be ordered (truncated, or not an image)");
             Slice sl;
             sl.file = f;
             if (ipp.size() == 3) sl.position = ipp[0] * normal[0] + ipp[1] * normal[1] + ipp[2] * normal[2];

@@ -134,6 +134,7 @@ class MultiPageSource : public SliceSource {
 public:
     explicit MultiPageSource(const std::string& file) : file_(file), tiff_(open_tiff(file)) {
         std::size_t pages = 0;
+        tiff_message.clear();
         do {
             const Page p = page_of(tiff_.get(), file_, pages);
             if (pages == 0) page_ = p;
@@ -142,6 +143,9 @@ public:
                                  describe(page_) + "; every page must match");
             ++pages;
         } while (TIFFReadDirectory(tiff_.get()));
+        // The chain of pages ends without a complaint; a broken link is a truncated file.
+        if (!tiff_message.empty())
+            throw InputError(file_ + ": page " + std::to_string(pages) + " cannot be read (truncated?): " + tiff_message);
         dims = Dims{page_.width, page_.height, pages};
         check_dims(dims, file_);
         type = value_type_for(page_.kind, file_);

@@ -107,6 +107,10 @@ cp -r dcm dcm_text && echo "scanner notes" > dcm_text/notes.dcm
 bad_input 'notes\.dcm: not a readable DICOM file' -- "$bin" -q filter dcm_text --median
 cp -r slices slices_bad && "$fixtures" tiffdir u16.nrrd slices_u16 && cp slices_u16/slice5.tif slices_bad/slice99.tif
 bad_input 'slice99\.tif: slice is 23x23 uint16, but slice1\.tif is 19x19 uint8' -- "$bin" -q filter slices_bad --median
+head -c 3000 stack.tif > cut.tif
+bad_input 'cut\.tif: page [0-9]+ cannot be read \(truncated\?\)' -- "$bin" -q filter cut.tif --median
+cp -r dcm dcm_cut && head -c 700 dcm/1.2.826.0.1.1_0.dcm > dcm_cut/1.2.826.0.1.1_0.dcm
+bad_input 'dcm_cut/1\.2\.826\.0\.1\.1_0\.dcm: .*truncated' -- "$bin" -q filter dcm_cut --median
 printf 'ObjectType = Image\nNDims = 3\nDimSize = 19 19 19\nElementType = MET_UCHAR\nElementDataFile = gone.raw\n' > gone.mhd
 bad_input "gone\.mhd: MetaImage data file '.*gone\.raw' does not exist" -- "$bin" -q filter gone.mhd --median
 expect 2 '^clfractal: error: out\.mha: cannot write \.mha files' -- "$bin" -q gen sphere --size 9 -o out.mha
