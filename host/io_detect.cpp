@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <stdexcept>
 
 namespace fs = std::filesystem;
 
@@ -44,12 +45,12 @@ std::size_t stored_kind_size(StoredKind kind) {
 }
 
 ValueType value_type_for(StoredKind kind, const std::string& file) {
+    // Enabling a type: its case returns the ValueType, and visit_type below gains its line.
     switch (kind) {
     case StoredKind::uint8: return ValueType::uint8;
     case StoredKind::uint16: return ValueType::uint16;
     case StoredKind::int16: return ValueType::int16;
     case StoredKind::float32: return ValueType::float32;
-    // Not yet computed on the device: one line each here when they are.
     case StoredKind::int8:
     case StoredKind::uint32:
     case StoredKind::int32:
@@ -74,13 +75,15 @@ template <class F> decltype(auto) visit_stored(const void* p, StoredKind kind, F
     }
 }
 
-template <class F> decltype(auto) visit_type(void* p, ValueType t, F&& f) {
+/// The destination types: a ValueType that value_type_for starts to return needs its line here.
+template <class F> void visit_type(void* p, ValueType t, F&& f) {
     switch (t) {
     case ValueType::uint8: return f(static_cast<std::uint8_t*>(p));
     case ValueType::uint16: return f(static_cast<std::uint16_t*>(p));
     case ValueType::int16: return f(static_cast<std::int16_t*>(p));
-    default: return f(static_cast<float*>(p));
+    case ValueType::float32: return f(static_cast<float*>(p));
     }
+    throw std::logic_error(std::string("io: no conversion to ") + value_type_name(t));
 }
 
 struct IntegerRange {
