@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <stdexcept>
 
 namespace fs = std::filesystem;
 
@@ -44,19 +45,18 @@ std::size_t stored_kind_size(StoredKind kind) {
 }
 
 ValueType value_type_for(StoredKind kind, const std::string& file) {
+    // Every stored kind is one of the library's value types.
     switch (kind) {
     case StoredKind::uint8: return ValueType::uint8;
+    case StoredKind::int8: return ValueType::int8;
     case StoredKind::uint16: return ValueType::uint16;
     case StoredKind::int16: return ValueType::int16;
+    case StoredKind::uint32: return ValueType::uint32;
+    case StoredKind::int32: return ValueType::int32;
     case StoredKind::float32: return ValueType::float32;
-    // Not yet computed on the device: one line each here when they are.
-    case StoredKind::int8:
-    case StoredKind::uint32:
-    case StoredKind::int32:
-    case StoredKind::float64: break;
+    case StoredKind::float64: return ValueType::float64;
     }
-    throw InputError(file + ": " + stored_kind_name(kind) +
-                     " values are not supported yet (supported: uint8, uint16, int16, float32)");
+    throw InputError(file + ": " + stored_kind_name(kind) + " values are not supported");
 }
 
 namespace {
@@ -74,13 +74,9 @@ template <class F> decltype(auto) visit_stored(const void* p, StoredKind kind, F
     }
 }
 
-template <class F> decltype(auto) visit_type(void* p, ValueType t, F&& f) {
-    switch (t) {
-    case ValueType::uint8: return f(static_cast<std::uint8_t*>(p));
-    case ValueType::uint16: return f(static_cast<std::uint16_t*>(p));
-    case ValueType::int16: return f(static_cast<std::int16_t*>(p));
-    default: return f(static_cast<float*>(p));
-    }
+/// f(T*) with the destination values of type t.
+template <class F> void visit_type(void* p, ValueType t, F&& f) {
+    clfractal::visit_type(t, [&](auto zero) { f(static_cast<decltype(zero)*>(p)); });
 }
 
 struct IntegerRange {
@@ -218,7 +214,6 @@ bool nifti_magic(const unsigned char* b, std::size_t n) {
         const std::int32_t size = int32_at(b, swap);
         if (size == 348 && (std::memcmp(b + 344, "n+1", 4) == 0 || std::memcmp(b + 344, "ni1", 4) == 0)) return true;
         if (size == 540 && (std::memcmp(b + 4, "n+2", 4) == 0 || std::memcmp(b + 4, "ni2", 4) == 0)) return true;
-        if (size == 348 && n >= 348) return true;  // an ANALYZE 7.5 / NIfTI .hdr: nifticlib reads it
     }
     return false;
 }
@@ -282,8 +277,10 @@ Format detect_format(const std::string& path) {
         if (tiff && !dicom) return Format::directory_tiff;
         if (dicom && !tiff) return Format::directory_dicom;
         if (tiff && dicom) throw InputError(path + ": the directory holds both TIFF and DICOM files");
-        throw InputError(path + ": the directory holds no DICOM series and no TIFF slices");
+        throw InputError(path + ": a directory, not a regular file, and it holds no DICOM series or TIFF slices");
     }
+    // .raw is headerless data by name (NAME_XxYxZ_TYPE.raw, or a MetaImage's data file).
+    if (lower_extension(path) == ".raw") return Format::raw;
     const std::vector<unsigned char> b = head_bytes(path, 1024);
     const unsigned char* p = b.data();
     const std::size_t n = b.size();
@@ -300,7 +297,9 @@ Format detect_format(const std::string& path) {
     if (metaimage_header(p, n)) return Format::metaimage;
     const std::string ext = lower_extension(path);
     if (ext == ".nrrd" || ext == ".nhdr") return Format::nrrd;
-    if (ext == ".nii" || ext == ".hdr") return Format::nifti;
+    // A .hdr without the NIfTI magic (ANALYZE 7.5): nifticlib reads it when sizeof_hdr says so.
+    if (ext == ".hdr" && n >= 4 && (int32_at(p, false) == 348 || int32_at(p, true) == 348)) return Format::nifti;
+    if (ext == ".nii") return Format::nifti;
     if (ext == ".img" && fs::exists(fs::path(path).replace_extension(".hdr"), ec)) return Format::nifti;
     if (ext == ".mha" || ext == ".mhd") return Format::metaimage;
     if (ext == ".tif" || ext == ".tiff") return Format::tiff;

@@ -15,6 +15,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -79,6 +81,82 @@ void quiet_gdcm() {
     gdcm::Trace::SetError(false);
 }
 
+/// True when every data element of a file with the "DICM" preamble lies within the file
+/// (a walk over the element headers: tag, VR, length; nested items and undefined lengths
+/// followed to their delimiters). GDCM asserts (aborts) on some cut files and reads others
+/// short without failing, so a truncated file is refused before GDCM reads it. Files
+/// without the preamble, and deflated data sets, are left to GDCM.
+bool elements_complete(const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    in.seekg(0, std::ios::end);
+    const std::uint64_t size = std::uint64_t(in.tellg());
+    unsigned char h[12];
+    auto read_at = [&](std::uint64_t at, std::size_t n) {
+        in.clear();
+        in.seekg(std::streamoff(at));
+        return bool(in.read(reinterpret_cast<char*>(h), std::streamsize(n)));
+    };
+    if (size < 132 || !read_at(128, 4) || std::memcmp(h, "DICM", 4) != 0) return true;
+    auto u16 = [&](int at, bool big) { return big ? unsigned(h[at] << 8 | h[at + 1]) : unsigned(h[at] | h[at + 1] << 8); };
+    auto u32 = [&](int at, bool big) {
+        return big ? std::uint32_t(h[at]) << 24 | std::uint32_t(h[at + 1]) << 16 | std::uint32_t(h[at + 2]) << 8 | h[at + 3]
+                   : std::uint32_t(h[at + 3]) << 24 | std::uint32_t(h[at + 2]) << 16 | std::uint32_t(h[at + 1]) << 8 | h[at];
+    };
+    std::uint64_t p = 132;
+    std::string syntax;
+    int depth = 0;  // open undefined-length sequences and items
+    bool data_set = false;
+    while (p < size) {
+        if (size - p < 8 || !read_at(p, 8)) return false;
+        const bool meta = u16(0, false) == 0x0002;
+        data_set = data_set || !meta;
+        const bool implicit = !meta && syntax == "1.2.840.10008.1.2";
+        const bool big = !meta && syntax == "1.2.840.10008.1.2.2";
+        if (!meta && syntax == "1.2.840.10008.1.2.1.99") return true;  // deflated: GDCM's to judge
+        const unsigned group = u16(0, big), element = u16(2, big);
+        std::uint64_t header = 8, length = 0;
+        if (group == 0xfffe || implicit) {
+            length = u32(4, big);
+        } else {
+            const std::string vr(reinterpret_cast<const char*>(h + 4), 2);
+            static const char* long_vrs[] = {"OB", "OW", "OF", "SQ", "UT", "UN", "UC", "UR", "OD", "OL", "OV", "SV", "UV"};
+            if (std::any_of(std::begin(long_vrs), std::end(long_vrs), [&](const char* v) { return vr == v; })) {
+                if (size - p < 12 || !read_at(p, 12)) return false;
+                length = u32(8, big);
+                header = 12;
+            } else {
+                length = u16(6, big);
+            }
+        }
+        if (group == 0xfffe && (element == 0xe00d || element == 0xe0dd)) {
+            --depth;  // a delimiter closes an undefined length
+            p += header;
+            continue;
+        }
+        if (length == 0xffffffffu) {  // the content follows as elements or items up to a delimiter
+            ++depth;
+            p += header;
+            continue;
+        }
+        if (size - p - header < length) return false;
+        if (meta && element == 0x0000 && length == 4) {  // the group length: the data set follows it
+            if (!read_at(p + header, 4)) return false;
+            const std::uint64_t data_set = p + header + 4 + u32(0, false);
+            if (data_set + 8 > size) return false;
+        }
+        if (meta && element == 0x0010 && length < 80) {  // the transfer syntax of the data set
+            char uid[80] = {};
+            in.clear();
+            in.seekg(std::streamoff(p + header));
+            in.read(uid, std::streamsize(length));
+            syntax.assign(uid, std::strlen(uid));
+            while (!syntax.empty() && syntax.back() == ' ') syntax.pop_back();
+        }
+        p += header + length;  // a defined-length value (an item too) lies within the file: skip it
+    }
+    return data_set && depth <= 0;
+}
+
 void scan(Scan& s, const std::string& path) {
     quiet_gdcm();
     std::error_code ec;
@@ -94,6 +172,8 @@ void scan(Scan& s, const std::string& path) {
         for (const std::string& f : files)
             if (fs::equivalent(f, path, ec)) s.selected = f;
     }
+    for (const std::string& f : files)
+        if (!elements_complete(f)) throw InputError(f + ": truncated DICOM file (a data element runs past its end)");
     for (const gdcm::Tag& t : {tag_series_uid, tag_position, tag_orientation, tag_pixel_spacing, tag_rows, tag_columns,
                                tag_slope, tag_intercept, tag_description, tag_frames, tag_thickness})
         s.scanner.AddTag(t);
@@ -183,7 +263,7 @@ public:
             throw InputError(first + ": multi-frame DICOM files are not supported (one slice per file)");
         const std::vector<double> iop = numbers(sc.GetValue(first.c_str(), tag_orientation));
         if (iop.size() != 6 && se.files.size() > 1)
-            throw InputError(first + ": no ImageOrientationPatient; the slices cannot be ordered");
+            throw InputError(first + ": no ImageOrientationPatient; the slices cannot be ordered (truncated, or not an image)");
         std::array<double, 3> row{1, 0, 0}, col{0, 1, 0}, normal{0, 0, 1};
         if (iop.size() == 6) {
             row = {iop[0], iop[1], iop[2]};
@@ -206,7 +286,7 @@ public:
                                      "'s; one series must not mix orientations");
             const std::vector<double> ipp = numbers(sc.GetValue(name, tag_position));
             if (ipp.size() != 3 && se.files.size() > 1)
-                throw InputError(f + ": no ImagePositionPatient; the slices cannot be ordered");
+                throw InputError(f + ": no ImagePositionPatient; the slices cannot be ordered (truncated, or not an image)");
             Slice sl;
             sl.file = f;
             if (ipp.size() == 3) sl.position = ipp[0] * normal[0] + ipp[1] * normal[1] + ipp[2] * normal[2];
@@ -313,9 +393,18 @@ private:
         const std::string& f = slices_[z].file;
         gdcm::ImageReader r;
         r.SetFileName(f.c_str());
-        if (!r.Read())
-            throw InputError(f + ": GDCM cannot read an image from it (no pixel data, or a transfer syntax "
-                                 "it cannot decode)");
+        // GDCM reads a cut file without failing; it only warns: listen for that warning.
+        static std::ostringstream warnings;
+        warnings.str("");
+        gdcm::Trace::SetWarningStream(warnings);
+        gdcm::Trace::SetWarning(true);
+        const bool read = r.Read();
+        gdcm::Trace::SetWarning(false);
+        if (warnings.str().find("Incomplete Pixel Data") != std::string::npos)
+            throw InputError(f + ": truncated: incomplete pixel data");
+        if (!read)
+            throw InputError(f + ": GDCM cannot read an image from it (truncated, no pixel data, or a "
+                                 "transfer syntax it cannot decode)");
         const gdcm::Image& img = r.GetImage();
         if (img.GetDimension(0) != dims.nx || img.GetDimension(1) != dims.ny ||
             (img.GetNumberOfDimensions() > 2 && img.GetDimension(2) > 1))

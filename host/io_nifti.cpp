@@ -47,9 +47,13 @@ StoredKind stored_kind_of(int datatype, const std::string& path) {
 int datatype_of(ValueType t) {
     switch (t) {
     case ValueType::uint8: return DT_UINT8;
+    case ValueType::int8: return DT_INT8;
     case ValueType::uint16: return DT_UINT16;
     case ValueType::int16: return DT_INT16;
+    case ValueType::uint32: return DT_UINT32;
+    case ValueType::int32: return DT_INT32;
     case ValueType::float32: return DT_FLOAT32;
+    case ValueType::float64: return DT_FLOAT64;
     }
     throw std::logic_error("datatype_of: invalid ValueType");
 }
@@ -159,7 +163,9 @@ std::vector<std::string> nifti_notes(const std::string& path) {
     NimPtr nim = read_header(path, name.name);
     std::vector<std::string> notes;
     std::ostringstream s;
-    s << "NIfTI-" << (nim->nifti_type >= NIFTI_FTYPE_NIFTI2_1 ? 2 : 1) << ", stored "
+    int version = 1;
+    std::free(nifti_read_header(name.name.c_str(), &version, 0));
+    s << (version == 2 ? "NIfTI-2" : version == 1 ? "NIfTI-1" : "ANALYZE 7.5") << ", stored "
       << nifti_datatype_string(nim->datatype) << ", "
       << (nim->byteorder == 2 /* MSB_FIRST */ ? "big" : "little") << "-endian";
     notes.push_back(s.str());
@@ -185,6 +191,8 @@ bool nifti_path(const std::string& path) {
 
 Geometry geometry_of(const Volume& v) { return Geometry{v.spacing, v.oriented, v.origin, v.axes}; }
 
+static_assert(sizeof(nifti_1_header) == 348 && sizeof(nifti_2_header) == 540, "NIfTI header layout");
+
 struct NiftiWriter::Impl {
     std::string path, tmp;
     znzFile file = nullptr;
@@ -208,8 +216,6 @@ NiftiWriter::NiftiWriter(const std::string& path, const Dims& dims, ValueType ty
     nifti_set_debug_level(0);
     NimPtr nim(nifti_make_new_nim(nd, datatype_of(type), 0));
     if (!nim) throw InputError(path + ": cannot make a NIfTI header");
-    const bool wide = dims.nx > 32767 || dims.ny > 32767 || dims.nz > 32767;
-    nim->nifti_type = wide ? NIFTI_FTYPE_NIFTI2_1 : NIFTI_FTYPE_NIFTI1_1;
     nim->dx = nim->pixdim[1] = g.spacing[0];
     nim->dy = nim->pixdim[2] = g.spacing[1];
     nim->dz = nim->pixdim[3] = g.spacing[2];
@@ -229,11 +235,30 @@ NiftiWriter::NiftiWriter(const std::string& path, const Dims& dims, ValueType ty
         nifti_dmat44_to_quatern(m, &nim->quatern_b, &nim->quatern_c, &nim->quatern_d, &nim->qoffset_x,
                                 &nim->qoffset_y, &nim->qoffset_z, nullptr, nullptr, nullptr, &nim->qfac);
     }
-    if (nifti_set_filenames(nim.get(), w.tmp.c_str(), 0, 1) != 0)
-        throw InputError(path + ": cannot name the NIfTI output");
-    // Header now, data by write(): bit 2 leaves the file open, bit 1 (data) is off.
-    w.file = nifti_image_write_hdr_img(nim.get(), 2, "wb");
-    if (znz_isnull(w.file)) discard_temporary(w.tmp, path, "cannot write the NIfTI header");
+    // nifticlib makes the header (NIfTI-2 only where an axis exceeds NIfTI-1's 16 bits); it
+    // is written here, as nifticlib 3.0's own NIfTI-2 writer loses the header of .nii files.
+    const bool wide = dims.nx > 32767 || dims.ny > 32767 || dims.nz > 32767;
+    nifti_1_header h1{};
+    nifti_2_header h2{};
+    const void* header = wide ? static_cast<const void*>(&h2) : static_cast<const void*>(&h1);
+    const std::size_t header_size = wide ? sizeof h2 : sizeof h1;
+    nim->nifti_type = wide ? NIFTI_FTYPE_NIFTI2_1 : NIFTI_FTYPE_NIFTI1_1;
+    if (wide ? nifti_convert_nim2n2hdr(nim.get(), &h2) : nifti_convert_nim2n1hdr(nim.get(), &h1))
+        throw InputError(path + ": cannot make a NIfTI header");
+    if (wide) {
+        h2.vox_offset = 544;
+        std::memcpy(h2.magic, "n+2\0\r\n\032\n", 8);
+    } else {
+        h1.vox_offset = 352;
+        std::memcpy(h1.magic, "n+1", 4);
+    }
+    w.file = znzopen(w.tmp.c_str(), "wb", gz ? 1 : 0);
+    const char no_extension[4] = {0, 0, 0, 0};
+    if (znz_isnull(w.file) || znzwrite(header, 1, header_size, w.file) != header_size ||
+        znzwrite(no_extension, 1, 4, w.file) != 4) {
+        if (!znz_isnull(w.file)) znzclose(w.file);
+        discard_temporary(w.tmp, path, "cannot write the NIfTI header");
+    }
 }
 
 NiftiWriter::~NiftiWriter() {

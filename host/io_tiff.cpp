@@ -134,6 +134,7 @@ class MultiPageSource : public SliceSource {
 public:
     explicit MultiPageSource(const std::string& file) : file_(file), tiff_(open_tiff(file)) {
         std::size_t pages = 0;
+        tiff_message.clear();
         do {
             const Page p = page_of(tiff_.get(), file_, pages);
             if (pages == 0) page_ = p;
@@ -142,13 +143,21 @@ public:
                                  describe(page_) + "; every page must match");
             ++pages;
         } while (TIFFReadDirectory(tiff_.get()));
+        // The chain of pages ends without a complaint; a broken link is a truncated file.
+        if (!tiff_message.empty())
+            throw InputError(file_ + ": page " + std::to_string(pages) + " cannot be read (truncated?): " + tiff_message);
         dims = Dims{page_.width, page_.height, pages};
         check_dims(dims, file_);
         type = value_type_for(page_.kind, file_);
         buffer_.resize(std::size_t(page_.width) * page_.height * stored_kind_size(page_.kind));
+        current_ = pages - 1;
     }
     void read_slice(std::size_t z, void* dst) override {
-        if (!TIFFSetDirectory(tiff_.get(), tdir_t(z))) throw InputError(file_ + ": cannot reach page " + std::to_string(z));
+        // In z order the next page is one step on; anything else is looked up.
+        const bool moved = z == current_ || (z == current_ + 1 ? TIFFReadDirectory(tiff_.get()) == 1
+                                                               : TIFFSetDirectory(tiff_.get(), tdir_t(z)) == 1);
+        if (!moved) throw InputError(file_ + ": cannot reach page " + std::to_string(z));
+        current_ = z;
         read_page(tiff_.get(), page_, buffer_.data(), file_, z);
         convert_values(buffer_.data(), page_.kind, std::size_t(page_.width) * page_.height, dst, type);
     }
@@ -158,6 +167,7 @@ private:
     TiffPtr tiff_;
     Page page_;
     std::vector<unsigned char> buffer_;
+    std::size_t current_ = 0;  // the page the TIFF handle is on
 };
 
 /// A directory of single-page files, in natural name order; one file open at a time.

@@ -336,6 +336,8 @@ void write_volume(const Volume& v, const std::string& path, const Volume* grid) 
 
 std::vector<std::string> describe_volume_file(const std::string& spec, const RawOptions& raw) {
     if (spec.rfind("synthetic:", 0) == 0) return {"format    synthetic"};
+    std::error_code ec;
+    if (!fs::exists(spec, ec)) return {};  // read_volume words it
     const io::Format f = io::detect_format(spec);
     std::vector<std::string> lines{std::string("format    ") + io::format_name(f)};
     std::vector<std::string> notes;

@@ -101,10 +101,26 @@ mkdir -p dcm_mixed && cp dcm/*.dcm dcm_mixed/
 "$fixtures" dicom u16.nrrd dcm_mixed 1.2.826.0.1.3 0 || fail "fixture mixed"
 bad_input 'dcm_mixed: 2 DICOM series of 23 files each; choose one with --series UID' -- "$bin" -q filter dcm_mixed --median
 expect 0 'changed' -- "$bin" -q filter dcm_mixed --series 1.2.826.0.1.3 --median -o mixed.nrrd
+expect 2 '  1\.2\.826\.0\.1\.3 +23 files' -- "$bin" info dcm_mixed
+expect 0 '\* 1\.2\.826\.0\.1\.3 +23 files' -- "$bin" info dcm_mixed --series 1.2.826.0.1.3
 cp -r dcm dcm_text && echo "scanner notes" > dcm_text/notes.dcm
 bad_input 'notes\.dcm: not a readable DICOM file' -- "$bin" -q filter dcm_text --median
 cp -r slices slices_bad && "$fixtures" tiffdir u16.nrrd slices_u16 && cp slices_u16/slice5.tif slices_bad/slice99.tif
 bad_input 'slice99\.tif: slice is 23x23 uint16, but slice1\.tif is 19x19 uint8' -- "$bin" -q filter slices_bad --median
+head -c 3000 stack.tif > cut.tif
+bad_input 'cut\.tif: page [0-9]+ cannot be read \(truncated\?\)' -- "$bin" -q filter cut.tif --median
+cp -r dcm dcm_cut && head -c 700 dcm/1.2.826.0.1.1_0.dcm > dcm_cut/1.2.826.0.1.1_0.dcm
+# (GDCM's generated UIDs vary in length: the cut may fall between two elements.)
+bad_input 'dcm_cut/1\.2\.826\.0\.1\.1_0\.dcm: .*truncated' -- "$bin" -q filter dcm_cut --median
+# Cut anywhere (in the file meta information, the data set, the pixel data): one line, exit 2.
+cut_ok=1
+for n in 0 100 132 140 200 300 400 500 600 800 1000 1500 1900; do
+  head -c $n dcm/1.2.826.0.1.1_3.dcm > dcm_cut/1.2.826.0.1.1_0.dcm
+  out=$("$bin" info dcm_cut 2>&1 >/dev/null)
+  rc=$?
+  if [ $rc -ne 2 ] || [ "$(wc -l <<<"$out")" -ne 1 ]; then cut_ok=0; fail "DICOM slice cut at $n bytes: exit $rc: $out"; fi
+done
+[ $cut_ok -eq 1 ] && pass
 printf 'ObjectType = Image\nNDims = 3\nDimSize = 19 19 19\nElementType = MET_UCHAR\nElementDataFile = gone.raw\n' > gone.mhd
 bad_input "gone\.mhd: MetaImage data file '.*gone\.raw' does not exist" -- "$bin" -q filter gone.mhd --median
 expect 2 '^clfractal: error: out\.mha: cannot write \.mha files' -- "$bin" -q gen sphere --size 9 -o out.mha

@@ -6,6 +6,9 @@
 #include <doctest/doctest.h>
 
 #include <gdcmAttribute.h>
+#include <gdcmImageChangeTransferSyntax.h>
+#include <gdcmImageReader.h>
+#include <gdcmImageWriter.h>
 #include <gdcmWriter.h>
 #include <nifti2_io.h>
 #include <tiffio.h>
@@ -161,14 +164,44 @@ TEST_CASE("DICOM series by GDCM: shuffled files, rescale to int16, spacing, orie
     for (std::size_t z = 0; z < nz; ++z) reader.read(&streamed[z * nx * ny], 1);
     CHECK(streamed == hu);
 
-    // NIfTI written from it keeps spacing and orientation.
-    write_volume(v, dir / "out.nii.gz");
-    const Volume back = read_volume(dir / "out.nii.gz");
-    check_values(back, hu);
-    for (int a = 0; a < 3; ++a) {
-        CHECK(back.spacing[a] == doctest::Approx(v.spacing[a]));
-        CHECK(back.origin[a] == doctest::Approx(v.origin[a]));
-        for (int r = 0; r < 3; ++r) CHECK(back.axes[a][r] == doctest::Approx(v.axes[a][r]));
+    // NIfTI and NRRD written from it keep spacing and orientation.
+    for (const char* name : {"out.nii.gz", "out.nrrd"}) {
+        CAPTURE(name);
+        write_volume(v, dir / name);
+        const Volume back = read_volume(dir / name);
+        check_values(back, hu);
+        CHECK(back.oriented);
+        for (int a = 0; a < 3; ++a) {
+            CHECK(back.spacing[a] == doctest::Approx(v.spacing[a]));
+            CHECK(back.origin[a] == doctest::Approx(v.origin[a]));
+            for (int r = 0; r < 3; ++r) CHECK(back.axes[a][r] == doctest::Approx(v.axes[a][r]));
+        }
+    }
+}
+
+TEST_CASE("DICOM compressed transfer syntaxes that GDCM decodes: JPEG lossless, RLE") {
+    for (const gdcm::TransferSyntax::TSType ts :
+         {gdcm::TransferSyntax::JPEGLosslessProcess14_1, gdcm::TransferSyntax::RLELossless}) {
+        CAPTURE(gdcm::TransferSyntax::GetTSString(ts));
+        TempDir dir("dicom_ts");
+        const std::vector<std::uint16_t> stored = write_series(dir, "1.2.3.40", 10, 9, 5, 4000, 1, -1024, 17);
+        for (const auto& e : fs::directory_iterator(dir.path)) {
+            gdcm::ImageReader r;
+            r.SetFileName(e.path().c_str());
+            REQUIRE(r.Read());
+            gdcm::ImageChangeTransferSyntax change;
+            change.SetTransferSyntax(ts);
+            change.SetInput(r.GetImage());
+            REQUIRE(change.Change());
+            gdcm::ImageWriter w;
+            w.SetFile(r.GetFile());
+            w.SetImage(change.GetOutput());
+            w.SetFileName(e.path().c_str());
+            REQUIRE(w.Write());
+        }
+        std::vector<std::int16_t> hu(stored.size());
+        for (std::size_t i = 0; i < hu.size(); ++i) hu[i] = std::int16_t(int(stored[i]) - 1024);
+        check_values(read_volume(dir.path.string()), hu);
     }
 }
 
@@ -187,12 +220,15 @@ TEST_CASE("DICOM rescale rule: stored type kept, float32 for a fractional slope,
         check_values(v, expected);
         check_counts(v);
     }
-    SUBCASE("uint16 up to 60000 with intercept -1024 needs int32: not supported yet") {
+    SUBCASE("uint16 up to 60000 with intercept -1024 needs int32") {
         TempDir dir("dicom_i32");
-        write_series(dir, "1.2.3.8", 9, 8, 4, 60000, 1, -1024, 13);
-        const std::string e = error_of([&] { read_volume(dir.path.string()); });
-        CHECK(e.find("int32 values are not supported yet") != std::string::npos);
-        CHECK(e.find(dir.path.string()) != std::string::npos);
+        const auto stored = write_series(dir, "1.2.3.8", 9, 8, 4, 60000, 1, -1024, 13);
+        std::vector<std::int32_t> expected(stored.size());
+        for (std::size_t i = 0; i < stored.size(); ++i) expected[i] = std::int32_t(stored[i]) - 1024;
+        const Volume v = read_volume(dir.path.string());
+        CHECK(v.type() == ValueType::int32);
+        check_values(v, expected);
+        check_counts(v);
     }
 }
 
@@ -271,6 +307,37 @@ TEST_CASE("NIfTI by nifticlib: .nii.gz, .nii, .hdr/.img; scl_slope only under --
     check_values(c, f32);
     check_counts(c);
 
+    // NIfTI-2 (540-byte header, made by nifticlib).
+    {
+        const int64_t dims[8] = {3, int64_t(nx), int64_t(ny), int64_t(nz), 1, 1, 1, 1};
+        nifti_2_header* h = nifti_make_new_n2_header(dims, DT_INT16);
+        REQUIRE(h);
+        h->vox_offset = 544;
+        std::memcpy(h->magic, "n+2\0\r\n\032\n", 8);
+        std::string file(reinterpret_cast<const char*>(h), 540);
+        std::free(h);
+        file += std::string(4, '\0') + std::string(reinterpret_cast<const char*>(i16.data()), i16.size() * 2);
+        gzFile g = gzopen((dir / "n2.nii.gz").c_str(), "wb");
+        REQUIRE(gzwrite(g, file.data(), unsigned(file.size())) == int(file.size()));
+        gzclose(g);
+    }
+    check_values(read_volume(dir / "n2.nii.gz"), i16);
+    CHECK(describe_volume_file(dir / "n2.nii.gz")[1].find("NIfTI-2, stored INT16") != std::string::npos);
+    // The writer uses NIfTI-2 where an axis exceeds 32767 vertices.
+    Volume wide(Dims{40000, 2, 2}, ValueType::uint8);
+    for (std::size_t i = 0; i < wide.vertices(); ++i) static_cast<std::uint8_t*>(wide.data())[i] = std::uint8_t(i % 251);
+    write_volume(wide, dir / "wide.nii.gz");
+    const Volume wide_back = read_volume(dir / "wide.nii.gz");
+    CHECK(wide_back.dims() == wide.dims());
+    CHECK(std::memcmp(wide_back.data(), wide.data(), wide.size_bytes()) == 0);
+    CHECK(describe_volume_file(dir / "wide.nii.gz")[1].find("NIfTI-2") != std::string::npos);
+
+    // A .raw file is raw data whatever its first bytes look like.
+    std::string tiff_like = "II*";
+    tiff_like += std::string(4 * 4 * 4 - 3, '\0');
+    write_text(dir / "looks_4x4x4_uint8.raw", tiff_like);
+    CHECK(read_volume(dir / "looks_4x4x4_uint8.raw").value(0) == 'I');
+
     // Found by content, whatever the name.
     fs::copy_file(dir / "a.nii.gz", dir / "scan.data");
     check_values(read_volume(dir / "scan.data"), i16);
@@ -288,11 +355,14 @@ TEST_CASE("NIfTI by nifticlib: .nii.gz, .nii, .hdr/.img; scl_slope only under --
     for (std::size_t i = 0; i < i16.size(); ++i) s2[i] = float(double(i16[i]) * 0.5 + 3);
     check_values(read_volume(dir / "s2.nii", scaled), s2);
 
-    // int32 is routed to the one "not supported yet" message.
-    auto i32 = random_values<std::int32_t>(nx * ny * nz, 0, 9, 34);
+    // int32 and float64 are read as they are stored.
+    auto i32 = random_values<std::int32_t>(nx * ny * nz, -100000, 100000, 34);
     write_nifti_file(dir / "i32.nii", DT_INT32, i32.data(), nx, ny, nz);
-    CHECK(error_of([&] { read_volume(dir / "i32.nii"); }) ==
-          dir / "i32.nii" + ": int32 values are not supported yet (supported: uint8, uint16, int16, float32)");
+    check_values(read_volume(dir / "i32.nii"), i32);
+    auto f64 = random_values<double>(nx * ny * nz, -5, 5, 35);
+    for (double& x : f64) x += 1e-12;  // below float32 precision
+    write_nifti_file(dir / "f64.nii", DT_FLOAT64, f64.data(), nx, ny, nz);
+    check_values(read_volume(dir / "f64.nii"), f64);
 
     // Truncated gzip: one line naming the file.
     std::ifstream in(dir / "a.nii.gz", std::ios::binary);
@@ -382,6 +452,9 @@ TEST_CASE("MetaImage: LOCAL raw, .mhd + .raw big-endian, zlib CompressedData; a 
     write_text(dir / "c.mha", header + "CompressedData = True\nCompressedDataSize = " + std::to_string(zn) +
                                   "\nElementDataFile = LOCAL\n" + zdata);
     check_values(read_volume(dir / "c.mha"), i16);
+    write_text(dir / "d.zraw", zdata);
+    write_text(dir / "d.mhd", header + "CompressedData = True\nElementDataFile = d.zraw\n");
+    check_values(read_volume(dir / "d.mhd"), i16);
     write_text(dir / "cut.mha", header + "CompressedData = True\nElementDataFile = LOCAL\n" + zdata.substr(0, zn / 2));
     CHECK(error_of([&] { read_volume(dir / "cut.mha"); }).rfind(dir / "cut.mha" + ": MetaImage compressed data", 0) == 0);
 

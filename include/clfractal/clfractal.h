@@ -89,7 +89,8 @@ const char* clf_context_description(const clf_context* ctx);
 
 /* ---- volumes ---- */
 
-/* Reads a .nrrd/.nhdr, a NAME_XxYxZ_TYPE.raw file or "synthetic:NAME[:N]". */
+/* Reads any volume read_volume reads (NRRD, DICOM series directory, NIfTI, TIFF, MetaImage,
+   NAME_XxYxZ_TYPE.raw) or "synthetic:NAME[:N]". */
 clf_status clf_volume_read(const char* path, clf_volume** out);
 /* A volume holding a copy of `data` (nx * ny * nz values of `type`, x fastest). Float
  * data containing NaN or Inf is rejected. */

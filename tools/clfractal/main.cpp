@@ -52,6 +52,10 @@ int cmd_devices() {
 // ------------------------------------------------------------------ info
 
 int cmd_info(const std::string& spec, const RawArgs& raw) {
+    // The format first: a directory of several DICOM series is listed even when none is chosen.
+    std::cout << "volume    " << spec << "\n";
+    for (const std::string& line : describe_volume_file(spec, raw.options())) std::cout << line << "\n";
+    std::cout.flush();
     // NaN and Inf are reported, not refused: an LD field is float data with NaN where LD is
     // undefined. Range, mean and histogram are those of the finite values.
     Volume v = read_volume(spec, raw.options(), FiniteCheck::keep);
@@ -70,8 +74,6 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
     });
     const double n = double(finite);
     const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-    std::cout << "volume    " << spec << "\n";
-    for (const std::string& line : describe_volume_file(spec, raw.options())) std::cout << line << "\n";
     std::cout << "dims      " << dims_string(v.dims()) << " (" << v.vertices() << " vertices, " << v.dims().cubes()
               << " cubes)\n"
               << "type      " << value_type_name(v.type()) << "\n"
