@@ -24,4 +24,16 @@ Volume subsample(const Volume& v) {
     return out;
 }
 
+void subsample(Context& ctx, const cl::Buffer& src, ValueType type, const Dims& d, const cl::Buffer& dst) {
+    const Dims s = level_dims(d, 1);
+    cl::Kernel k = ctx.kernel("pyramid", "subsample", defines({{"T", opencl_type_name(type)}}));
+    k.setArg(0, src);
+    k.setArg(1, int(d.nx));
+    k.setArg(2, int(d.ny));
+    k.setArg(3, dst);
+    k.setArg(4, int(s.nx));
+    k.setArg(5, int(s.ny));
+    ctx.launch(k, cl::NDRange(s.nx, s.ny, s.nz));
+}
+
 }  // namespace clfractal

@@ -85,6 +85,9 @@ struct Tuning {
     /// Largest count total kept in 32-bit tables; above it tables are 64-bit. Tests
     /// lower it to force the 64-bit kernels.
     std::uint64_t sat_max_32bit = 0xffffffffu;
+    /// Use cl_khr_fp64 where the device has it (fd4.hpp: bins in double on the device);
+    /// tests clear it to force the path for devices without it.
+    bool use_fp64 = true;
 };
 
 /// A context on one device with one in-order queue and a thread-safe program cache.
