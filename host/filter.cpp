@@ -341,6 +341,20 @@ std::size_t count_selected(const float* ld, std::size_t n, float h) {
     return selected;
 }
 
+void finish_result(const Volume& v, TargetedResult& res) {
+    res.changed = count_changed(v, res.volume);
+    res.selected_share = double(res.selected) / double(v.vertices());
+    res.changed_share = double(res.changed) / double(v.vertices());
+}
+
+// The masked filter of `v` with a given field (float32, v's dims) into res.volume, slab by
+// slab, and the count of selected vertices (field > hf).
+void field_run(Context& ctx, const Volume& v, const FilterSpec& spec, Mask mask, const Volume& field, float hf,
+               TargetedResult& res) {
+    filter_slabs(ctx, v, res.volume, spec, mask, &field, hf);
+    res.selected = count_selected(field.as<float>(), field.vertices(), hf);
+}
+
 TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec, Mask mask, double iso, double h,
                           int window) {
     check_volume(v);
@@ -361,8 +375,7 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
         const Volume ld = local_fractal_dimension(ctx, v, iso, window);
         res.ld_seconds = seconds_since(t);
         t = clock::now();
-        filter_slabs(ctx, v, res.volume, spec, mask, &ld, hf);
-        res.selected = count_selected(ld.as<float>(), ld.vertices(), hf);
+        field_run(ctx, v, spec, mask, ld, hf, res);
     } else {
         // One upload: the LD field and the filter read the same device values.
         with_cl_errors_finished(ctx, [&] {
@@ -382,10 +395,8 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
             ctx.queue().enqueueUnmapMemObject(ld.get(), const_cast<float*>(p));
         });
     }
-    res.changed = count_changed(v, res.volume);
+    finish_result(v, res);
     res.filter_seconds = seconds_since(t);
-    res.selected_share = double(res.selected) / double(v.vertices());
-    res.changed_share = double(res.changed) / double(v.vertices());
     return res;
 }
 
@@ -426,6 +437,20 @@ Volume masked_filter(Context& ctx, const Volume& v, const FilterSpec& spec, cons
 TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, double iso, double h,
                                int window) {
     return masked_run(ctx, v, spec, Mask::threshold, iso, h, window);
+}
+
+TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, const Volume& field, double h) {
+    check_volume(v);
+    spec.check();
+    if (field.type() != ValueType::float32 || field.dims() != v.dims())
+        throw InputError("mask field: must be float32 of the volume's dims " + dims_string(v.dims()));
+    const auto t = clock::now();
+    TargetedResult res;
+    res.volume = like(v);
+    field_run(ctx, v, spec, Mask::threshold, field, float_threshold(h), res);
+    finish_result(v, res);
+    res.filter_seconds = seconds_since(t);
+    return res;
 }
 
 TargetedResult ld_bilateral_filter(Context& ctx, const Volume& v, double sigma_s, double sigma_r, double iso,

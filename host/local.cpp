@@ -50,6 +50,53 @@ std::size_t row_items(const Context& ctx) {
     return ctx.tuning.row_items ? ctx.tuning.row_items : 4 * ctx.compute_units();
 }
 
+}  // namespace
+
+template <class C>
+void window_log_ratios(Context& ctx, const Buffer<C>& table, const Dims& d, const Buffer<C>& table_sub, int window,
+                       const std::string& options, const cl::Buffer& out) {
+    const Dims ds = level_dims(d, 1);
+    const std::string& variant = ctx.tuning.local_variant;
+    if (variant != "rows" && variant != "vertices")
+        throw std::logic_error("unknown local-dimension variant '" + variant + "'");
+    const bool rows = variant == "rows";
+    const std::size_t items = row_items(ctx);
+    cl::Kernel query = ctx.kernel("local", rows ? "local_dimension_rows" : "local_dimension_vertices", options);
+    Buffer<C> scratch(ctx, rows ? items * (d.nx + ds.nx) : 0);
+    // The window tables of the three axes, x then y then z (local_windows).
+    std::vector<LocalWindow> windows;
+    for (std::size_t n : {d.nx, d.ny, d.nz}) {
+        const std::vector<LocalWindow> w = local_windows(n, window);
+        windows.insert(windows.end(), w.begin(), w.end());
+    }
+    Buffer<LocalWindow> window_table(ctx, windows.size(), CL_MEM_READ_ONLY);
+    window_table.write(ctx.queue(), windows.data(), windows.size());
+
+    query.setArg(0, table.get());
+    query.setArg(1, int(d.nx));
+    query.setArg(2, int(d.ny));
+    query.setArg(3, int(d.nz));
+    query.setArg(4, table_sub.get());
+    query.setArg(5, int(ds.nx));
+    query.setArg(6, int(ds.ny));
+    query.setArg(7, int(ds.nz));
+    query.setArg(8, window_table.get());
+    query.setArg(9, out);
+    if (rows) {
+        query.setArg(10, scratch.get());
+        ctx.launch(query, cl::NDRange(items), cl::NDRange(1));
+    } else {
+        ctx.launch(query, cl::NDRange(d.nx, d.ny, d.nz));
+    }
+}
+
+template void window_log_ratios<cl_uint>(Context&, const Buffer<cl_uint>&, const Dims&, const Buffer<cl_uint>&, int,
+                                         const std::string&, const cl::Buffer&);
+template void window_log_ratios<cl_ulong>(Context&, const Buffer<cl_ulong>&, const Dims&, const Buffer<cl_ulong>&, int,
+                                          const std::string&, const cl::Buffer&);
+
+namespace {
+
 // Writes the LD field of `values` (d.vertices() values of `type`) into `ld` (d.vertices()
 // floats), with C-bit tables.
 template <class C>
@@ -70,28 +117,10 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
     const std::string options =
         single_isovalue_options(type) + defines({{"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
     cl::Kernel indicator = ctx.kernel("local", rows ? "cube_indicator_rows" : "cube_indicator_vertices", options);
-    cl::Kernel query = ctx.kernel("local", rows ? "local_dimension_rows" : "local_dimension_vertices", options);
-    cl::Kernel subsample = ctx.kernel("pyramid", "subsample", type_options(type));
 
     Buffer<unsigned char> sub(ctx, ds.vertices() * value_size(type));
     Buffer<C> table(ctx, d.vertices()), table_sub(ctx, ds.vertices());
-    Buffer<C> scratch(ctx, rows ? items * (d.nx + ds.nx) : 0);
-    // The window tables of the three axes, x then y then z (local_windows).
-    std::vector<LocalWindow> windows;
-    for (std::size_t n : {d.nx, d.ny, d.nz}) {
-        const std::vector<LocalWindow> w = local_windows(n, window);
-        windows.insert(windows.end(), w.begin(), w.end());
-    }
-    Buffer<LocalWindow> window_table(ctx, windows.size(), CL_MEM_READ_ONLY);
-    window_table.write(ctx.queue(), windows.data(), windows.size());
-
-    subsample.setArg(0, values);
-    subsample.setArg(1, int(d.nx));
-    subsample.setArg(2, int(d.ny));
-    subsample.setArg(3, sub.get());
-    subsample.setArg(4, int(ds.nx));
-    subsample.setArg(5, int(ds.ny));
-    ctx.launch(subsample, cl::NDRange(ds.nx, ds.ny, ds.nz));
+    subsample(ctx, values, type, d, sub.get());
 
     auto indicator_table = [&](const cl::Buffer& vol, const Dims& dims, Buffer<C>& out) {
         indicator.setArg(0, vol);
@@ -107,22 +136,7 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
     indicator_table(values, d, table);
     indicator_table(sub.get(), ds, table_sub);
 
-    query.setArg(0, table.get());
-    query.setArg(1, int(d.nx));
-    query.setArg(2, int(d.ny));
-    query.setArg(3, int(d.nz));
-    query.setArg(4, table_sub.get());
-    query.setArg(5, int(ds.nx));
-    query.setArg(6, int(ds.ny));
-    query.setArg(7, int(ds.nz));
-    query.setArg(8, window_table.get());
-    query.setArg(9, ld);
-    if (rows) {
-        query.setArg(10, scratch.get());
-        ctx.launch(query, cl::NDRange(items), cl::NDRange(1));
-    } else {
-        ctx.launch(query, cl::NDRange(d.nx, d.ny, d.nz));
-    }
+    window_log_ratios(ctx, table, d, table_sub, window, options, ld);
 }
 
 void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso, int window,

@@ -1,5 +1,7 @@
 #include "clfractal/pyramid.hpp"
 
+#include "type_options.hpp"
+
 namespace clfractal {
 
 Dims level_dims(const Dims& d, int level) {
@@ -22,6 +24,18 @@ Volume subsample(const Volume& v) {
                     dst[x + s.nx * (y + s.ny * std::size_t(z))] = src[2 * x + d.nx * (2 * y + d.ny * 2 * std::size_t(z))];
     });
     return out;
+}
+
+void subsample(Context& ctx, const cl::Buffer& src, ValueType type, const Dims& d, const cl::Buffer& dst) {
+    const Dims s = level_dims(d, 1);
+    cl::Kernel k = ctx.kernel("pyramid", "subsample", type_options(type));
+    k.setArg(0, src);
+    k.setArg(1, int(d.nx));
+    k.setArg(2, int(d.ny));
+    k.setArg(3, dst);
+    k.setArg(4, int(s.nx));
+    k.setArg(5, int(s.ny));
+    ctx.launch(k, cl::NDRange(s.nx, s.ny, s.nz));
 }
 
 }  // namespace clfractal

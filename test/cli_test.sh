@@ -393,5 +393,35 @@ expect 2 "clfractal: error: unknown value type 'int64'" -- "$bin" fd f64.nrrd --
 head -c 64 /dev/zero > z_2x2x2_int64.raw
 expect 2 "clfractal: error: .*z_2x2x2_int64.raw.*unknown value type 'int64'" -- "$bin" fd z_2x2x2_int64.raw
 
+# fd4: the 4D dimension as text and JSON; for integer data with q = 1, I4(G, 1) is the sum
+# of the span curve plus the cubes (DESIGN §1). local4: the LD4 field. filter --fractal4.
+expect 0 'D4 +3\.' -- "$bin" -q fd4 synthetic:sphere:20 --json fd4.json
+expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:20 --csv fd4_curve.csv
+python3 - <<'PY' && pass || fail "fd4 json fields / identity"
+import json, math
+j = json.load(open("fd4.json"))
+for k in ["volume", "dims", "type", "q", "i4_l0", "i4_l1", "d4"]:
+    assert k in j, k
+assert j["dims"] == [20, 20, 20] and j["type"] == "uint8" and j["q"] == 1
+counts = sum(int(r.split(",")[1]) for r in open("fd4_curve.csv").read().splitlines()[1:])
+assert j["i4_l0"] == counts + 19 ** 3, (j["i4_l0"], counts)
+assert abs(j["d4"] - math.log2(j["i4_l0"] / j["i4_l1"])) < 1e-12
+PY
+expect 0 'D4 +' -- "$bin" -q fd4 synthetic:marschner-lobb:24 --q 0.01
+expect 2 'clfractal: error: .*--q' -- "$bin" fd4 synthetic:sphere:20 --q -1
+expect 2 'clfractal: error: .*--q' -- "$bin" fd4 synthetic:sphere:20 --q 0
+expect 2 'clfractal: error: .*--q' -- "$bin" fd4 synthetic:sphere:20 --q abc
+expect 2 'clfractal: error: .*--q 1e-300.*too small' -- "$bin" fd4 synthetic:sphere:20 --q 1e-300
+expect 2 'clfractal: error: .*no_such.nrrd' -- "$bin" fd4 no_such.nrrd
+expect 0 'mean LD4 +3\.' -- "$bin" -q local4 synthetic:noisy-sphere:24 --window 6 -o ld4.nrrd
+expect 0 'float32' -- "$bin" info ld4.nrrd
+expect 2 'clfractal: error: .*--window' -- "$bin" local4 synthetic:sphere:20 --window 5 -o bad.nrrd
+[ ! -e bad.nrrd ] && pass || fail "local4 with a bad window wrote a file"
+expect 2 'clfractal: error: .*--q' -- "$bin" local4 synthetic:sphere:20 --q -2 -o bad.nrrd
+expect 0 'with LD4 > 3.5' -- "$bin" -q filter synthetic:noisy-sphere:24 --median --fractal4 --threshold 3.5 --iso 128 -o f4.nrrd
+expect 2 'clfractal: error: .*--fractal4 needs --threshold' -- "$bin" filter synthetic:sphere:20 --median --fractal4 -o f4.nrrd
+expect 2 'clfractal: error: .*--q: only with --fractal4' -- "$bin" filter synthetic:sphere:20 --median --q 2 -o f4.nrrd
+expect 2 'clfractal: error: .*exclude each other' -- "$bin" filter synthetic:sphere:20 --median --fractal4 --fractal --iso 3 --threshold 3 -o f4.nrrd
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

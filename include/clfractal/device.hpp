@@ -88,6 +88,9 @@ struct Tuning {
     /// Whether programs may use double (-DFP64) on a device with cl_khr_fp64; tests clear
     /// it to check the error a device without the extension gives.
     bool allow_fp64 = true;
+    /// Use cl_khr_fp64 where the device has it (fd4.hpp: bins in double on the device);
+    /// tests clear it to force the path for devices without it.
+    bool use_fp64 = true;
 };
 
 /// A context on one device with one in-order queue and a thread-safe program cache.

@@ -102,6 +102,11 @@ struct TargetedResult {
 TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, double iso, double h,
                                int window = 8);
 
+/// The filter applied only where a given field (float32, the volume's dims) is > h, NaN
+/// never qualifying: the targeted filter for any precomputed mask field, e.g. the LD4 field
+/// of fd4.hpp (`clfractal filter --fractal4`). ld_seconds stays 0.
+TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, const Volume& field, double h);
+
 /// The LD-guided bilateral filter (see above) for isovalue `iso` and window `window`.
 TargetedResult ld_bilateral_filter(Context& ctx, const Volume& v, double sigma_s, double sigma_r, double iso,
                                    int window = 8);

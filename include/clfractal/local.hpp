@@ -17,6 +17,7 @@
 // same cubes as s = 100).
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "clfractal/device.hpp"
@@ -38,6 +39,16 @@ struct LocalWindow {
 /// place the window bounds are written. The host builds these tables (x, then y, then z)
 /// and the kernels only read them. Throws InputError unless k is even and at least 2.
 std::vector<LocalWindow> local_windows(std::size_t n, int window);
+
+/// The query step of the local dimensions (LD here, LD4 in fd4.hpp): for every vertex of a
+/// grid of `d`, log2(box_W / box_W') of the windows of local_windows(·, window), where
+/// `table` and `table_sub` are the summed-area tables of zero-padded per-cube counts of G
+/// (d) and G' (level_dims(d, 1)) as kernels/local.cl lays them out; NaN where either box
+/// sum is 0. `options` are the -D defines of kernels/local.cl (-DC must name C); `out`
+/// receives d.vertices() floats. Follows ctx.tuning.local_variant.
+template <class C>
+void window_log_ratios(Context& ctx, const Buffer<C>& table, const Dims& d, const Buffer<C>& table_sub, int window,
+                       const std::string& options, const cl::Buffer& out);
 
 /// Checks a window (even, at least 2) and an isovalue (finite); throws InputError naming
 /// the option (--window, --iso) otherwise.

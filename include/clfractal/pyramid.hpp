@@ -1,6 +1,7 @@
 // Grid subsampling (DESIGN §1 "Subsampling"): level l keeps the vertices whose
 // coordinates are multiples of 2^l; per axis n_l = (n_{l-1} - 1) / 2 + 1. G' is level 1.
 #pragma once
+#include "clfractal/device.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -10,5 +11,9 @@ Dims level_dims(const Dims& d, int level);
 
 /// The next pyramid level of v on the host (the device does the same in kernels/pyramid.cl).
 Volume subsample(const Volume& v);
+
+/// The next pyramid level on the device: `src` holds d.vertices() values of `type`, `dst`
+/// receives level_dims(d, 1).vertices() of them.
+void subsample(Context& ctx, const cl::Buffer& src, ValueType type, const Dims& d, const cl::Buffer& dst);
 
 }  // namespace clfractal

@@ -45,6 +45,10 @@ inline bool is_auto_isovalue(double iso) { return iso == auto_isovalue; }
 /// Throws InputError when auto finds no clean band.
 double checked_isovalue(const clfractal::Volume& v, double iso);
 
+/// --q Q, the bin width of the 4D dimension: checked while parsing (finite, > 0); the
+/// check against the value range needs the volume (fd4.hpp check_bin_width).
+CLI::Option* add_q_option(CLI::App* app, double& q);
+
 /// Warns on stderr (before any device work) when `iso` selects nothing in `v`: every
 /// cube's span [a, b] lies inside [vmin, vmax], so s <= vmin or s > vmax intersects none.
 void warn_isovalue_outside(const clfractal::Volume& v, double iso);
@@ -102,6 +106,8 @@ void add_smooth_command(CLI::App& app, Commands& commands);
 void add_filter_command(CLI::App& app, Commands& commands);
 void add_components_command(CLI::App& app, Commands& commands);
 void add_survey_command(CLI::App& app, Commands& commands);
+/// fd4 and local4 (cmd_fd4.cpp).
+void add_fd4_commands(CLI::App& app, Commands& commands);
 
 /// Components (log scale) against the isovalue, with the FD curve on the other axis when
 /// `fd` is given (thesis Figs. 2.1 + 3.2 in one figure); zero counts are left out.

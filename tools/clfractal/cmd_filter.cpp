@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "clfractal/components.hpp"
+#include "clfractal/fd4.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "clfractal/stream.hpp"
@@ -20,8 +21,8 @@ namespace {
 
 struct FilterArgs {
     std::string volume, output, bilateral;
-    bool median = false, fractal = false, ld_guided = false, stream = false;
-    double gaussian = 0, iso = NAN, threshold = NAN;
+    bool median = false, fractal = false, fractal4 = false, ld_guided = false, stream = false;
+    double gaussian = 0, iso = NAN, threshold = NAN, q = 0;
     int window = 8;
     cli::RawArgs raw;
 };
@@ -122,11 +123,16 @@ int run_filter_stream(const FilterArgs& a, const FilterSpec& spec) {
 
 int run_filter(FilterArgs a, CLI::App* app) {
     const FilterSpec spec = parse_spec(a, app);
-    if (a.fractal && a.ld_guided) throw InputError("filter: --fractal and --ld-guided exclude each other");
+    if (int(a.fractal) + int(a.fractal4) + int(a.ld_guided) > 1)
+        throw InputError("filter: --fractal, --fractal4 and --ld-guided exclude each other");
+    if (a.fractal4 && std::isnan(a.threshold)) throw InputError("--fractal4 needs --threshold H4");
+    if (!a.fractal4 && app->count("--q")) throw InputError("--q: only with --fractal4");
+    if (a.fractal4 && a.stream) throw InputError("--stream: not with --fractal4 (LD4 needs the whole volume)");
     if ((a.fractal || a.ld_guided) && std::isnan(a.iso))
         throw InputError(std::string(a.fractal ? "--fractal" : "--ld-guided") + " needs --iso S");
     if (a.fractal && std::isnan(a.threshold)) throw InputError("--fractal needs --threshold H");
-    if (!a.fractal && !std::isnan(a.threshold)) throw InputError("--threshold: only with --fractal");
+    if (!a.fractal && !a.fractal4 && !std::isnan(a.threshold))
+        throw InputError("--threshold: only with --fractal or --fractal4");
     if (a.ld_guided && spec.kind != FilterKind::bilateral) throw InputError("--ld-guided: only with --bilateral");
     if (!std::isnan(a.iso) && !std::isfinite(a.iso)) throw InputError("--iso: must be a finite number");
     if (a.stream && !a.fractal) throw InputError("--stream: only with --fractal (the targeted filter streams)");
@@ -147,6 +153,11 @@ int run_filter(FilterArgs a, CLI::App* app) {
         s << ", fractal-targeted: where LD > " << a.threshold << " (isovalue " << a.iso << ", window " << a.window
           << ")";
         how += s.str();
+    } else if (a.fractal4) {
+        std::ostringstream s;
+        s << ", targeted by the 4D field: where LD4 > " << a.threshold << " (bin width "
+          << (a.q ? a.q : default_bin_width(v)) << ", window " << a.window << ")";
+        how += s.str();
     } else if (a.ld_guided) {
         std::ostringstream s;
         s << ", LD-guided range (isovalue " << a.iso << ", window " << a.window << ")";
@@ -158,8 +169,13 @@ int run_filter(FilterArgs a, CLI::App* app) {
     const auto t0 = clock::now();
     Volume out;
     TargetedResult tr;
-    const bool masked = a.fractal || a.ld_guided;
-    if (a.fractal) tr = targeted_filter(ctx, v, spec, a.iso, a.threshold, a.window);
+    const bool masked = a.fractal || a.fractal4 || a.ld_guided;
+    if (a.fractal4) {
+        const Volume ld4 = local_fractal_dimension_4d(ctx, v, a.q, a.window);
+        const double field_seconds = std::chrono::duration<double>(clock::now() - t0).count();
+        tr = targeted_filter(ctx, v, spec, ld4, a.threshold);
+        tr.ld_seconds = field_seconds;
+    } else if (a.fractal) tr = targeted_filter(ctx, v, spec, a.iso, a.threshold, a.window);
     else if (a.ld_guided) tr = ld_bilateral_filter(ctx, v, spec.sigma_s, spec.sigma_r, a.iso, a.window);
     else out = apply_filter(ctx, v, spec);
     const double seconds = std::chrono::duration<double>(clock::now() - t0).count();
@@ -178,6 +194,9 @@ int run_filter(FilterArgs a, CLI::App* app) {
     std::cout << std::fixed << std::setprecision(2);
     if (a.fractal)
         std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share << "%) with LD > "
+                  << a.threshold << "\n";
+    if (a.fractal4)
+        std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share << "%) with LD4 > "
                   << a.threshold << "\n";
     if (a.ld_guided)
         std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share
@@ -211,10 +230,13 @@ void add_filter_command(CLI::App& app, Commands& commands) {
     c->add_option("--gaussian", a->gaussian, "separable Gaussian with this sigma (radius ceil(3 sigma))");
     c->add_option("--bilateral", a->bilateral, "bilateral filter SIGMA_S,SIGMA_R (radius ceil(2 sigma_s))");
     c->add_flag("--fractal", a->fractal, "filter only vertices with LD > H (needs --iso, --threshold)");
+    c->add_flag("--fractal4", a->fractal4,
+                "filter only vertices whose local 4D dimension LD4 > H4 (needs --threshold; no isovalue)");
+    add_q_option(c, a->q);
     c->add_flag("--ld-guided", a->ld_guided,
                 "bilateral with the range scale sigma_r * min(LD - 2, 1) (thesis 6.3; needs --iso)");
     add_iso_option(c, a->iso, "isovalue S of the LD field; also reports cubes and FD at S before/after");
-    c->add_option("--threshold", a->threshold, "LD threshold H of --fractal");
+    c->add_option("--threshold", a->threshold, "LD threshold H of --fractal (LD4 threshold H4 of --fractal4)");
     add_window_option(c, a->window);
     c->add_option("-o,--output", a->output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
     c->add_flag("--stream", a->stream,

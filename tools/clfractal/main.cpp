@@ -538,6 +538,7 @@ int main(int argc, char** argv) {
     cli::add_filter_command(app, commands);
     add_components_command(app, commands);
     add_survey_command(app, commands);
+    cli::add_fd4_commands(app, commands);
 
     try {
         app.parse(argc, argv);
