@@ -5,23 +5,23 @@ embedded noisy sphere).
 - fd_curve (box, levels 0 and 1, every integer isovalue): the wall time of the Python call
   (array in, curve object out) against the compute time the CLI reports for the same volume
   (`clfractal fd --json`: seconds_compute, the device time of the counting).
-- median: the Python call against the CLI's filter time (`clfractal filter --median`, minus
-  kernel compilation), against scipy.ndimage.median_filter(size=3, mode="nearest") (which it
+- median: the Python call against the same C++ library call (`clfractal_filter_bench
+  --volume`), against scipy.ndimage.median_filter(size=3, mode="nearest") (which it
   must equal), and against pyclesperanto's median_box (radius 1) on the same OpenCL device
   when pyclesperanto is installed.
 
-Every time is the best of --repeats runs after a warm-up. Run it with the build's venv:
+Every time is the best of --repeats runs after a warm-up (the peers: of at most 2). Run it with the build's venv:
   build/python-venv/bin/python bench/python_bench.py --cli build/clfractal
 (PYTHONPATH=build/python for the package built in the tree, or pip-install it).
 """
 import argparse
 import json
 import os
-import re
 import subprocess
 import sys
 import tempfile
 import time
+import warnings
 
 import numpy as np
 
@@ -48,10 +48,12 @@ def run_cli(cli, *args):
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--cli", required=True, help="path of the clfractal command-line tool")
+    p.add_argument("--filter-bench", help="path of clfractal_filter_bench (default: beside --cli)")
     p.add_argument("--size", type=int, default=256)
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--json", help="write the figures here")
     a = p.parse_args()
+    a.filter_bench = a.filter_bench or os.path.join(os.path.dirname(a.cli), "clfractal_filter_bench")
 
     v, _ = clfractal.read_volume(f"synthetic:noisy-sphere:{a.size}")
     n = v.shape[2]
@@ -62,40 +64,38 @@ def main():
         path = os.path.join(tmp, f"noisy-sphere_{n}x{n}x{n}_{clfractal.VALUE_TYPES[v.dtype]}.raw")
         v.tofile(path)
 
-        # ---- fd_curve
-        t_py, curve = best_of(a.repeats, lambda: clfractal.fd_curve(v))
-        cli_fd = []
+        # ---- fd_curve: Python calls and CLI runs interleaved (best of each), so that a busy
+        # machine slows both alike.
+        clfractal.fd_curve(v)  # warm-up
+        t_py, t_lib, t_cli = [], [], []
         for _ in range(a.repeats):
+            t0 = time.perf_counter()
+            curve = clfractal.fd_curve(v)
+            t_py.append(time.perf_counter() - t0)
+            t_lib.append(curve.summary["seconds_compute"])
             run_cli(a.cli, "-q", "fd", path, "--json", os.path.join(tmp, "fd.json"))
             with open(os.path.join(tmp, "fd.json")) as f:
                 j = json.load(f)
-            cli_fd.append(j["seconds_compute"])
-        t_cli = min(cli_fd)
-        if abs(j["mean_fd"] - curve.summary["mean"]) > 1e-9:
-            sys.exit("python_bench: fd_curve and the CLI disagree")
-        rows["fd_python_seconds"] = t_py
-        rows["fd_library_seconds"] = curve.summary["seconds_compute"]
-        rows["fd_cli_seconds"] = t_cli
-        rows["fd_overhead"] = t_py / t_cli - 1
-        print(f"fd_curve        python {t_py:.4f} s | CLI compute {t_cli:.4f} s | overhead "
-              f"{100 * rows['fd_overhead']:+.1f}%  (library's own device time in the call "
-              f"{curve.summary['seconds_compute']:.4f} s)")
+            t_cli.append(j["seconds_compute"])
+            if abs(j["mean_fd"] - curve.summary["mean"]) > 1e-9:
+                sys.exit("python_bench: fd_curve and the CLI disagree")
+        rows.update(fd_python_seconds=min(t_py), fd_library_seconds=min(t_lib), fd_cli_seconds=min(t_cli))
+        rows["fd_overhead"] = min(t_py) / min(t_cli) - 1
+        print(f"fd_curve        python {min(t_py):.4f} s | CLI compute {min(t_cli):.4f} s | overhead "
+              f"{100 * rows['fd_overhead']:+.1f}%  (the library's device time inside the Python call: "
+              f"{min(t_lib):.4f} s)")
 
-        # ---- median
+        # ---- median: the C++ library call timed by clfractal_filter_bench (best of --repeats
+        # after a warm-up; its --volume case times the median alone)
         t_med, ours = best_of(a.repeats, lambda: clfractal.median(v))
-        cli_med = []
-        for _ in range(a.repeats):
-            out = run_cli(a.cli, "filter", path, "--median", "-o", os.path.join(tmp, "m.nrrd"))
-            t, compiled = re.search(r"time\s+([\d.e-]+) s, kernels compiled in ([\d.e-]+) s", out).groups()
-            cli_med.append(float(t) - float(compiled))
-        t_cli_med = min(cli_med)
-        rows["median_python_seconds"] = t_med
-        rows["median_cli_seconds"] = t_cli_med
-        rows["median_overhead"] = t_med / t_cli_med - 1
-        line = (f"median          python {t_med:.4f} s | CLI {t_cli_med:.4f} s | overhead "
+        out = run_cli(a.filter_bench, "--size", 8, "--repeats", a.repeats, "--volume", path)
+        t_cpp = json.loads(out)["cases"][-1]["median_seconds"]
+        rows.update(median_python_seconds=t_med, median_cpp_seconds=t_cpp, median_overhead=t_med / t_cpp - 1)
+        line = (f"median          python {t_med:.4f} s | C++ {t_cpp:.4f} s | overhead "
                 f"{100 * rows['median_overhead']:+.1f}%")
         from scipy import ndimage
-        t_scipy, theirs = best_of(a.repeats, lambda: ndimage.median_filter(v, size=3, mode="nearest"))
+        peer_repeats = min(a.repeats, 2)  # the peers take seconds per call
+        t_scipy, theirs = best_of(peer_repeats, lambda: ndimage.median_filter(v, size=3, mode="nearest"))
         if not np.array_equal(ours, theirs):
             sys.exit("python_bench: median differs from scipy.ndimage.median_filter")
         rows["median_scipy_seconds"] = t_scipy
@@ -106,8 +106,10 @@ def main():
             cle.select_device(clfractal.device_description().split(" / ")[-1])
 
             def cle_median():
-                return cle.pull(cle.median_box(cle.push(v), radius_x=1, radius_y=1, radius_z=1))
-            t_cle, theirs = best_of(a.repeats, cle_median)
+                return cle.pull(cle.median_box(cle.push(v), None, 1, 1, 1))
+            with warnings.catch_warnings():  # median_box is deprecated in favour of median()
+                warnings.simplefilter("ignore", DeprecationWarning)
+                t_cle, theirs = best_of(peer_repeats, cle_median)
             rows["median_cle_seconds"] = t_cle
             rows["median_vs_cle"] = t_cle / t_med
             rows["cle_equal"] = bool(np.array_equal(ours, theirs))
@@ -116,7 +118,7 @@ def main():
         except ImportError as e:
             line += f" | pyclesperanto not installed ({e})"
         print(line)
-    print("ratios are peer time / ours (> 1: ours is faster); overhead: python / CLI - 1")
+    print("ratios are peer time / ours (> 1: ours is faster); overhead: python / C++ - 1")
     if a.json:
         with open(a.json, "w") as f:
             json.dump(rows, f, indent=1)
