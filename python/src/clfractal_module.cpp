@@ -57,31 +57,34 @@ struct Device {
 
 /// The context for `selector` (a substring of "platform / device", case-insensitive), or the
 /// library's shared context (CLFRACTAL_DEVICE, CLFRACTAL_DEVICE_TYPE) when it is empty.
-/// Created on first use and kept for the life of the process.
+/// One context per device, created on first use and kept for the life of the process, so
+/// every selector naming the same device shares its compiled programs.
 Device device_for(const std::optional<std::string>& selector) {
     static std::mutex registry_lock;
-    static std::map<std::string, std::unique_ptr<Context>> contexts;
+    static std::map<cl_device_id, std::unique_ptr<Context>> contexts;
     static std::map<Context*, std::unique_ptr<std::mutex>> locks;
     std::lock_guard<std::mutex> guard(registry_lock);
     Context* ctx = nullptr;
     if (!selector || selector->empty()) {
         ctx = &Context::shared();
     } else {
-        auto it = contexts.find(*selector);
-        if (it == contexts.end()) {
-            std::vector<DeviceEntry> all = list_devices();
-            auto match = std::find_if(all.begin(), all.end(), [&](const DeviceEntry& e) {
-                return lower(e.platform + " / " + e.name).find(lower(*selector)) != std::string::npos;
-            });
-            if (match == all.end()) {
-                std::string names;
-                for (auto& e : all) names += (names.empty() ? "" : ", ") + e.platform + " / " + e.name;
-                throw DeviceError("device '" + *selector + "': no OpenCL device matches (devices: " + names + ")",
-                                  CL_DEVICE_NOT_FOUND);
-            }
-            it = contexts.emplace(*selector, std::make_unique<Context>(match->device)).first;
+        std::vector<DeviceEntry> all = list_devices();
+        auto match = std::find_if(all.begin(), all.end(), [&](const DeviceEntry& e) {
+            return lower(e.platform + " / " + e.name).find(lower(*selector)) != std::string::npos;
+        });
+        if (match == all.end()) {
+            std::string names;
+            for (auto& e : all) names += (names.empty() ? "" : ", ") + e.platform + " / " + e.name;
+            throw DeviceError("device '" + *selector + "': no OpenCL device matches (devices: " + names + ")",
+                              CL_DEVICE_NOT_FOUND);
         }
-        ctx = it->second.get();
+        if (match->chosen) {
+            ctx = &Context::shared();  // the default device: its context
+        } else {
+            auto& owned_ctx = contexts[match->device()];
+            if (!owned_ctx) owned_ctx = std::make_unique<Context>(match->device);
+            ctx = owned_ctx.get();
+        }
     }
     auto& lock = locks[ctx];
     if (!lock) lock = std::make_unique<std::mutex>();
