@@ -4,7 +4,9 @@ embedded noisy sphere).
 
 - fd_curve (box, levels 0 and 1, every integer isovalue): the wall time of the Python call
   (array in, curve object out) against the compute time the CLI reports for the same volume
-  (`clfractal fd --json`: seconds_compute, the device time of the counting).
+  (`clfractal fd --json`: seconds_compute, the device time of the counting, which leaves out
+  the pass over the values that finds the isovalue range); also with the isovalues given,
+  which skips that pass.
 - median: the Python call against the same C++ library call (`clfractal_filter_bench
   --volume`), against scipy.ndimage.median_filter(size=3, mode="nearest") (which it
   must equal), and against pyclesperanto's median_box (radius 1) on the same OpenCL device
@@ -67,23 +69,37 @@ def main():
         # ---- fd_curve: Python calls and CLI runs interleaved (best of each), so that a busy
         # machine slows both alike.
         clfractal.fd_curve(v)  # warm-up
-        t_py, t_lib, t_cli = [], [], []
+        every = np.arange(int(v.min()), int(v.max()) + 1)  # the default set, given explicitly
+        t_py, t_given, t_lib, t_lib_given, t_cli = [], [], [], [], []
         for _ in range(a.repeats):
             t0 = time.perf_counter()
             curve = clfractal.fd_curve(v)
             t_py.append(time.perf_counter() - t0)
             t_lib.append(curve.summary["seconds_compute"])
+            t0 = time.perf_counter()
+            given = clfractal.fd_curve(v, isovalues=every)
+            t_given.append(time.perf_counter() - t0)
+            t_lib_given.append(given.summary["seconds_compute"])
             run_cli(a.cli, "-q", "fd", path, "--json", os.path.join(tmp, "fd.json"))
             with open(os.path.join(tmp, "fd.json")) as f:
                 j = json.load(f)
             t_cli.append(j["seconds_compute"])
-            if abs(j["mean_fd"] - curve.summary["mean"]) > 1e-9:
+            if abs(j["mean_fd"] - curve.summary["mean"]) > 1e-9 or not np.array_equal(given.counts, curve.counts):
                 sys.exit("python_bench: fd_curve and the CLI disagree")
-        rows.update(fd_python_seconds=min(t_py), fd_library_seconds=min(t_lib), fd_cli_seconds=min(t_cli))
+        rows.update(fd_python_seconds=min(t_py), fd_python_given_seconds=min(t_given),
+                    fd_library_seconds=min(t_lib), fd_library_given_seconds=min(t_lib_given),
+                    fd_cli_seconds=min(t_cli))
+        # Host work of the call beyond the device counting, per call (then the best).
+        rows["fd_host_seconds"] = min(p - d for p, d in zip(t_py, t_lib))
+        rows["fd_host_given_seconds"] = min(p - d for p, d in zip(t_given, t_lib_given))
         rows["fd_overhead"] = min(t_py) / min(t_cli) - 1
+        rows["fd_overhead_given"] = min(t_given) / min(t_cli) - 1
         print(f"fd_curve        python {min(t_py):.4f} s | CLI compute {min(t_cli):.4f} s | overhead "
-              f"{100 * rows['fd_overhead']:+.1f}%  (the library's device time inside the Python call: "
-              f"{min(t_lib):.4f} s)")
+              f"{100 * rows['fd_overhead']:+.1f}%  (device time inside the Python call {min(t_lib):.4f} s)")
+        print(f"  isovalues given: python {min(t_given):.4f} s | overhead {100 * rows['fd_overhead_given']:+.1f}%"
+              f"  (no value-range pass: the CLI's seconds_compute excludes it too)")
+        print(f"  host work of the call beyond the device counting: {1e3 * rows['fd_host_seconds']:.1f} ms "
+              f"(value range, copy, results), {1e3 * rows['fd_host_given_seconds']:.1f} ms with isovalues given")
 
         # ---- median: the C++ library call timed by clfractal_filter_bench (best of --repeats
         # after a warm-up; its --volume case times the median alone)
