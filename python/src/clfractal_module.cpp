@@ -59,10 +59,11 @@ struct Device {
 /// library's shared context (CLFRACTAL_DEVICE, CLFRACTAL_DEVICE_TYPE) when it is empty.
 /// One context per device, created on first use and kept for the life of the process, so
 /// every selector naming the same device shares its compiled programs.
+std::mutex registry_lock;
+std::map<Context*, std::unique_ptr<std::mutex>> context_locks;  // every context used so far
+
 Device device_for(const std::optional<std::string>& selector) {
-    static std::mutex registry_lock;
     static std::map<cl_device_id, std::unique_ptr<Context>> contexts;
-    static std::map<Context*, std::unique_ptr<std::mutex>> locks;
     std::lock_guard<std::mutex> guard(registry_lock);
     Context* ctx = nullptr;
     if (!selector || selector->empty()) {
@@ -86,7 +87,7 @@ Device device_for(const std::optional<std::string>& selector) {
             ctx = owned_ctx.get();
         }
     }
-    auto& lock = locks[ctx];
+    auto& lock = context_locks[ctx];
     if (!lock) lock = std::make_unique<std::mutex>();
     return {ctx, lock.get()};
 }
@@ -387,6 +388,10 @@ NB_MODULE(_clfractal, m) {
     m.def("device_description", [](const std::optional<std::string>& device) {
         return on_device(device, [](Context& ctx) { return ctx.description(); });
     }, "device"_a = nb::none());
+    m.def("context_count", [] {
+        std::lock_guard<std::mutex> guard(registry_lock);
+        return context_locks.size();
+    }, "The number of OpenCL contexts this process has created (one per device used).");
     m.def("fd_curve", &fd_curve_call, "volume"_a, "type"_a, "kind"_a, "levels"_a, "isovalues"_a.none(), "bins"_a,
           "min_count"_a, "device"_a.none());
     m.def("local_fd", &local_fd_call, "volume"_a, "type"_a, "iso"_a, "window"_a, "device"_a.none());
