@@ -66,14 +66,13 @@ def padded_sat(f, s):
 
 
 def windows(n, m, k):
-    """Per coordinate of one axis: W = [lo, hi) in G and W' = [lo', hi') in G' (DESIGN §1),
-    as indices of the padded tables."""
+    """Per coordinate of one axis: W = [lo, hi) in G and W' = [lo', hi') in G' (DESIGN §1,
+    revision 2: W' first, W exactly its region in G), as indices of the padded tables."""
     h = k // 2
-    x = np.arange(n)
-    c0 = np.floor_divide(x - h, 2)
+    c0 = np.floor_divide(np.arange(n) - h, 2)
     lo_sub = np.maximum(0, c0)
-    return (np.maximum(0, x - h), np.minimum(n - 1, x + h),
-            lo_sub, np.maximum(lo_sub, np.minimum(m - 1, c0 + h)))
+    hi_sub = np.maximum(lo_sub, np.minimum(m - 1, c0 + h))
+    return 2 * lo_sub, 2 * hi_sub, lo_sub, hi_sub
 
 
 def box_counts(table, bounds):

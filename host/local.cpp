@@ -14,11 +14,35 @@ namespace clfractal {
 
 namespace {
 
-void check_arguments(double iso, int window) {
+void check_window(int window) {
     if (window < 2 || window % 2 != 0)
         throw InputError("--window " + std::to_string(window) + ": the window must be even and at least 2");
+}
+
+}  // namespace
+
+void check_local_arguments(double iso, int window) {
+    check_window(window);
     if (!std::isfinite(iso)) throw InputError("--iso: the isovalue must be a finite number");
 }
+
+std::vector<LocalWindow> local_windows(std::size_t n, int window) {
+    check_window(window);
+    if (n > std::size_t(std::numeric_limits<std::int32_t>::max()))
+        throw InputError("an axis of " + std::to_string(n) + " vertices is longer than the local dimension's 2^31 - 1");
+    const long long half = window / 2, m = (static_cast<long long>(n) - 1) / 2 + 1;
+    std::vector<LocalWindow> w(n);
+    for (long long x = 0; x < static_cast<long long>(n); ++x) {
+        // c0 = floor((x - k/2) / 2), with floor division for negative values too.
+        const long long d = x - half, c0 = d >= 0 ? d / 2 : -((1 - d) / 2);
+        const long long b0 = std::max(0LL, c0), b1 = std::max(b0, std::min(m - 1, c0 + half));
+        w[std::size_t(x)] = LocalWindow{std::int32_t(2 * b0), std::int32_t(2 * b1), std::int32_t(b0), std::int32_t(b1)};
+    }
+    return w;
+}
+
+namespace {
+
 
 // Integer data compares with ceil(s): for integers a, b and real s, a < s <= b iff
 // a < ceil(s) <= b. Clamped just past the 16-bit ranges, where it still selects nothing.
@@ -56,6 +80,14 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
     Buffer<unsigned char> sub(ctx, ds.vertices() * value_size(type));
     Buffer<C> table(ctx, d.vertices()), table_sub(ctx, ds.vertices());
     Buffer<C> scratch(ctx, rows ? items * (d.nx + ds.nx) : 0);
+    // The window tables of the three axes, x then y then z (local_windows).
+    std::vector<LocalWindow> windows;
+    for (std::size_t n : {d.nx, d.ny, d.nz}) {
+        const std::vector<LocalWindow> w = local_windows(n, window);
+        windows.insert(windows.end(), w.begin(), w.end());
+    }
+    Buffer<LocalWindow> window_table(ctx, windows.size(), CL_MEM_READ_ONLY);
+    window_table.write(ctx.queue(), windows.data(), windows.size());
 
     subsample.setArg(0, values);
     subsample.setArg(1, int(d.nx));
@@ -88,7 +120,7 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
     query.setArg(5, int(ds.nx));
     query.setArg(6, int(ds.ny));
     query.setArg(7, int(ds.nz));
-    query.setArg(8, window / 2);
+    query.setArg(8, window_table.get());
     query.setArg(9, ld);
     if (rows) {
         query.setArg(10, scratch.get());
@@ -100,7 +132,7 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
 
 void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso, int window,
                      const cl::Buffer& ld) {
-    check_arguments(iso, window);
+    check_local_arguments(iso, window);
     check_dims(d, "volume");
     with_cl_errors([&] {
         if (d.cubes() > ctx.tuning.sat_max_32bit) field_on_device<cl_ulong>(ctx, values, type, d, iso, window, ld);
@@ -109,21 +141,6 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
 }
 
 // ---------------------------------------------------------------- OpenMP baseline
-
-// Window bounds per coordinate of one axis (DESIGN §1): W = [lo, hi) in G, W' = [lo_sub,
-// hi_sub) in G', as indices of the padded summed-area table.
-struct AxisWindows {
-    std::vector<int> lo, hi, lo_sub, hi_sub;
-    AxisWindows(std::size_t n, std::size_t m, int half) : lo(n), hi(n), lo_sub(n), hi_sub(n) {
-        for (int x = 0; x < int(n); ++x) {
-            lo[x] = std::max(0, x - half);
-            hi[x] = std::min(int(n) - 1, x + half);
-            const int c0 = int(std::floor((x - half) / 2.0));
-            lo_sub[x] = std::max(0, c0);
-            hi_sub[x] = std::max(lo_sub[x], std::min(int(m) - 1, c0 + half));
-        }
-    }
-};
 
 // The padded indicator of `v` (see kernels/local.cl) and its summed-area table: per z-slice
 // each x-row is filled with the indicator (a loop the compiler vectorises), scanned and added
@@ -190,8 +207,8 @@ template <class C> Volume field_openmp(const Volume& v, double iso, int window) 
             Ssub = indicator_table<C>(sub.as<T>(), ds, hit);
         }
     });
-    const int half = window / 2;
-    const AxisWindows wx(d.nx, ds.nx, half), wy(d.ny, ds.ny, half), wz(d.nz, ds.nz, half);
+    const std::vector<LocalWindow> wx = local_windows(d.nx, window), wy = local_windows(d.ny, window),
+                                   wz = local_windows(d.nz, window);
     Volume out(d, ValueType::float32, v.name);
     out.spacing = v.spacing;
     float* ld = out.as<float>();
@@ -212,12 +229,12 @@ template <class C> Volume field_openmp(const Volume& v, double iso, int window) 
 #pragma omp for schedule(static)
         for (long long r = 0; r < (long long)(d.ny * d.nz); ++r) {
             const std::size_t y = std::size_t(r) % d.ny, z = std::size_t(r) / d.ny;
-            columns(S.get(), row, slice, wy.lo[y], wy.hi[y], wz.lo[z], wz.hi[z], d.nx, col.data());
-            columns(Ssub.get(), row_sub, slice_sub, wy.lo_sub[y], wy.hi_sub[y], wz.lo_sub[z], wz.hi_sub[z], ds.nx,
+            columns(S.get(), row, slice, wy[y].lo, wy[y].hi, wz[z].lo, wz[z].hi, d.nx, col.data());
+            columns(Ssub.get(), row_sub, slice_sub, wy[y].lo_sub, wy[y].hi_sub, wz[z].lo_sub, wz[z].hi_sub, ds.nx,
                     col_sub.data());
             float* o = ld + z * slice + y * row;
             for (std::size_t x = 0; x < d.nx; ++x) {
-                const C a = col[wx.hi[x]] - col[wx.lo[x]], b = col_sub[wx.hi_sub[x]] - col_sub[wx.lo_sub[x]];
+                const C a = col[wx[x].hi] - col[wx[x].lo], b = col_sub[wx[x].hi_sub] - col_sub[wx[x].lo_sub];
                 o[x] = a && b ? float(std::log2(double(a) / double(b))) : std::numeric_limits<float>::quiet_NaN();
             }
         }
@@ -281,7 +298,7 @@ Volume local_in_slabs(Context& ctx, const Volume& v, double iso, int window) {
 }  // namespace
 
 Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int window) {
-    check_arguments(iso, window);
+    check_local_arguments(iso, window);
     if (v.dims().nz > 1 && needs_slabs(ctx, v.dims(), v.type())) return local_in_slabs(ctx, v, iso, window);
     return local_in_core(ctx, v, iso, window);
 }
@@ -315,7 +332,7 @@ Volume local_in_core(Context& ctx, const Volume& v, double iso, int window) {
 }  // namespace
 
 Volume local_fractal_dimension_openmp(const Volume& v, double iso, int window) {
-    check_arguments(iso, window);
+    check_local_arguments(iso, window);
     return v.dims().cubes() > 0xffffffffu ? field_openmp<std::uint64_t>(v, iso, window)
                                           : field_openmp<std::uint32_t>(v, iso, window);
 }

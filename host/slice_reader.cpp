@@ -2,6 +2,7 @@
 #include "clfractal/slice_reader.hpp"
 
 #include "clfractal/output_file.hpp"
+#include "clfractal/volume_io.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -251,15 +252,11 @@ struct SliceReader::Impl {
     void check_finite_slices(const void* dst, std::size_t count) {
         if (type != ValueType::float32) return;
         const float* p = static_cast<const float*>(dst);
-        const std::size_t n = count * slice_values();
-        for (std::size_t i = 0; i < n; ++i)
-            if (!std::isfinite(p[i])) {
-                const std::size_t v = next * slice_values() + i;
-                throw InputError(spec + ": float data contains " +
-                                 (std::isnan(p[i]) ? "NaN" : p[i] > 0 ? "Inf" : "-Inf") + " at vertex (" +
-                                 std::to_string(v % dims.nx) + "," + std::to_string(v / dims.nx % dims.ny) + "," +
-                                 std::to_string(v / slice_values()) + ")");
-            }
+        const NonFinite nf = count_non_finite(p, count * slice_values());
+        if (nf.nan + nf.inf)
+            throw InputError(non_finite_message(spec + " (slices " + std::to_string(next) + ".." +
+                                                    std::to_string(next + count - 1) + ")",
+                                                nf, p, dims, next * slice_values()));
     }
 
     void read(void* dst, std::size_t count) {

@@ -185,9 +185,7 @@ const char* smooth_variant_name(SmoothVariant v) { return v == SmoothVariant::pl
 
 SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double h, int window,
                                SmoothVariant variant, double tau, bool keep_ld) {
-    if (window < 2 || window % 2 != 0)
-        throw InputError("--window " + std::to_string(window) + ": the window must be even and at least 2");
-    if (!std::isfinite(iso)) throw InputError("--iso: the isovalue must be a finite number");
+    check_local_arguments(iso, window);
     if (std::isnan(h)) throw InputError("--threshold: the threshold must be a number");
     if (variant == SmoothVariant::gaussian && !(std::isfinite(tau) && tau > 0))
         throw InputError("--tau: must be a positive finite number");

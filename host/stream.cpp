@@ -153,9 +153,7 @@ struct LocalStream::Impl {
     Impl(Context& c, std::size_t x, std::size_t y, ValueType t, double s, int window, Sink f, std::size_t b)
         : ctx(c), nx(x), ny(y), type(t), iso(s), half(std::size_t(std::max(window, 0) / 2)), batch(b),
           sink(std::move(f)), slice_bytes(checked_slice_bytes(x, y, t)) {
-        if (window < 2 || window % 2 != 0)
-            throw InputError("--window " + std::to_string(window) + ": the window must be even and at least 2");
-        if (!std::isfinite(iso)) throw InputError("--iso: the isovalue must be a finite number");
+        check_local_arguments(iso, window);
         if (batch == 0) throw std::logic_error("LocalStream: batch must be at least 1");
         if (!sink) throw std::logic_error("LocalStream: no sink");
     }

@@ -261,7 +261,7 @@ Volume read_nrrd(const std::string& path) {
     return v;
 }
 
-Volume read_volume(const std::string& spec, const RawOptions& raw) {
+Volume read_volume(const std::string& spec, const RawOptions& raw, FiniteCheck finite) {
     const std::string synthetic_prefix = "synthetic:";
     Volume v;
     if (spec.compare(0, synthetic_prefix.size(), synthetic_prefix) == 0) {
@@ -272,7 +272,7 @@ Volume read_volume(const std::string& spec, const RawOptions& raw) {
         if (!fs::is_regular_file(spec, ec)) throw InputError(spec + ": not a regular file");
         v = has_nrrd_extension(spec) ? read_nrrd(spec) : read_raw(spec, raw);
     }
-    check_finite(v, spec);
+    if (finite == FiniteCheck::reject) check_finite(v, spec);
     v.name = spec;
     return v;
 }
@@ -296,24 +296,37 @@ void write_nrrd(const Volume& v, const std::string& path, bool gzip) {
     rename_into_place(tmp, path);
 }
 
+NonFinite count_non_finite(const float* p, std::size_t n) {
+    // A branch-free parallel pass for the common all-finite case; the first bad index is
+    // only searched for when there is one.
+    std::size_t nan = 0, inf = 0;
+#pragma omp parallel for reduction(+ : nan, inf) schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+        nan += std::isnan(p[i]);
+        inf += std::isinf(p[i]);
+    }
+    NonFinite r{nan, inf, n};
+    if (nan + inf) r.first = std::size_t(std::find_if(p, p + n, [](float f) { return !std::isfinite(f); }) - p);
+    return r;
+}
+
+std::string non_finite_message(const std::string& what, const NonFinite& nf, const float* p, const Dims& d,
+                               std::size_t offset) {
+    std::string counts;
+    if (nf.nan) counts = std::to_string(nf.nan) + " NaN";
+    if (nf.inf) counts += (counts.empty() ? "" : " and ") + std::to_string(nf.inf) + " infinite";
+    const std::size_t i = offset + nf.first;
+    const float f = p[nf.first];
+    return what + ": float data contains " + counts + " value" + (nf.nan + nf.inf > 1 ? "s" : "") +
+           " (the first, " + (std::isnan(f) ? "NaN" : f > 0 ? "Inf" : "-Inf") + ", at vertex (" +
+           std::to_string(i % d.nx) + "," + std::to_string(i / d.nx % d.ny) + "," + std::to_string(i / (d.nx * d.ny)) +
+           ")); counting, filtering and meshing need finite values";
+}
+
 void check_finite(const Volume& v, const std::string& what) {
     if (v.type() != ValueType::float32) return;
-    const float* p = v.as<float>();
-    const std::size_t n = v.vertices();
-    // A branch-free parallel pass for the common all-finite case; the first bad index
-    // is only searched for when there is one.
-    std::size_t bad = 0;
-#pragma omp parallel for reduction(+ : bad) schedule(static)
-    for (std::size_t i = 0; i < n; ++i) bad += !std::isfinite(p[i]);
-    if (bad == 0) return;
-
-    const std::size_t i =
-        static_cast<std::size_t>(std::find_if(p, p + n, [](float f) { return !std::isfinite(f); }) - p);
-    const Dims& d = v.dims();
-    const char* kind = std::isnan(p[i]) ? "NaN" : (p[i] > 0 ? "Inf" : "-Inf");
-    throw InputError(what + ": float data contains " + kind + " at vertex (" +
-                     std::to_string(i % d.nx) + "," + std::to_string(i / d.nx % d.ny) + "," +
-                     std::to_string(i / (d.nx * d.ny)) + ")");
+    const NonFinite nf = count_non_finite(v.as<float>(), v.vertices());
+    if (nf.nan + nf.inf) throw InputError(non_finite_message(what, nf, v.as<float>(), v.dims(), 0));
 }
 
 }  // namespace clfractal

@@ -84,9 +84,6 @@ __kernel void cube_indicator_rows(__global const T* restrict vol, int nx, int ny
     }
 }
 
-// floor(v / 2) for negative v too (C division truncates towards zero).
-inline int floor_half(int v) { return v >= 0 ? v / 2 : -((1 - v) / 2); }
-
 // Count of the cubes [x0, x1) × [y0, y1) × [z0, z1) from the padded table S (row length
 // nx, slice nx * ny). Wrapping arithmetic is exact: the true count is small.
 inline C box(__global const C* S, size_t row, size_t slice, int x0, int x1, int y0, int y1, int z0, int z1) {
@@ -101,27 +98,22 @@ inline C box(__global const C* S, size_t row, size_t slice, int x0, int x1, int 
 // tests allow (the counts of an 8-window are at most 512).
 inline float log_ratio(C a, C b) { return a && b ? log2((float)a / (float)b) : NAN; }
 
+// The windows (DESIGN §1, revision 2) are not computed here: `win` holds the host's
+// local_windows tables of the x, y and z axes one after the other (nx + ny + nz entries),
+// each (lo, hi, lo_sub, hi_sub): cubes [lo, hi) of G and [lo_sub, hi_sub) of G'.
+
 // One work-item per vertex of G: global size (nx, ny, nz) exactly. `table` and `table_sub`
 // are the summed-area tables of the padded indicators of G (nx × ny × nz) and G'
-// (mx × my × mz); half_k = k / 2.
+// (mx × my × mz).
 __kernel void local_dimension_vertices(__global const C* table, int nx, int ny, int nz,
                               __global const C* table_sub, int mx, int my, int mz,
-                              int half_k, __global float* restrict ld) {
+                              __global const int4* win, __global float* restrict ld) {
     const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
-    // Window W in G: cubes [max(0, x - k/2), min(n - 1, x + k/2)) per axis.
-    const int x0 = max(0, x - half_k), x1 = min(nx - 1, x + half_k);
-    const int y0 = max(0, y - half_k), y1 = min(ny - 1, y + half_k);
-    const int z0 = max(0, z - half_k), z1 = min(nz - 1, z + half_k);
-    // Window W' in G': cubes [max(0, c0), min(n' - 1, c0 + k/2)), c0 = floor((x - k/2) / 2);
-    // never empty-reversed, since c0 <= n' - 1 (clamped all the same).
-    const int cx = floor_half(x - half_k), cy = floor_half(y - half_k), cz = floor_half(z - half_k);
-    const int u0 = max(0, cx), u1 = max(u0, min(mx - 1, cx + half_k));
-    const int v0 = max(0, cy), v1 = max(v0, min(my - 1, cy + half_k));
-    const int w0 = max(0, cz), w1 = max(w0, min(mz - 1, cz + half_k));
+    const int4 wx = win[x], wy = win[nx + y], wz = win[nx + ny + z];
     const size_t row = (size_t)nx, slice = row * (size_t)ny;
     const size_t row_sub = (size_t)mx, slice_sub = row_sub * (size_t)my;
-    const C in_w = box(table, row, slice, x0, x1, y0, y1, z0, z1);
-    const C in_sub = box(table_sub, row_sub, slice_sub, u0, u1, v0, v1, w0, w1);
+    const C in_w = box(table, row, slice, wx.s0, wx.s1, wy.s0, wy.s1, wz.s0, wz.s1);
+    const C in_sub = box(table_sub, row_sub, slice_sub, wx.s2, wx.s3, wy.s2, wy.s3, wz.s2, wz.s3);
     ld[(size_t)z * slice + (size_t)y * row + x] = log_ratio(in_w, in_sub);
 }
 
@@ -130,7 +122,8 @@ __kernel void local_dimension_vertices(__global const C* table, int nx, int ny, 
 // per work-item), so that each vertex needs only two lookups per grid.
 __kernel void local_dimension_rows(__global const C* table, int nx, int ny, int nz,
                                    __global const C* table_sub, int mx, int my, int mz,
-                                   int half_k, __global float* restrict ld, __global C* restrict scratch) {
+                                   __global const int4* win, __global float* restrict ld,
+                                   __global C* restrict scratch) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t rows = (size_t)ny * (size_t)nz, row = (size_t)nx, slice = row * (size_t)ny;
     const size_t row_sub = (size_t)mx, slice_sub = row_sub * (size_t)my;
@@ -139,27 +132,21 @@ __kernel void local_dimension_rows(__global const C* table, int nx, int ny, int 
     __global C* col_sub = col + nx;
     for (size_t r = r0; r < r1; ++r) {
         const int y = r % (size_t)ny, z = r / (size_t)ny;
-        const int y0 = max(0, y - half_k), y1 = min(ny - 1, y + half_k);
-        const int z0 = max(0, z - half_k), z1 = min(nz - 1, z + half_k);
-        const int cy = floor_half(y - half_k), cz = floor_half(z - half_k);
-        const int v0 = max(0, cy), v1 = max(v0, min(my - 1, cy + half_k));
-        const int w0 = max(0, cz), w1 = max(w0, min(mz - 1, cz + half_k));
-        __global const C* a00 = table + z0 * slice + y0 * row;
-        __global const C* a01 = table + z0 * slice + y1 * row;
-        __global const C* a10 = table + z1 * slice + y0 * row;
-        __global const C* a11 = table + z1 * slice + y1 * row;
+        const int4 wy = win[nx + y], wz = win[nx + ny + z];
+        __global const C* a00 = table + wz.s0 * slice + wy.s0 * row;
+        __global const C* a01 = table + wz.s0 * slice + wy.s1 * row;
+        __global const C* a10 = table + wz.s1 * slice + wy.s0 * row;
+        __global const C* a11 = table + wz.s1 * slice + wy.s1 * row;
         for (int x = 0; x < nx; ++x) col[x] = (a11[x] - a10[x]) - (a01[x] - a00[x]);
-        __global const C* b00 = table_sub + w0 * slice_sub + v0 * row_sub;
-        __global const C* b01 = table_sub + w0 * slice_sub + v1 * row_sub;
-        __global const C* b10 = table_sub + w1 * slice_sub + v0 * row_sub;
-        __global const C* b11 = table_sub + w1 * slice_sub + v1 * row_sub;
+        __global const C* b00 = table_sub + wz.s2 * slice_sub + wy.s2 * row_sub;
+        __global const C* b01 = table_sub + wz.s2 * slice_sub + wy.s3 * row_sub;
+        __global const C* b10 = table_sub + wz.s3 * slice_sub + wy.s2 * row_sub;
+        __global const C* b11 = table_sub + wz.s3 * slice_sub + wy.s3 * row_sub;
         for (int u = 0; u < mx; ++u) col_sub[u] = (b11[u] - b10[u]) - (b01[u] - b00[u]);
         __global float* out = ld + r * row;
         for (int x = 0; x < nx; ++x) {
-            const int x0 = max(0, x - half_k), x1 = min(nx - 1, x + half_k);
-            const int cx = floor_half(x - half_k);
-            const int u0 = max(0, cx), u1 = max(u0, min(mx - 1, cx + half_k));
-            out[x] = log_ratio(col[x1] - col[x0], col_sub[u1] - col_sub[u0]);
+            const int4 wx = win[x];
+            out[x] = log_ratio(col[wx.s1] - col[wx.s0], col_sub[wx.s3] - col_sub[wx.s2]);
         }
     }
 }

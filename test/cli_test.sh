@@ -60,9 +60,8 @@ head -c 1000 /dev/urandom > noise_10x10x10_uint8.raw
 expect 0 'mean FD' -- "$bin" -q fd noise_10x10x10_uint8.raw
 expect 0 'mean FD' -- "$bin" -q fd noise_10x10x10_uint8.raw --dims 10,10,10 --type uint8
 
-# local: the LD field as a float32 NRRD, NaN where LD is undefined. `info` rejects NaN like
-# any analysis input, so the field it reads back has a window wider than the grid (LD is
-# then defined everywhere); the NaN of a normal window are checked in the file itself.
+# local: the LD field as a float32 NRRD, NaN where LD is undefined. `info` reads it and
+# reports the NaN count and the range of the rest; the counting commands refuse it.
 expect 0 'mean LD' -- "$bin" -q local synthetic:noisy-sphere:40 --iso 128 -o ld.nrrd
 expect 0 'ld_mesh.ply \([0-9]+ vertices, [0-9]+ triangles, coloured by LD' -- "$bin" -q local synthetic:noisy-sphere:40 --iso 128 -o ld2.nrrd --mesh ld_mesh.ply
 head -c 400 ld_mesh.ply | grep -aq 'property float ld' && pass || fail "local --mesh PLY carries no ld property"
@@ -78,10 +77,27 @@ assert 1.8 < sum(defined) / len(defined) < 2.6, sum(defined) / len(defined)
 PY
 expect 0 'defined +13824 of 13824' -- "$bin" -q local synthetic:sphere:24 --iso 100 --window 64 -o ld_all.nrrd
 expect 0 'type +float32' -- "$bin" info ld_all.nrrd
+expect 0 'NaN +[1-9][0-9]* \(' -- "$bin" info ld.nrrd
+expect 0 'range +[0-9.]+ \.\. [0-9.]+ \(finite values\)' -- "$bin" info ld.nrrd
+expect 2 'clfractal: error: ld.nrrd: float data contains [0-9]+ NaN values \(the first, NaN, at vertex \(0,0,0\)\)' -- "$bin" fd ld.nrrd
+expect 2 'clfractal: error: ld.nrrd.*NaN.*vertex \(0,0,0\)' -- "$bin" fd ld.nrrd --stream
 expect 2 'clfractal: error: .*window' -- "$bin" local synthetic:sphere:20 --iso 100 --window 5 -o bad_ld.nrrd
 expect 2 'clfractal: error: .*window' -- "$bin" local synthetic:sphere:20 --iso 100 --window 0 -o bad_ld.nrrd
 [ ! -e bad_ld.nrrd ] && pass || fail "an LD file was written for a bad window"
 expect 2 'clfractal: error: .*iso' -- "$bin" local synthetic:sphere:20 -o bad_ld.nrrd
+# Arguments are checked before any work: no progress line (the volume read, the device
+# started) precedes the error; an isovalue outside the values is a warning before the work.
+for cmd in "local synthetic:sphere:20 --iso 100 --window 7 -o w7.nrrd" \
+           "smooth synthetic:sphere:20 --iso 100 --threshold 2.2 --window 3 -o w7.nrrd" \
+           "filter synthetic:sphere:20 --median --fractal --iso 100 --threshold 2.5 --window 5 -o w7.nrrd" \
+           "mesh synthetic:sphere:20 --iso 100 --color-by-ld --window 1 -o w7.ply" \
+           "local synthetic:sphere:20 --iso inf -o w7.nrrd"; do
+  out=$("$bin" $cmd 2>&1); rc=$?
+  [ "$rc" -eq 2 ] && [ "$(wc -l <<<"$out")" -eq 1 ] && grep -qE '^clfractal: error: --(window|iso)' <<<"$out" \
+    && pass || fail "'$cmd' exited $rc or did work before the argument error: $out"
+done
+[ ! -e w7.nrrd ] && [ ! -e w7.ply ] && pass || fail "an output was written for a bad argument"
+expect 0 'warning: isovalue 1000 is outside \(0, [0-9]+\], the values of synthetic:sphere:20' -- "$bin" local synthetic:sphere:20 --iso 1000 -o w.nrrd
 
 # mesh: a binary PLY with one vertex per intersected edge (its count is E(s) of `fd --edge`),
 # a preview PNG, both methods, LD colours; bad arguments exit 2 and write nothing.
@@ -132,7 +148,7 @@ expect 2 'clfractal: error: .*dims' -- "$bin" fd x.raw --dims 2,2 --type uint8
 expect 2 'clfractal: error: .*(exceed|overflow)' -- "$bin" fd x.raw --dims 100000000,100000000,100000000 --type uint8
 python3 -c "
 import struct; open('nan_3x3x3_float32.raw','wb').write(struct.pack('<27f', *([1.0]*13 + [float('nan')] + [2.0]*13)))"
-expect 2 'clfractal: error: .*nan_3x3x3_float32.raw.*NaN' -- "$bin" fd nan_3x3x3_float32.raw
+expect 2 'clfractal: error: .*nan_3x3x3_float32.raw: float data contains 1 NaN value \(the first, NaN, at vertex \(1,1,1\)\)' -- "$bin" fd nan_3x3x3_float32.raw
 printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: gzip\n\nnot gzip at all' > corrupt.nrrd
 expect 2 'clfractal: error: .*corrupt.nrrd' -- "$bin" info corrupt.nrrd
 expect 2 'clfractal: error: .*synthetic' -- "$bin" fd synthetic:no-such-shape

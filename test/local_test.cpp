@@ -75,7 +75,7 @@ std::vector<double> isovalues(const Case& c) {
     return {mid / 2, mid / 2 + 0.3, double(c.lo) / 2, double(c.hi) / 2 + 0.25};
 }
 
-const int windows[] = {2, 4, 8, 40};
+const int windows[] = {2, 4, 6, 8, 40};
 
 }  // namespace
 
@@ -164,22 +164,100 @@ TEST_CASE("the field stays on the device and equals the host call") {
     CHECK_THROWS_AS(local_fractal_dimension(ctx(), values, ValueType::float32, v.dims(), 0, 4), std::logic_error);
 }
 
-TEST_CASE("a plane has LD 2 wherever both windows lie inside the grid and meet it") {
+TEST_CASE("the window tables are revision 2: W' first, W exactly its region in G") {
+    for (std::size_t n = 1; n <= 45; ++n)
+        for (int k = 2; k <= 40; k += 2) {
+            const std::vector<LocalWindow> w = local_windows(n, k);
+            REQUIRE(w.size() == n);
+            for (std::size_t x = 0; x < n; ++x) {
+                const ref::Range g = ref::window(long(x), long(n), k), sub = ref::window_sub(long(x), long((n - 1) / 2 + 1), k);
+                CAPTURE(n); CAPTURE(k); CAPTURE(x);
+                CHECK(w[x] == LocalWindow{int(g.lo), int(g.hi), int(sub.lo), int(sub.hi)});
+                // The same region, and centred on x to within one cube (away from the borders).
+                CHECK(w[x].lo == 2 * w[x].lo_sub);
+                CHECK(w[x].hi == 2 * w[x].hi_sub);
+                if (w[x].lo > 0 && w[x].hi < int(n) - 2) CHECK(std::abs((w[x].lo + w[x].hi) - 2 * int(x)) <= 2);
+            }
+        }
+    CHECK_THROWS_AS(local_windows(10, 3), InputError);
+    CHECK_THROWS_AS(local_windows(10, 0), InputError);
+}
+
+TEST_CASE("a plane has LD 2 wherever it is defined, up to the borders") {
     // f = x, s = 10.5: cube column x = 10 is intersected in G, column 5 in G' (10 < s <= 12).
+    // W holds G cube column 10 exactly when W' holds G' column 5, and W has twice W''s extent
+    // along y and z, so LD = log2(4 I / I) = 2 wherever defined.
     Volume v({32, 32, 32}, ValueType::uint8);
     for (std::size_t i = 0; i < v.vertices(); ++i) v.as<std::uint8_t>()[i] = std::uint8_t(i % 32);
     Volume ld = local_fractal_dimension(ctx(), v, 10.5, 8);
-    std::size_t interior = 0;
-    for (std::size_t z = 4; z < 28; ++z)
-        for (std::size_t y = 4; y < 28; ++y)
-            for (std::size_t x = 0; x < 32; ++x) {
-                float f = ld.as<float>()[v.index(x, y, z)];
-                if (std::isnan(f)) continue;
-                CHECK(f == 2.0f);
-                ++interior;
-            }
-    CHECK(interior == 24 * 24 * 7);  // x = 8..14: both windows hold their intersected column
+    std::size_t defined = 0;
+    for (std::size_t i = 0; i < v.vertices(); ++i) {
+        const float f = ld.as<float>()[i];
+        if (std::isnan(f)) continue;
+        CHECK(f == 2.0f);
+        ++defined;
+    }
+    CHECK(defined == 32 * 32 * 8);  // x = 8..15: floor((x - 4) / 2) in 2..5 puts column 5 in W'
     check_field(ld, ref::local_dimension_brute(v, 10.5, 8));
+}
+
+TEST_CASE("clean analytic surfaces read as clean: under 1% of defined vertices above 2.5") {
+    // A sphere (distance from the centre) and a tilted plane (a x + b y + c z), float32 and
+    // quantised to uint8, at several isovalues.
+    const std::size_t n = 64;
+    Volume sphere({n, n, n}, ValueType::float32), plane({n, n, n}, ValueType::float32);
+    Volume sphere8({n, n, n}, ValueType::uint8);
+    const double c = (n - 1) / 2.0;
+    for (std::size_t z = 0; z < n; ++z)
+        for (std::size_t y = 0; y < n; ++y)
+            for (std::size_t x = 0; x < n; ++x) {
+                const std::size_t i = sphere.index(x, y, z);
+                const double r = std::sqrt((x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c));
+                sphere.as<float>()[i] = float(r);
+                sphere8.as<std::uint8_t>()[i] = std::uint8_t(std::min(255.0, std::round(4 * r)));
+                plane.as<float>()[i] = float(0.31 * x + 0.52 * y + 0.79 * z);
+            }
+    struct Surface {
+        const char* name;
+        const Volume& v;
+        std::vector<double> isovalues;
+    };
+    const Surface surfaces[] = {{"sphere float32", sphere, {8.3, 15.5, 24.1}},
+                                {"sphere uint8", sphere8, {40, 70, 100}},
+                                {"tilted plane", plane, {20.2, 50.5, 80.7}}};
+    for (const Surface& s : surfaces)
+        for (double iso : s.isovalues) {
+            const LocalSummary sum = summarize_local(local_fractal_dimension(ctx(), s.v, iso, 8));
+            MESSAGE(std::string(s.name) << " s=" << iso << ": " << sum.defined << " defined, share > 2.5 " << sum.above_red
+                           << ", mean " << sum.mean);
+            CAPTURE(std::string(s.name)); CAPTURE(iso);
+            CHECK(sum.defined > 1000);
+            CHECK(sum.above_red < 0.01);
+        }
+}
+
+TEST_CASE("noisy-sphere: the noisy half has clearly higher LD than the clean half") {
+    // synthetic:noisy-sphere: the noise grows from 0 at x = 0 to +-8 at the far side.
+    const Volume v = make_synthetic("noisy-sphere", SyntheticOptions{});
+    const Volume ld = local_fractal_dimension(ctx(), v, 128, 8);
+    double sum[2] = {0, 0};
+    std::size_t count[2] = {0, 0};
+    const Dims d = v.dims();
+    for (std::size_t z = 0; z < d.nz; ++z)
+        for (std::size_t y = 0; y < d.ny; ++y)
+            for (std::size_t x = 0; x < d.nx; ++x) {
+                const float f = ld.as<float>()[v.index(x, y, z)];
+                if (std::isnan(f)) continue;
+                const int half = 2 * x >= d.nx;
+                sum[half] += f;
+                ++count[half];
+            }
+    REQUIRE(count[0] > 1000);
+    REQUIRE(count[1] > 1000);
+    const double clean = sum[0] / double(count[0]), noisy = sum[1] / double(count[1]);
+    MESSAGE("noisy-sphere " << dims_string(d) << " s=128: mean LD clean half " << clean << ", noisy half " << noisy);
+    CHECK(clean < ld_blue);
+    CHECK(noisy - clean > 0.2);  // measured: 2.056 against 2.330
 }
 
 TEST_CASE("noise raises LD: a clean sphere is blue on average, a noisy one red") {

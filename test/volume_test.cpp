@@ -408,6 +408,8 @@ TEST_CASE("NaN and Inf in float data are rejected with the vertex") {
                               std::numeric_limits<float>::infinity(),
                               -std::numeric_limits<float>::infinity()};
     const char* kinds[] = {"NaN", "Inf", "-Inf"};
+    // How many of each: the reported one at (1,2,1), and specials[(k + 1) % 3] at the end.
+    const char* counts[] = {"1 NaN and 1 infinite values", "2 infinite values", "1 NaN and 1 infinite values"};
     for (int k = 0; k < 3; ++k) {
         CAPTURE(kinds[k]);
         std::vector<float> values(4 * 3 * 2, 1.0f);
@@ -416,7 +418,14 @@ TEST_CASE("NaN and Inf in float data are rejected with the vertex") {
         const std::string path = dir.file("f_4x3x2_float32.raw");
         write_file(path, bytes_of(values.data(), values.size() * sizeof(float)));
         CHECK(input_error([&] { read_volume(path); }) ==
-              path + ": float data contains " + kinds[k] + " at vertex (1,2,1)");
+              path + ": float data contains " + counts[k] + " (the first, " + kinds[k] +
+                  ", at vertex (1,2,1)); counting, filtering and meshing need finite values");
+        // `info` keeps them (FiniteCheck::keep) and counts them.
+        const Volume kept = read_volume(path, {}, FiniteCheck::keep);
+        const NonFinite nf = count_non_finite(kept.as<float>(), kept.vertices());
+        CHECK(nf.nan + nf.inf == 2);
+        CHECK(nf.nan == (k == 1 ? 0u : 1u));
+        CHECK(nf.first == 1 + 4 * (2 + 3 * 1));
         const Volume raw = read_raw(path);  // read_raw alone does not check
         CHECK(contains(input_error([&] { check_finite(raw, "X"); }), "X: float data contains"));
     }
@@ -425,7 +434,9 @@ TEST_CASE("NaN and Inf in float data are rejected with the vertex") {
     const std::string nrrd = dir.file("nan.nrrd");
     write_file(nrrd, nrrd_header("float", "2 2 2", "endian: little\nencoding: raw\n") +
                          bytes_of(values.data(), 32));
-    CHECK(input_error([&] { read_volume(nrrd); }) == nrrd + ": float data contains NaN at vertex (0,0,0)");
+    CHECK(input_error([&] { read_volume(nrrd); }) ==
+          nrrd + ": float data contains 1 NaN value (the first, NaN, at vertex (0,0,0)); counting, filtering and "
+                 "meshing need finite values");
 }
 
 TEST_CASE("bad NRRD files name the file and teem's reason") {

@@ -2,9 +2,11 @@
 // eq. 2.6 and eq. 2.8).
 //
 // For isovalue s and even window k, at vertex v = (x, y, z), per axis with n vertices in
-// G and n' = (n - 1) / 2 + 1 in G' (pyramid level 1):
-//   - window W in G:   cubes [max(0, x - k/2), min(n - 1, x + k/2))
-//   - window W' in G': cubes [max(0, c0), min(n' - 1, c0 + k/2)), c0 = floor((x - k/2) / 2)
+// G and n' = (n - 1) / 2 + 1 in G' (pyramid level 1) — revision 2 of the definition:
+//   - window W' in G': cubes [b0, b1) = [max(0, c0), min(n' - 1, c0 + k/2)),
+//     c0 = floor((x - k/2) / 2)
+//   - window W in G:   cubes [2 b0, 2 b1), exactly the region of W' (thesis: "W' covers the
+//     same region as W"), so W is centred on v to within one cube
 //   - LD(v) = log2( I_W / I_W' ), NaN where either count is 0,
 // where I counts the intersected cubes (span [a, b] with a < s <= b) in the window. Both
 // counts are box queries on 3D summed-area tables (sat.hpp) of the 0/1 "cube intersected"
@@ -15,11 +17,31 @@
 // same cubes as s = 100).
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "clfractal/device.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
+
+/// The windows of one coordinate along one axis: cubes [lo, hi) of G (window W) and
+/// [lo_sub, hi_sub) of G' (window W'), with lo = 2 lo_sub and hi = 2 hi_sub (revision 2).
+/// Laid out as an OpenCL int4, so the kernels read the tables as they are.
+struct LocalWindow {
+    std::int32_t lo = 0, hi = 0, lo_sub = 0, hi_sub = 0;
+    bool operator==(const LocalWindow& o) const {
+        return lo == o.lo && hi == o.hi && lo_sub == o.lo_sub && hi_sub == o.hi_sub;
+    }
+};
+
+/// The window of every coordinate 0..n-1 of an axis of n vertices for window k: the one
+/// place the window bounds are written. The host builds these tables (x, then y, then z)
+/// and the kernels only read them. Throws InputError unless k is even and at least 2.
+std::vector<LocalWindow> local_windows(std::size_t n, int window);
+
+/// Checks a window (even, at least 2) and an isovalue (finite); throws InputError naming
+/// the option (--window, --iso) otherwise.
+void check_local_arguments(double iso, int window);
 
 /// The LD field of `v` for isovalue `iso` and window `window`: a float32 volume of the same
 /// dims and spacing, NaN where LD is undefined. Throws InputError if the window is odd or

@@ -26,16 +26,32 @@ Volume read_raw(const std::string& path, const RawOptions& opt = {});
 /// int16, float32 kept, float64 converted to float32, other types rejected.
 Volume read_nrrd(const std::string& path);
 
+/// Whether read_volume rejects float data holding NaN or Inf (everything that counts,
+/// filters or meshes) or keeps it (`clfractal info`, which reports it).
+enum class FiniteCheck { reject, keep };
+
 /// Reads a volume given as a path (.nrrd/.nhdr, or raw) or as "synthetic:NAME[:N]".
-/// Float data with NaN or Inf is rejected. Every problem is an InputError whose
-/// message names the file and the problem.
-Volume read_volume(const std::string& spec, const RawOptions& raw = {});
+/// Float data with NaN or Inf is rejected unless `finite` is keep. Every problem is an
+/// InputError whose message names the file and the problem.
+Volume read_volume(const std::string& spec, const RawOptions& raw = {}, FiniteCheck finite = FiniteCheck::reject);
 
 /// Writes a NRRD (attached header, raw encoding, or gzip when `gzip`) through a
 /// temporary file renamed into place, so no half-written file is ever left behind.
 void write_nrrd(const Volume& v, const std::string& path, bool gzip = false);
 
-/// Throws InputError if float data holds NaN or Inf (names `what` and the first index).
+/// The NaN and infinite values of n floats, and the index of the first (n when none).
+struct NonFinite {
+    std::size_t nan = 0, inf = 0, first = 0;
+};
+NonFinite count_non_finite(const float* p, std::size_t n);
+
+/// The one message for non-finite input: `what`, how many NaN / infinite values, and the
+/// first one's vertex coordinates in a grid of `d` (p[0] being vertex `offset`).
+std::string non_finite_message(const std::string& what, const NonFinite& nf, const float* p, const Dims& d,
+                               std::size_t offset);
+
+/// Throws InputError if float data holds NaN or Inf (names `what`, the counts and the
+/// first one's coordinates).
 void check_finite(const Volume& v, const std::string& what);
 
 }  // namespace clfractal

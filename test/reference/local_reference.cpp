@@ -64,11 +64,16 @@ std::vector<std::uint8_t> cube_indicator(const Volume& v, double iso) {
     return in;
 }
 
-Range window(long x, long n, int k) { return {std::max(0L, x - k / 2), std::min(n - 1, x + k / 2)}; }
-
+// Revision 2: W' first, then W covers exactly W''s region of G (vertex 2u of G is vertex u
+// of G', so G' cube u spans G cubes 2u and 2u + 1).
 Range window_sub(long x, long m, int k) {
     const long c0 = long(std::floor(double(x - k / 2) / 2.0));
     return {std::max(0L, c0), std::min(m - 1, c0 + k / 2)};
+}
+
+Range window(long x, long n, int k) {
+    const Range w = window_sub(x, (n - 1) / 2 + 1, k);
+    return {2 * w.lo, 2 * w.hi};
 }
 
 namespace {

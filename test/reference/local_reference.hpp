@@ -23,7 +23,7 @@ template <class C> std::vector<C> summed_area_table_direct(const std::vector<C>&
 std::vector<std::uint8_t> cube_indicator(const Volume& v, double iso);
 
 /// The cubes [lo, hi) of one axis in window W (G, n vertices) or W' (G', m vertices) of
-/// the vertex at coordinate x for window k.
+/// the vertex at coordinate x for window k (DESIGN §1, revision 2: W is W''s region in G).
 struct Range {
     long lo = 0, hi = 0;
 };

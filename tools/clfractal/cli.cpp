@@ -2,6 +2,7 @@
 #include "cli.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -16,6 +17,39 @@ namespace cli {
 bool quiet = false;
 void progress(const std::string& s) {
     if (!quiet) std::cerr << "clfractal: " << s << "\n";
+}
+
+CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& what) {
+    return app
+        ->add_option("--window", window, what + " (even, >= 2)")
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                const int k = std::atoi(text.c_str());
+                if (k < 2 || k % 2) return "the window must be even and at least 2, not " + text;
+                return {};
+            },
+            "EVEN>=2"))
+        ->capture_default_str();
+}
+
+CLI::Option* add_iso_option(CLI::App* app, double& iso, const std::string& what) {
+    return app->add_option("--iso", iso, what)->check(CLI::Validator(
+        [](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double s = std::strtod(text.c_str(), &end);
+            if (end == text.c_str() || *end || !std::isfinite(s)) return "must be a finite number, not " + text;
+            return {};
+        },
+        "S"));
+}
+
+void warn_isovalue_outside(const Volume& v, double iso) {
+    const ValueRange r = value_range(v);
+    if (iso > r.min && iso <= r.max) return;
+    std::ostringstream msg;
+    msg << "clfractal: warning: isovalue " << iso << " is outside (" << r.min << ", " << r.max << "], the values of "
+        << v.name << ": no cube is intersected";
+    if (!quiet) std::cerr << msg.str() << "\n";
 }
 
 void RawArgs::add(CLI::App* app) {

@@ -20,6 +20,17 @@ extern bool quiet;
 /// One progress line on stderr ("clfractal: ..."), unless --quiet.
 void progress(const std::string& s);
 
+/// --window K for every command that computes LD: checked while parsing (even, >= 2), so
+/// a bad window fails before any file is read or the device starts.
+CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& what = "LD window k");
+
+/// --iso S: checked while parsing (a finite number).
+CLI::Option* add_iso_option(CLI::App* app, double& iso, const std::string& what);
+
+/// Warns on stderr (before any device work) when `iso` selects nothing in `v`: every
+/// cube's span [a, b] lies inside [vmin, vmax], so s <= vmin or s > vmax intersects none.
+void warn_isovalue_outside(const clfractal::Volume& v, double iso);
+
 /// Options that say how to read a headerless raw file.
 struct RawArgs {
     std::string dims, type, endian = "little";

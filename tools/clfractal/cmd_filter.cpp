@@ -137,6 +137,7 @@ int run_filter(const FilterArgs& a, CLI::App* app) {
     if (a.stream) return run_filter_stream(a, spec);
 
     Volume v = read_volume(a.volume, a.raw.options());
+    if (!std::isnan(a.iso)) cli::warn_isovalue_outside(v, a.iso);
     Context& ctx = Context::shared();
     const bool at_iso = !std::isnan(a.iso);
     AtIso before, after;
@@ -214,9 +215,9 @@ void add_filter_command(CLI::App& app, Commands& commands) {
     c->add_flag("--fractal", a->fractal, "filter only vertices with LD > H (needs --iso, --threshold)");
     c->add_flag("--ld-guided", a->ld_guided,
                 "bilateral with the range scale sigma_r * min(LD - 2, 1) (thesis 6.3; needs --iso)");
-    c->add_option("--iso", a->iso, "isovalue S of the LD field; also reports cubes and FD at S before/after");
+    add_iso_option(c, a->iso, "isovalue S of the LD field; also reports cubes and FD at S before/after");
     c->add_option("--threshold", a->threshold, "LD threshold H of --fractal");
-    c->add_option("--window", a->window, "LD window k (even, default 8)");
+    add_window_option(c, a->window);
     c->add_option("-o,--output", a->output, "output .nrrd (the input's type)")->required();
     c->add_flag("--stream", a->stream,
                 "with --fractal: read, filter and write slice by slice (memory for a few slices; radius <= k/2)");

@@ -113,8 +113,9 @@ int run_noise(const NoiseArgs& a) {
     std::string data_name;
     std::vector<float> iso;
     if (real) {
-        clean = read_volume(a.volume, a.raw.options());
         if (!std::isfinite(a.iso)) throw InputError("--iso: must be a finite number");
+        clean = read_volume(a.volume, a.raw.options());
+        cli::warn_isovalue_outside(clean, a.iso);
         gamma = a.gamma;
         if (std::isnan(gamma)) {
             gamma = estimate_gamma(clean, a.iso);
@@ -227,7 +228,7 @@ void add_noise_command(CLI::App& app, cli::Commands& commands) {
     c->add_option("--noise", a->noise, "uniform [-mu, mu] (default) or gaussian (mu = standard deviation)");
     c->add_option("--seed", a->seed, "seed of the noise and the points (default 1)");
     c->add_option("--volume", a->volume, "add noise to this volume instead (Figs. 3.6/3.7)");
-    c->add_option("--iso", a->iso, "with --volume: the isovalue S");
+    cli::add_iso_option(c, a->iso, "with --volume: the isovalue S");
     c->add_option("--gamma", a->gamma, "with --volume: the gradient gamma (default: estimated from the edge spans near S)");
     c->add_option("--box-samples", a->box_samples, "Monte Carlo samples of the box model (default 2^20)");
     c->add_option("--json", a->json_path, "write the points as JSON");

@@ -25,9 +25,10 @@ struct SmoothArgs {
 };
 
 int run_smooth(const SmoothArgs& a) {
-    Volume v = read_volume(a.volume, a.raw.options());
     const SmoothVariant variant = parse_smooth_variant(a.variant);
     if (!std::isfinite(a.threshold)) throw InputError("--threshold: must be a finite number");
+    Volume v = read_volume(a.volume, a.raw.options());
+    warn_isovalue_outside(v, a.iso);
     Context& ctx = Context::shared();
     progress("smooth isosurface of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " (" +
              smooth_variant_name(variant) + "), window " + std::to_string(a.window) + ", on " + ctx.description());
@@ -78,10 +79,10 @@ void add_smooth_command(CLI::App& app, Commands& commands) {
     auto a = std::make_shared<SmoothArgs>();
     auto* c = app.add_subcommand("smooth", "move the isosurface out of high-fractal regions (thesis Algorithm 2)");
     c->add_option("VOLUME", a->volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
-    c->add_option("--iso", a->iso, "isovalue S (edges with a < S <= b are intersected)")->required();
+    add_iso_option(c, a->iso, "isovalue S (edges with a < S <= b are intersected)")->required();
     c->add_option("--threshold", a->threshold, "h: an intersected edge is high fractal when LD > h at an end")
         ->required();
-    c->add_option("--window", a->window, "LD window k (even, >= 2; default 8)");
+    add_window_option(c, a->window);
     c->add_option("--variant", a->variant, "plain (f(v) := f(u)) or gaussian (neighbours lowered too)")
         ->check(CLI::IsMember({"plain", "gaussian"}));
     c->add_option("--tau", a->tau, "width of the gaussian variant's lowering, in grid steps (default 1)");

@@ -51,41 +51,62 @@ int cmd_devices() {
 // ------------------------------------------------------------------ info
 
 int cmd_info(const std::string& spec, const RawArgs& raw) {
-    Volume v = read_volume(spec, raw.options());
-    ValueRange r = value_range(v);
-    double sum = 0, sum2 = 0;
+    // NaN and Inf are reported, not refused: an LD field is float data with NaN where LD is
+    // undefined. Range, mean and histogram are those of the finite values.
+    Volume v = read_volume(spec, raw.options(), FiniteCheck::keep);
+    const NonFinite nf = v.type() == ValueType::float32 ? count_non_finite(v.as<float>(), v.vertices()) : NonFinite{};
+    const std::size_t finite = v.vertices() - nf.nan - nf.inf;
+    double lo = INFINITY, hi = -INFINITY, sum = 0, sum2 = 0;
     visit(v, [&](const auto* p) {
-        for (long long i = 0; i < (long long)v.vertices(); ++i) {
-            double x = double(p[i]);
+        for (std::size_t i = 0; i < v.vertices(); ++i) {
+            const double x = double(p[i]);
+            if (!std::isfinite(x)) continue;
+            lo = std::min(lo, x);
+            hi = std::max(hi, x);
             sum += x;
             sum2 += x * x;
         }
     });
-    const double n = double(v.vertices());
+    const double n = double(finite);
     const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
     std::cout << "volume    " << spec << "\n"
               << "dims      " << dims_string(v.dims()) << " (" << v.vertices() << " vertices, " << v.dims().cubes()
               << " cubes)\n"
               << "type      " << value_type_name(v.type()) << "\n"
-              << "spacing   " << v.spacing[0] << " " << v.spacing[1] << " " << v.spacing[2] << "\n"
-              << "range     " << r.min << " .. " << r.max << "\n"
+              << "spacing   " << v.spacing[0] << " " << v.spacing[1] << " " << v.spacing[2] << "\n";
+    if (nf.nan + nf.inf)
+        std::cout << "NaN       " << nf.nan << " (" << std::fixed << std::setprecision(2) << 100.0 * double(nf.nan) / double(v.vertices())
+                  << "% of the vertices)" << std::defaultfloat << std::setprecision(6) << "\n"
+                  << "infinite  " << nf.inf << "\n";
+    if (finite == 0) {
+        std::cout << "range     n/a (no finite value)\n";
+        return 0;
+    }
+    std::cout << "range     " << lo << " .. " << hi << (nf.nan + nf.inf ? " (finite values)" : "") << "\n"
               << "mean      " << mean << "  (std " << sd << ")\n";
-    // A 16-bin histogram of the value range, as shares of the vertices.
+    // A 16-bin histogram of the value range, as shares of the finite values.
     const int bins = 16;
     std::vector<std::size_t> h(bins, 0);
-    const double w = (r.max - r.min) / bins;
+    const double w = (hi - lo) / bins;
     visit(v, [&](const auto* p) {
         for (std::size_t i = 0; i < v.vertices(); ++i) {
-            int b = w > 0 ? int((double(p[i]) - r.min) / w) : 0;
+            const double x = double(p[i]);
+            if (!std::isfinite(x)) continue;
+            int b = w > 0 ? int((x - lo) / w) : 0;
             ++h[std::min(b, bins - 1)];
         }
     });
-    std::cout << "histogram (16 bins over the range, % of vertices):\n";
+    std::cout << "histogram (16 bins over the range, % of " << (nf.nan + nf.inf ? "the finite values" : "vertices")
+              << "):\n";
     for (int b = 0; b < bins; ++b) {
         double share = 100.0 * double(h[b]) / n;
-        std::cout << "  " << std::setw(12) << r.min + b * w << "  " << std::setw(6) << std::fixed
+        std::cout << "  " << std::setw(12) << lo + b * w << "  " << std::setw(6) << std::fixed
                   << std::setprecision(2) << share << std::defaultfloat << std::setprecision(6) << "  "
                   << std::string(std::size_t(std::ceil(share / 2)), '#') << "\n";
+    }
+    if (nf.nan + nf.inf) {
+        std::cout << "isovalues n/a (fd, local, filter, mesh and components need finite values)\n";
+        return 0;
     }
     IsovalueSet iso = IsovalueSet::for_volume(v);
     std::cout << "isovalues " << iso.size() << (iso.integer() ? " (every integer of the range)" : " (uniform float list)")
@@ -259,6 +280,7 @@ int cmd_local(const LocalArgs& a) {
         return cmd_local_stream(a.volume, a.raw.options(), a.iso, a.window, a.output);
     }
     Volume v = read_volume(a.volume, a.raw.options());
+    warn_isovalue_outside(v, a.iso);
     Context& ctx = Context::shared();
     progress("local fractal dimension of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + ", window " +
              std::to_string(a.window) + ", on " + ctx.description());
@@ -305,8 +327,9 @@ struct MeshArgs {
 };
 
 int cmd_mesh(const MeshArgs& a) {
-    Volume v = read_volume(a.volume, a.raw.options());
     const MeshMethod method = parse_mesh_method(a.method);
+    Volume v = read_volume(a.volume, a.raw.options());
+    warn_isovalue_outside(v, a.iso);
     using clock = std::chrono::steady_clock;
     const auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
 
@@ -461,8 +484,8 @@ int main(int argc, char** argv) {
     auto* local = app.add_subcommand("local", "local fractal dimension field (eq. 2.6) for one isovalue, as NRRD");
     LocalArgs la;
     local->add_option("VOLUME", la.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
-    local->add_option("--iso", la.iso, "isovalue S (cubes with a < S <= b are intersected)")->required();
-    local->add_option("--window", la.window, "window k (even, >= 2; default 8)");
+    add_iso_option(local, la.iso, "isovalue S (cubes with a < S <= b are intersected)")->required();
+    add_window_option(local, la.window, "window k");
     local->add_option("-o,--output", la.output, "output .nrrd (float32)")->required();
     local->add_option("--mesh", la.mesh, "also write the isosurface as PLY, coloured by LD");
     local->add_flag("--stream", la.stream, "read and write slice by slice (memory: a few slices; same field)");
@@ -484,12 +507,12 @@ int main(int argc, char** argv) {
     auto* mesh = app.add_subcommand("mesh", "isosurface mesh as PLY (marching cubes or tetrahedra), optional preview PNG");
     MeshArgs ma;
     mesh->add_option("VOLUME", ma.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
-    mesh->add_option("--iso", ma.iso, "isovalue S (positive vertices: f >= S)")->required();
+    add_iso_option(mesh, ma.iso, "isovalue S (positive vertices: f >= S)")->required();
     mesh->add_option("-o,--output", ma.output, "output .ply (binary)")->required();
     mesh->add_option("--method", ma.method, "mc: marching cubes (default), mt: marching tetrahedra")
         ->check(CLI::IsMember({"mc", "mt"}));
     auto* color_flag = mesh->add_flag("--color-by-ld", ma.color_by_ld, "colour vertices by local fractal dimension");
-    mesh->add_option("--window", ma.window, "LD window k (even, default 8)")->needs(color_flag);
+    add_window_option(mesh, ma.window)->needs(color_flag);
     mesh->add_option("--preview", ma.preview, "render the mesh to a PNG (three-quarter view)");
     ma.raw.add(mesh);
 
