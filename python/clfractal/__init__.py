@@ -180,12 +180,14 @@ def fd_curve(volume, kind: str = "box", levels: int = 2, isovalues=None, bins: i
 def local_fd(volume, iso: float, window: int = 8, device: str | None = None) -> np.ndarray:
     """The local fractal dimension field (thesis eq. 2.6) for isovalue ``iso``.
 
-    At vertex ``v`` and even window ``k``: ``LD(v) = log2(I_W / I_W')``, the intersected cubes
-    (``a < iso <= b``) of a window ``W`` of about ``k`` cubes around ``v`` in the grid over
-    those of the window ``W'`` of ``k/2`` cubes in ``G'`` (level 1) covering the same region
-    (DESIGN §1 gives the exact windows), NaN where either count is 0. Integer data compares
-    with ``iso`` as given; float data with ``iso`` rounded to float32. Returns a float32
-    array of the volume's shape. Noise shows as LD near 3, a smooth surface as LD near 2.
+    At vertex ``v`` and even window ``k``, per axis with coordinate ``x``, ``n`` vertices in
+    the grid G and ``n' = (n - 1) // 2 + 1`` in G' (level 1): the window ``W'`` of G' holds
+    cubes ``[b0, b1) = [max(0, c0), min(n' - 1, c0 + k/2))`` with ``c0 = (x - k/2) // 2``,
+    the window ``W`` of G cubes ``[2 b0, 2 b1)`` (the same region, centred on ``v`` to within
+    one cube), and ``LD(v) = log2(I_W / I_W')`` counts the intersected cubes
+    (``a < iso <= b``) in each; NaN where either count is 0. Integer data compares with
+    ``iso`` as given; float data with ``iso`` rounded to float32. Returns a float32 array of
+    the volume's shape. A smooth surface gives LD near 2, noise LD towards 3.
     """
     a, type_name = _volume(volume)
     return _array(_clfractal.local_fd(a, type_name, float(iso), int(window), device))

@@ -56,7 +56,6 @@ def test_components_on_real_volumes(shared_data, name, connectivity, every):
     assert comp.max() > 1
 
 
-@pytest.mark.xfail(reason="awaiting LD revision 2 on main", strict=False)
 @pytest.mark.parametrize("name,iso", [("bucky_32x32x32_uint8.raw", 60), ("nucleon_41x41x41_uint8.raw", 100.5),
                                       ("m4_totaldensity_31x22x25_float32.raw", 0.1)])
 def test_local_fd_on_real_volumes(shared_data, name, iso):
@@ -64,4 +63,5 @@ def test_local_fd_on_real_volumes(shared_data, name, iso):
     ld = clfractal.local_fd(v, iso)
     expected = ref.local_fd(v, iso, 8, revision=2)
     np.testing.assert_array_equal(np.isnan(ld), np.isnan(expected))
+    # log2 in float on the device: within 1e-6 (distinct count ratios differ by > 4e-5).
     np.testing.assert_allclose(ld[~np.isnan(ld)], expected[~np.isnan(expected)], rtol=1e-6)
