@@ -3,6 +3,7 @@
 
 #include "clfractal/output_file.hpp"
 #include "clfractal/volume_io.hpp"
+#include "io_formats.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -33,12 +34,6 @@ void swap_bytes(unsigned char* p, std::size_t n, std::size_t size) {
     for (std::size_t i = 0; i < n; ++i, p += size) std::reverse(p, p + size);
 }
 
-bool has_extension(const std::string& path, const char* a, const char* b) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext == a || ext == b;
-}
-
 // Byte offset just past the blank line that ends an attached NRRD header.
 std::size_t attached_data_offset(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -58,6 +53,7 @@ struct SliceReader::Impl {
     Dims dims;
     ValueType type = ValueType::uint8;
     std::array<double, 3> spacing{1.0, 1.0, 1.0};
+    io::Geometry geometry;  // orientation where the reader knows it
     std::string method = "memory";
     std::size_t file_value_size = 0;  // bytes per value in the file (8 for float64 NRRD)
     bool swap = false;
@@ -68,6 +64,7 @@ struct SliceReader::Impl {
     int fd = -1;         // mmap
     gzFile gz = nullptr; // gzip
     Volume whole;        // memory
+    std::unique_ptr<io::SliceSource> source;  // dicom, tiff
     std::vector<unsigned char> staging;  // float64 values before conversion
 
     std::size_t slice_values() const { return dims.nx * dims.ny; }
@@ -81,9 +78,18 @@ struct SliceReader::Impl {
         }
         std::error_code ec;
         if (!fs::exists(spec, ec)) throw InputError(spec + ": no such file");
-        if (!fs::is_regular_file(spec, ec)) throw InputError(spec + ": not a regular file");
-        if (has_extension(spec, ".nrrd", ".nhdr")) open_nrrd(raw);
-        else open_raw(raw);
+        if (!fs::is_regular_file(spec, ec) && !fs::is_directory(spec, ec))
+            throw InputError(spec + ": not a regular file");
+        switch (io::detect_format(spec)) {
+        case io::Format::nrrd: open_nrrd(raw); break;
+        case io::Format::raw: open_raw(raw); break;
+        case io::Format::dicom:
+        case io::Format::directory_dicom: open_source(io::open_dicom_slices(spec, raw.series), "dicom"); break;
+        case io::Format::tiff:
+        case io::Format::directory_tiff: open_source(io::open_tiff_slices(spec), "tiff"); break;
+        default: read_whole(raw);
+        }
+        geometry.spacing = spacing;
         open();
     }
 
@@ -94,7 +100,18 @@ struct SliceReader::Impl {
         dims = whole.dims();
         type = whole.type();
         spacing = whole.spacing;
+        geometry = io::geometry_of(whole);
         method = "memory";
+    }
+
+    void open_source(std::unique_ptr<io::SliceSource> s, const char* name) {
+        source = std::move(s);
+        dims = source->dims;
+        type = source->type;
+        spacing = source->spacing;
+        geometry = io::Geometry{source->spacing, source->oriented, source->origin, source->axes};
+        file_value_size = value_size(type);
+        method = name;
     }
 
     void open_raw(const RawOptions& raw) {
@@ -266,6 +283,8 @@ struct SliceReader::Impl {
         if (method == "memory") {
             std::memcpy(out, static_cast<const unsigned char*>(whole.data()) + next * slice_bytes(),
                         count * slice_bytes());
+        } else if (source) {
+            for (std::size_t i = 0; i < count; ++i) source->read_slice(next + i, out + i * slice_bytes());
         } else if (file_value_size == 8) {
             staging.resize(count * slice_values() * 8);
             read_file_bytes(staging.data(), count);
@@ -367,6 +386,29 @@ void NrrdSliceWriter::close() {
     if (!w.out) discard_temporary(w.tmp, w.path, std::string("cannot write: ") + std::strerror(errno));
     w.closed = true;
     rename_into_place(w.tmp, w.path);
+}
+
+struct SliceWriter::Impl {
+    std::unique_ptr<NrrdSliceWriter> nrrd;
+    std::unique_ptr<io::NiftiWriter> nifti;
+    std::size_t slice_bytes = 0;
+};
+
+SliceWriter::SliceWriter(const std::string& path, const Dims& dims, ValueType type, const SliceReader& grid)
+    : impl_(std::make_unique<Impl>()) {
+    impl_->slice_bytes = dims.nx * dims.ny * value_size(type);
+    const io::Geometry& g = grid.impl_->geometry;
+    if (io::nifti_path(path)) impl_->nifti = std::make_unique<io::NiftiWriter>(path, dims, type, g);
+    else impl_->nrrd = std::make_unique<NrrdSliceWriter>(path, dims, type, g.spacing);
+}
+SliceWriter::~SliceWriter() = default;
+void SliceWriter::write(const void* slices, std::size_t count) {
+    if (impl_->nifti) impl_->nifti->write(slices, count * impl_->slice_bytes);
+    else impl_->nrrd->write(slices, count);
+}
+void SliceWriter::close() {
+    if (impl_->nifti) impl_->nifti->close();
+    else impl_->nrrd->close();
 }
 
 ValueRange value_range(SliceReader& reader) {

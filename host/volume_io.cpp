@@ -1,4 +1,5 @@
-// Volume I/O: raw files, NRRD through teem, synthetic:NAME[:N] specs (DESIGN §2 layer 2).
+// Volume I/O: raw files, NRRD through teem, synthetic:NAME[:N] specs (DESIGN §2 layer 2);
+// the other formats in io_*.cpp, chosen by content (io_detect.cpp).
 #include "clfractal/output_file.hpp"
 #include "clfractal/volume_io.hpp"
 
@@ -18,6 +19,7 @@
 #include <sstream>
 
 #include "clfractal/synthetic.hpp"
+#include "io_formats.hpp"
 
 namespace fs = std::filesystem;
 
@@ -150,11 +152,20 @@ double axis_spacing(const Nrrd* n, unsigned axis) {
     return std::isfinite(spacing) && spacing > 0 ? spacing : 1.0;
 }
 
-bool has_nrrd_extension(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext == ".nrrd" || ext == ".nhdr";
+/// A NRRD space (RAS or LPS, 3D) becomes the Volume's LPS origin and unit axes.
+void read_nrrd_orientation(const Nrrd* n, Volume& v) {
+    const bool ras = n->space == nrrdSpaceRightAnteriorSuperior, lps = n->space == nrrdSpaceLeftPosteriorSuperior;
+    if ((!ras && !lps) || n->spaceDim != 3) return;
+    const double sign[3] = {ras ? -1.0 : 1.0, ras ? -1.0 : 1.0, 1.0};
+    for (unsigned a = 0; a < 3; ++a) {
+        double len = 0;
+        for (int r = 0; r < 3; ++r) len += n->axis[a].spaceDirection[r] * n->axis[a].spaceDirection[r];
+        len = std::sqrt(len);
+        if (!(len > 0) || !std::isfinite(len)) return;
+        for (int r = 0; r < 3; ++r) v.axes[a][r] = sign[r] * n->axis[a].spaceDirection[r] / len;
+    }
+    for (int r = 0; r < 3; ++r) v.origin[r] = std::isfinite(n->spaceOrigin[r]) ? sign[r] * n->spaceOrigin[r] : 0.0;
+    v.oriented = true;
 }
 
 /// synthetic:NAME[:N], N in [2, 2048] (default 128).
@@ -258,6 +269,7 @@ Volume read_nrrd(const std::string& path) {
         std::memcpy(v.data(), nrrd->data, v.size_bytes());
     }
     for (unsigned a = 0; a < 3; ++a) v.spacing[a] = axis_spacing(nrrd.get(), a);
+    read_nrrd_orientation(nrrd.get(), v);
     return v;
 }
 
@@ -269,15 +281,27 @@ Volume read_volume(const std::string& spec, const RawOptions& raw, FiniteCheck f
     } else {
         std::error_code ec;
         if (!fs::exists(spec, ec)) throw InputError(spec + ": no such file");
-        if (!fs::is_regular_file(spec, ec)) throw InputError(spec + ": not a regular file");
-        v = has_nrrd_extension(spec) ? read_nrrd(spec) : read_raw(spec, raw);
+        if (!fs::is_regular_file(spec, ec) && !fs::is_directory(spec, ec))
+            throw InputError(spec + ": not a regular file");
+        switch (io::detect_format(spec)) {
+        case io::Format::nrrd: v = read_nrrd(spec); break;
+        case io::Format::nifti: v = io::read_nifti(spec, raw.scaled); break;
+        case io::Format::dicom:
+        case io::Format::directory_dicom: v = io::read_dicom(spec, raw.series); break;
+        case io::Format::tiff:
+        case io::Format::directory_tiff: v = io::read_tiff(spec); break;
+        case io::Format::metaimage: v = io::read_metaimage(spec); break;
+        case io::Format::raw: v = read_raw(spec, raw); break;
+        }
     }
     if (finite == FiniteCheck::reject) check_finite(v, spec);
     v.name = spec;
     return v;
 }
 
-void write_nrrd(const Volume& v, const std::string& path, bool gzip) {
+namespace {
+
+void write_nrrd_grid(const Volume& v, const std::string& path, bool gzip, const io::Geometry& g) {
     const std::string tmp = temporary_path(path);
 
     // teem only reads the data when writing; the wrap does not take ownership.
@@ -288,12 +312,52 @@ void write_nrrd(const Volume& v, const std::string& path, bool gzip) {
     nio->encoding = gzip ? nrrdEncodingGzip : nrrdEncodingRaw;
     bool failed =
         nrrdWrap_nva(nrrd.get(), const_cast<void*>(v.data()), nrrd_type_of(v.type()), 3, sizes);
-    if (!failed) {
-        nrrdAxisInfoSet_nva(nrrd.get(), nrrdAxisInfoSpacing, v.spacing.data());
-        failed = nrrdSave(tmp.c_str(), nrrd.get(), nio.get());
+    if (!failed && g.oriented) {
+        // Space directions carry the spacing: axis * spacing, in LPS.
+        double directions[NRRD_DIM_MAX][NRRD_SPACE_DIM_MAX] = {};
+        for (int a = 0; a < 3; ++a)
+            for (int r = 0; r < 3; ++r) directions[a][r] = g.axes[a][r] * g.spacing[a];
+        failed = nrrdSpaceSet(nrrd.get(), nrrdSpaceLeftPosteriorSuperior) ||
+                 nrrdSpaceOriginSet(nrrd.get(), const_cast<double*>(g.origin.data()));
+        if (!failed) nrrdAxisInfoSet_nva(nrrd.get(), nrrdAxisInfoSpaceDirection, directions);
+    } else if (!failed) {
+        nrrdAxisInfoSet_nva(nrrd.get(), nrrdAxisInfoSpacing, g.spacing.data());
     }
+    if (!failed) failed = nrrdSave(tmp.c_str(), nrrd.get(), nio.get());
     if (failed) discard_temporary(tmp, path, "cannot write NRRD: " + biff_message());
     rename_into_place(tmp, path);
+}
+
+}  // namespace
+
+void write_nrrd(const Volume& v, const std::string& path, bool gzip) {
+    write_nrrd_grid(v, path, gzip, io::geometry_of(v));
+}
+
+void write_volume(const Volume& v, const std::string& path, const Volume* grid) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const char* read_only : {".mha", ".mhd", ".tif", ".tiff", ".dcm", ".hdr", ".img"})
+        if (ext == read_only)
+            throw InputError(path + ": cannot write " + ext + " files; use .nrrd, .nii or .nii.gz");
+    const io::Geometry g = io::geometry_of(grid ? *grid : v);
+    if (io::nifti_path(path)) {
+        io::NiftiWriter w(path, v.dims(), v.type(), g);
+        w.write(v.data(), v.size_bytes());
+        return w.close();
+    }
+    write_nrrd_grid(v, path, false, g);
+}
+
+std::vector<std::string> describe_volume_file(const std::string& spec, const RawOptions& raw) {
+    if (spec.rfind("synthetic:", 0) == 0) return {"format    synthetic"};
+    const io::Format f = io::detect_format(spec);
+    std::vector<std::string> lines{std::string("format    ") + io::format_name(f)};
+    std::vector<std::string> notes;
+    if (f == io::Format::nifti) notes = io::nifti_notes(spec);
+    if (f == io::Format::dicom || f == io::Format::directory_dicom) notes = io::dicom_notes(spec, raw.series);
+    for (const std::string& n : notes) lines.push_back("          " + n);
+    return lines;
 }
 
 NonFinite count_non_finite(const float* p, std::size_t n) {

@@ -4,23 +4,9 @@
 set -u
 bin=$1
 work=$2
+here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
-failures=0
-passes=0
-pass() { passes=$((passes + 1)); }
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-
-# expect CODE PATTERN -- command...: exit code CODE and stderr+stdout matching PATTERN
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if [ "$rc" -ne "$code" ]; then fail "'$*' exited $rc, expected $code: $out"; return; fi
-  if ! grep -qE -- "$pattern" <<<"$out"; then fail "'$*' output does not match '$pattern': $out"; return; fi
-  pass
-}
+source "$here/cli_lib.sh"
 
 expect 0 '\*' -- "$bin" devices
 expect 0 'mean FD' -- "$bin" -q fd synthetic:noisy-sphere:48

@@ -399,7 +399,7 @@ TEST_CASE("bad raw files name the file and the problem") {
 
     const std::string missing = dir.file("missing_4x4x4_uint8.raw");
     CHECK(input_error([&] { read_volume(missing); }) == missing + ": no such file");
-    CHECK(contains(input_error([&] { read_volume(dir.path()); }), "not a regular file"));
+    CHECK(contains(input_error([&] { read_volume(dir.path()); }), "the directory holds no DICOM series and no TIFF slices"));
 }
 
 TEST_CASE("NaN and Inf in float data are rejected with the vertex") {

@@ -1,8 +1,9 @@
 // Reading a volume slice by slice from disk, so that host memory stays bounded by a few
 // slices however large the file (DESIGN §6): raw files and raw-encoded NRRD data through
 // memory maps of a window of slices, gzip-encoded NRRD data decompressed sequentially
-// (zlib). Other inputs (synthetic:NAME[:N], NRRD with line/byte skips or several data
-// files) are read whole and then served slice by slice.
+// (zlib), DICOM series and TIFF stacks (multi-page or a directory of slices) one slice
+// file or page at a time. Other inputs (synthetic:NAME[:N], NIfTI, MetaImage, NRRD with
+// line/byte skips or several data files) are read whole and then served slice by slice.
 #pragma once
 #include <array>
 #include <cstddef>
@@ -27,7 +28,7 @@ public:
     ValueType type() const;
     const std::array<double, 3>& spacing() const;
     std::size_t slice_bytes() const;
-    /// "mmap", "gzip" or "memory" (read whole).
+    /// "mmap", "gzip", "dicom", "tiff" or "memory" (read whole).
     const char* method() const;
 
     /// Reads the next `count` slices into `dst` (count * slice_bytes() bytes), converted to
@@ -43,6 +44,7 @@ public:
     void seek(std::size_t z);
 
 private:
+    friend class SliceWriter;
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
@@ -58,6 +60,25 @@ public:
     NrrdSliceWriter(const NrrdSliceWriter&) = delete;
     NrrdSliceWriter& operator=(const NrrdSliceWriter&) = delete;
 
+    /// Appends `count` slices (count * nx * ny values of the type).
+    void write(const void* slices, std::size_t count);
+    /// Checks that all nz slices were written, flushes and renames into place.
+    void close();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Writes a volume slice by slice in the format the extension names (NIfTI for .nii /
+/// .nii.gz, NRRD otherwise, as write_volume), with the spacing (and, for NIfTI, the
+/// orientation) of the file `grid` reads; temporary file renamed into place by close().
+class SliceWriter {
+public:
+    SliceWriter(const std::string& path, const Dims& dims, ValueType type, const SliceReader& grid);
+    ~SliceWriter();
+    SliceWriter(const SliceWriter&) = delete;
+    SliceWriter& operator=(const SliceWriter&) = delete;
     /// Appends `count` slices (count * nx * ny values of the type).
     void write(const void* slices, std::size_t count);
     /// Checks that all nz slices were written, flushes and renames into place.

@@ -73,6 +73,12 @@ public:
     std::string name;
     /// Vertex spacing (1,1,1 unless a header says otherwise).
     std::array<double, 3> spacing{1.0, 1.0, 1.0};
+    /// Where the file places the grid, when it says (DICOM, NIfTI, MetaImage, NRRD with a
+    /// space): patient coordinates in LPS (DICOM's), the position of vertex (0,0,0) and the
+    /// unit direction of each axis. Written back by the NIfTI and NRRD writers.
+    bool oriented = false;
+    std::array<double, 3> origin{0.0, 0.0, 0.0};
+    std::array<std::array<double, 3>, 3> axes{{{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}}};
 
 private:
     Dims dims_{};

@@ -56,6 +56,8 @@ void RawArgs::add(CLI::App* app) {
     app->add_option("--dims", dims, "raw file dimensions X,Y,Z");
     app->add_option("--type", type, "raw file value type: uint8|uint16|int16|float32");
     app->add_option("--endian", endian, "raw file byte order")->check(CLI::IsMember({"little", "big"}));
+    app->add_option("--series", series, "DICOM: the series (SeriesInstanceUID) of a directory to read");
+    app->add_flag("--scaled", scaled, "NIfTI: apply scl_slope/scl_inter to the stored values");
 }
 
 RawOptions RawArgs::options() const {
@@ -74,6 +76,8 @@ RawOptions RawArgs::options() const {
     }
     if (!type.empty()) o.type = parse_value_type(type);
     o.big_endian = endian == "big";
+    o.series = series;
+    o.scaled = scaled;
     return o;
 }
 

@@ -33,7 +33,8 @@ void warn_isovalue_outside(const clfractal::Volume& v, double iso);
 
 /// Options that say how to read a headerless raw file.
 struct RawArgs {
-    std::string dims, type, endian = "little";
+    std::string dims, type, endian = "little", series;
+    bool scaled = false;
     void add(CLI::App* app);
     clfractal::RawOptions options() const;
 };

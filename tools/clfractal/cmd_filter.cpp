@@ -82,7 +82,7 @@ int run_filter_stream(const FilterArgs& a, const FilterSpec& spec) {
                                           : IsovalueSet::floats({float(a.iso)});
     SpanStream before(ctx, d.nx, d.ny, t, iso, 2, {SpanKind::cubes}), after(ctx, d.nx, d.ny, t, iso, 2, {SpanKind::cubes});
     const auto t0 = std::chrono::steady_clock::now();
-    NrrdSliceWriter writer(a.output, d, t, reader.spacing());
+    SliceWriter writer(a.output, d, t, reader);
     TargetedFilterStream stream(ctx, d.nx, d.ny, t, spec, a.iso, a.threshold, a.window,
                                 [&](std::size_t, const void* filtered, const float*) {
                                     writer.write(filtered, 1);
@@ -167,7 +167,7 @@ int run_filter(const FilterArgs& a, CLI::App* app) {
     const double seconds = std::chrono::duration<double>(clock::now() - t0).count();
     if (masked) out = std::move(tr.volume);
     if (at_iso) after = measure(ctx, out, a.iso);
-    write_nrrd(out, a.output);
+    write_volume(out, a.output, &v);
 
     std::size_t changed = masked ? tr.changed : 0;
     if (!masked)
@@ -218,7 +218,7 @@ void add_filter_command(CLI::App& app, Commands& commands) {
     add_iso_option(c, a->iso, "isovalue S of the LD field; also reports cubes and FD at S before/after");
     c->add_option("--threshold", a->threshold, "LD threshold H of --fractal");
     add_window_option(c, a->window);
-    c->add_option("-o,--output", a->output, "output .nrrd (the input's type)")->required();
+    c->add_option("-o,--output", a->output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
     c->add_flag("--stream", a->stream,
                 "with --fractal: read, filter and write slice by slice (memory for a few slices; radius <= k/2)");
     a->raw.add(c);

@@ -35,7 +35,7 @@ int run_smooth(const SmoothArgs& a) {
     const bool want_mesh = !a.mesh.empty() || !a.preview.empty();
     const SmoothResult r = smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
     const IsoCounts before = intersected_counts(ctx, v, a.iso), after = intersected_counts(ctx, r.volume, a.iso);
-    write_nrrd(r.volume, a.output);
+    write_volume(r.volume, a.output, &v);
 
     const double n = double(std::max<std::size_t>(1, v.vertices()));
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
@@ -86,7 +86,7 @@ void add_smooth_command(CLI::App& app, Commands& commands) {
     c->add_option("--variant", a->variant, "plain (f(v) := f(u)) or gaussian (neighbours lowered too)")
         ->check(CLI::IsMember({"plain", "gaussian"}));
     c->add_option("--tau", a->tau, "width of the gaussian variant's lowering, in grid steps (default 1)");
-    c->add_option("-o,--output", a->output, "output .nrrd (same type as the input)")->required();
+    c->add_option("-o,--output", a->output, "output .nrrd, .nii or .nii.gz (same type as the input)")->required();
     c->add_option("--mesh", a->mesh, "also write the smoothed isosurface as PLY, coloured by the input's LD");
     c->add_option("--preview", a->preview, "render the smoothed isosurface to a PNG");
     a->raw.add(c);

@@ -69,8 +69,9 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
     });
     const double n = double(finite);
     const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-    std::cout << "volume    " << spec << "\n"
-              << "dims      " << dims_string(v.dims()) << " (" << v.vertices() << " vertices, " << v.dims().cubes()
+    std::cout << "volume    " << spec << "\n";
+    for (const std::string& line : describe_volume_file(spec, raw.options())) std::cout << line << "\n";
+    std::cout << "dims      " << dims_string(v.dims()) << " (" << v.vertices() << " vertices, " << v.dims().cubes()
               << " cubes)\n"
               << "type      " << value_type_name(v.type()) << "\n"
               << "spacing   " << v.spacing[0] << " " << v.spacing[1] << " " << v.spacing[2] << "\n";
@@ -287,7 +288,7 @@ int cmd_local(const LocalArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     Volume ld = local_fractal_dimension(ctx, v, a.iso, a.window);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    write_nrrd(ld, a.output);
+    write_volume(ld, a.output, &v);
     const LocalSummary s = summarize_local(ld);
 
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
@@ -389,7 +390,7 @@ int cmd_gen(const std::string& name, const SyntheticOptions& o, const std::strin
     if (!type.empty()) opt.type = parse_value_type(type);
     if (opt.size < 2 || opt.size > 2048) throw InputError("--size " + std::to_string(opt.size) + ": must be 2..2048");
     Volume v = make_synthetic(name, opt);
-    write_nrrd(v, out);
+    write_volume(v, out);
     progress("wrote " + out + " (" + dims_string(v.dims()) + " " + value_type_name(v.type()) + ")");
     return 0;
 }
@@ -486,12 +487,12 @@ int main(int argc, char** argv) {
     local->add_option("VOLUME", la.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
     add_iso_option(local, la.iso, "isovalue S (cubes with a < S <= b are intersected)")->required();
     add_window_option(local, la.window, "window k");
-    local->add_option("-o,--output", la.output, "output .nrrd (float32)")->required();
+    local->add_option("-o,--output", la.output, "output .nrrd, .nii or .nii.gz (float32)")->required();
     local->add_option("--mesh", la.mesh, "also write the isosurface as PLY, coloured by LD");
     local->add_flag("--stream", la.stream, "read and write slice by slice (memory: a few slices; same field)");
     la.raw.add(local);
 
-    auto* gen = app.add_subcommand("gen", "write a synthetic volume as NRRD");
+    auto* gen = app.add_subcommand("gen", "write a synthetic volume (NRRD, or NIfTI for .nii/.nii.gz)");
     std::string gen_name, gen_type, gen_out;
     SyntheticOptions gen_opt;
     std::string names;
@@ -502,7 +503,7 @@ int main(int argc, char** argv) {
     gen->add_option("--seed", gen_opt.seed, "noise / point seed");
     gen->add_option("--points", gen_opt.points, "number of points for 'points'");
     gen->add_option("--type", gen_type, "convert to uint8|uint16|int16|float32");
-    gen->add_option("-o,--output", gen_out, "output .nrrd")->required();
+    gen->add_option("-o,--output", gen_out, "output .nrrd, .nii or .nii.gz")->required();
 
     auto* mesh = app.add_subcommand("mesh", "isosurface mesh as PLY (marching cubes or tetrahedra), optional preview PNG");
     MeshArgs ma;

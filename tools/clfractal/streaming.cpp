@@ -76,7 +76,7 @@ int cmd_local_stream(const std::string& volume, const RawOptions& raw, double is
              " slice by slice (" + reader.method() + "), window " + std::to_string(window) + ", on " +
              ctx.description());
     const auto t0 = std::chrono::steady_clock::now();
-    NrrdSliceWriter writer(output, d, ValueType::float32, reader.spacing());
+    SliceWriter writer(output, d, ValueType::float32, reader);
     std::size_t defined = 0, above_blue = 0, above_red = 0;
     double sum = 0;
     const std::size_t plane = d.nx * d.ny;

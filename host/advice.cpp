@@ -1,0 +1,180 @@
+#include "clfractal/advice.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "clfractal/noise.hpp"
+
+namespace clfractal {
+
+std::vector<CleanBand> clean_bands(const FdCurve& f, const BandOptions& o) {
+    if (!std::isfinite(o.max_fd)) throw InputError("--clean-fd: must be a finite number");
+    if (!(o.min_share >= 0 && o.min_share <= 1)) throw InputError("--clean-share: must be in [0, 1]");
+    const std::vector<std::uint64_t>& count = f.counts.at(0);
+    const std::uint64_t largest = count.empty() ? 0 : *std::max_element(count.begin(), count.end());
+    const double floor_count = std::max(1.0, o.min_share * double(largest));
+    auto clean = [&](std::size_t j) { return !std::isnan(f.fd[j]) && f.fd[j] <= o.max_fd && double(count[j]) >= floor_count; };
+
+    std::vector<CleanBand> bands;
+    for (std::size_t j = 0; j < f.fd.size();) {
+        if (!clean(j)) {
+            ++j;
+            continue;
+        }
+        CleanBand b;
+        b.first = j;
+        double sum = 0;
+        b.max_fd = -INFINITY;
+        for (; j < f.fd.size() && clean(j); ++j) {
+            sum += f.fd[j];
+            b.max_fd = std::max(b.max_fd, f.fd[j]);
+            b.max_count = std::max(b.max_count, count[j]);
+        }
+        b.last = j - 1;
+        b.representative = b.first + (b.last - b.first) / 2;
+        b.mean_fd = sum / double(b.width());
+        bands.push_back(b);
+    }
+    std::stable_sort(bands.begin(), bands.end(), [](const CleanBand& a, const CleanBand& b) {
+        return a.width() != b.width() ? a.width() > b.width() : a.max_count > b.max_count;
+    });
+    return bands;
+}
+
+double noise_ratio_from_edge_dimension(double d) {
+    if (std::isnan(d)) return d;
+    if (d <= 2) return 0;
+    if (d >= 3) return INFINITY;
+    // expected_edge_dimension increases in r; bracket d, then bisect to double precision.
+    double lo = 0, hi = 1;
+    while (expected_edge_dimension(hi) < d) {
+        lo = hi;
+        hi *= 2;
+        if (hi > 1e12) return INFINITY;  // d within rounding of 3
+    }
+    for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (expected_edge_dimension(mid) < d ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+double mean_edge_span(double r) {
+    // Simpson over delta in [0, 1]; the integrand is smooth but for a kink at delta = 2r.
+    const int n = 512;
+    double s = 0;
+    for (int i = 0; i <= n; ++i) {
+        const double w = i == 0 || i == n ? 1 : (i % 2 ? 4 : 2);
+        s += w * edge_span_measure(double(i) / n, NoiseKind::uniform, r);
+    }
+    return s / (3.0 * n);
+}
+
+EdgeSpanSums intersected_edge_spans(const Volume& v, const IsovalueSet& iso) {
+    const std::size_t k = iso.size();
+    std::vector<double> values(k);
+    for (std::size_t j = 0; j < k; ++j) values[j] = iso.value(j);
+    // The first isovalue index with s > x: a < s <= b holds for the indices [first(a), first(b)).
+    auto first_above = [&](double x) -> std::size_t {
+        if (iso.integer()) {
+            const double j = std::floor(x) - double(iso.first()) + 1;
+            return std::size_t(std::clamp(j, 0.0, double(k)));
+        }
+        return std::size_t(std::upper_bound(values.begin(), values.end(), x) - values.begin());
+    };
+    const Dims d = v.dims();
+    const int threads = omp_get_max_threads();
+    std::vector<std::vector<double>> sums(threads, std::vector<double>(k + 1, 0.0));
+    std::vector<std::vector<std::int64_t>> counts(threads, std::vector<std::int64_t>(k + 1, 0));
+    visit(v, [&](const auto* p) {
+#pragma omp parallel for schedule(static)
+        for (long long z = 0; z < (long long)d.nz; ++z) {
+            const int t = omp_get_thread_num();
+            std::vector<double>& sum = sums[t];
+            std::vector<std::int64_t>& count = counts[t];
+            auto edge = [&](double a, double b) {
+                if (a > b) std::swap(a, b);
+                if (!(a < b)) return;
+                const std::size_t lo = first_above(a), hi = first_above(b);
+                if (lo == hi) return;
+                sum[lo] += b - a;
+                sum[hi] -= b - a;
+                ++count[lo];
+                --count[hi];
+            };
+            for (std::size_t y = 0; y < d.ny; ++y)
+                for (std::size_t x = 0; x < d.nx; ++x) {
+                    const std::size_t i = v.index(x, y, std::size_t(z));
+                    const double f = double(p[i]);
+                    if (x + 1 < d.nx) edge(f, double(p[i + 1]));
+                    if (y + 1 < d.ny) edge(f, double(p[i + d.nx]));
+                    if (std::size_t(z) + 1 < d.nz) edge(f, double(p[i + d.nx * d.ny]));
+                }
+        }
+    });
+    EdgeSpanSums r{std::vector<double>(k, 0.0), std::vector<std::uint64_t>(k, 0)};
+    double run_sum = 0;
+    std::int64_t run_count = 0;
+    for (std::size_t j = 0; j < k; ++j) {
+        for (int t = 0; t < threads; ++t) {
+            run_sum += sums[t][j];
+            run_count += counts[t][j];
+        }
+        r.sum[j] = run_sum;
+        r.count[j] = std::uint64_t(run_count);
+    }
+    return r;
+}
+
+namespace {
+
+double median(std::vector<double> x) {
+    if (x.empty()) return std::numeric_limits<double>::quiet_NaN();
+    const std::size_t m = x.size() / 2;
+    std::nth_element(x.begin(), x.begin() + m, x.end());
+    if (x.size() % 2) return x[m];
+    return 0.5 * (x[m] + *std::max_element(x.begin(), x.begin() + m));
+}
+
+}  // namespace
+
+NoiseEstimate estimate_noise(Context& ctx, const Volume& v, const IsovalueSet& iso, double min_share) {
+    if (!(min_share >= 0 && min_share <= 1)) throw InputError("the noise estimate's count share must be in [0, 1]");
+    const SpanResult spans = count_spans(ctx, v, iso, SpanOptions{{SpanKind::edges}, 2, 0});
+    const FdCurve f = fd_curve(ctx, spans, SpanKind::edges);
+    const EdgeSpanSums sums = intersected_edge_spans(v, iso);
+    const std::size_t k = iso.size();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    NoiseEstimate e;
+    e.isovalues = iso;
+    e.edge_fd = f.fd;
+    e.edges = f.counts[0];
+    e.mean_span.assign(k, nan);
+    e.ratio.assign(k, nan);
+    e.gamma.assign(k, nan);
+    e.amplitude.assign(k, nan);
+    const std::uint64_t largest = *std::max_element(f.counts[1].begin(), f.counts[1].end());
+    const double floor_count = std::max(1.0, min_share * double(largest));
+    std::vector<double> ratios, amplitudes;
+    for (std::size_t j = 0; j < k; ++j) {
+        if (sums.count[j]) e.mean_span[j] = sums.sum[j] / double(sums.count[j]);
+        const double d = f.fd[j];
+        if (std::isnan(d) || d < noise_fd_min || d > noise_fd_max || double(f.counts[1][j]) < floor_count) continue;
+        const double r = noise_ratio_from_edge_dimension(d);
+        const double gamma = e.mean_span[j] * mean_edge_span(r) / (1.0 / 3 + 2 * r * r / 3);
+        e.ratio[j] = r;
+        e.gamma[j] = gamma;
+        e.amplitude[j] = r * gamma;
+        ratios.push_back(r);
+        amplitudes.push_back(r * gamma);
+    }
+    e.used = ratios.size();
+    e.median_ratio = median(ratios);
+    e.median_amplitude = median(amplitudes);
+    return e;
+}
+
+}  // namespace clfractal

@@ -1,0 +1,392 @@
+// DICOM series through GDCM: a directory (or one file of it) is one volume. Headers are
+// read with gdcm::Scanner, slices sorted by position along the slice normal (as GDCM's
+// IPPSorter does) and checked for even spacing, pixels decoded with gdcm::ImageReader (every
+// transfer syntax GDCM decodes), values in modality units by the rescale rule (DESIGN §2).
+#include "io_formats.hpp"
+
+#include <gdcmDirectory.h>
+#include <gdcmImage.h>
+#include <gdcmImageReader.h>
+#include <gdcmScanner.h>
+#include <gdcmTrace.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace clfractal::io {
+namespace {
+
+const gdcm::Tag tag_series_uid(0x0020, 0x000e), tag_position(0x0020, 0x0032), tag_orientation(0x0020, 0x0037),
+    tag_pixel_spacing(0x0028, 0x0030), tag_rows(0x0028, 0x0010), tag_columns(0x0028, 0x0011),
+    tag_slope(0x0028, 0x1053), tag_intercept(0x0028, 0x1052), tag_description(0x0008, 0x103e),
+    tag_frames(0x0028, 0x0008), tag_thickness(0x0018, 0x0050);
+
+std::vector<double> numbers(const char* text) {
+    std::vector<double> v;
+    if (!text) return v;
+    std::string s(text);
+    std::replace(s.begin(), s.end(), '\\', ' ');
+    std::istringstream in(s);
+    double x;
+    while (in >> x) v.push_back(x);
+    return v;
+}
+
+std::string trimmed(const char* text) {
+    std::string s = text ? text : "";
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\0')) s.pop_back();
+    return s;
+}
+
+std::string name_of(const std::string& file) { return fs::path(file).filename().string(); }
+
+struct Slice {
+    std::string file;
+    double position = 0;  // along the slice normal
+    Rescale map;
+};
+
+struct Series {
+    std::string uid, description;
+    std::vector<std::string> files;
+    std::size_t rows = 0, columns = 0;
+};
+
+/// The headers of every DICOM file of a directory, grouped by series.
+struct Scan {
+    std::string dir;
+    gdcm::Scanner scanner;
+    std::map<std::string, Series> series;
+    std::string selected;  // the file given, when a single file was named
+};
+
+bool dicom_extension(const std::string& file) {
+    std::string ext = fs::path(file).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".dcm" || ext == ".dicom" || ext == ".ima";
+}
+
+void quiet_gdcm() {
+    gdcm::Trace::SetDebug(false);
+    gdcm::Trace::SetWarning(false);
+    gdcm::Trace::SetError(false);
+}
+
+void scan(Scan& s, const std::string& path) {
+    quiet_gdcm();
+    std::error_code ec;
+    const bool is_dir = fs::is_directory(path, ec);
+    s.dir = is_dir ? path : fs::path(path).parent_path().string();
+    if (s.dir.empty()) s.dir = ".";
+    if (!is_dir) s.selected = path;
+    gdcm::Directory d;
+    d.Load(s.dir, false);
+    std::vector<std::string> files = d.GetFilenames();
+    if (!is_dir) {
+        // Match the given file however it was spelled.
+        for (const std::string& f : files)
+            if (fs::equivalent(f, path, ec)) s.selected = f;
+    }
+    for (const gdcm::Tag& t : {tag_series_uid, tag_position, tag_orientation, tag_pixel_spacing, tag_rows, tag_columns,
+                               tag_slope, tag_intercept, tag_description, tag_frames, tag_thickness})
+        s.scanner.AddTag(t);
+    if (!s.scanner.Scan(files)) throw InputError(s.dir + ": cannot scan the DICOM files");
+    std::sort(files.begin(), files.end(), natural_less);
+    for (const std::string& f : files) {
+        if (!s.scanner.IsKey(f.c_str())) {
+            // README, LICENSE, DIRFILE, ...: not DICOM, not ours. A .dcm that is not DICOM is.
+            if (dicom_extension(f)) throw InputError(f + ": not a readable DICOM file");
+            continue;
+        }
+        const std::string uid = trimmed(s.scanner.GetValue(f.c_str(), tag_series_uid));
+        if (uid.empty()) throw InputError(f + ": DICOM file without a SeriesInstanceUID");
+        Series& se = s.series[uid];
+        se.uid = uid;
+        se.files.push_back(f);
+        if (se.description.empty()) se.description = trimmed(s.scanner.GetValue(f.c_str(), tag_description));
+        const std::vector<double> rows = numbers(s.scanner.GetValue(f.c_str(), tag_rows));
+        const std::vector<double> cols = numbers(s.scanner.GetValue(f.c_str(), tag_columns));
+        se.rows = rows.empty() ? 0 : std::size_t(rows[0]);
+        se.columns = cols.empty() ? 0 : std::size_t(cols[0]);
+    }
+    if (s.series.empty()) throw InputError(s.dir + ": no DICOM files in the directory");
+}
+
+const Series& choose(const Scan& s, const std::string& uid) {
+    if (!uid.empty()) {
+        const auto it = s.series.find(uid);
+        if (it == s.series.end()) {
+            std::string known;
+            for (const auto& [u, se] : s.series) known += (known.empty() ? "" : ", ") + u;
+            throw InputError(s.dir + ": no DICOM series with UID " + uid + " (found: " + known + ")");
+        }
+        return it->second;
+    }
+    if (!s.selected.empty() && s.scanner.IsKey(s.selected.c_str()))
+        return s.series.at(trimmed(s.scanner.GetValue(s.selected.c_str(), tag_series_uid)));
+    // The largest series; a tie is for the user to settle.
+    const Series* best = nullptr;
+    bool tie = false;
+    for (const auto& [u, se] : s.series) {
+        if (!best || se.files.size() > best->files.size()) {
+            best = &se;
+            tie = false;
+        } else if (se.files.size() == best->files.size()) {
+            tie = true;
+        }
+    }
+    if (tie)
+        throw InputError(s.dir + ": " + std::to_string(s.series.size()) + " DICOM series of " +
+                         std::to_string(best->files.size()) +
+                         " files each; choose one with --series UID (clfractal info lists them)");
+    return *best;
+}
+
+StoredKind stored_kind_of(const gdcm::PixelFormat& pf, const std::string& file) {
+    if (pf.GetSamplesPerPixel() != 1)
+        throw InputError(file + ": " + std::to_string(pf.GetSamplesPerPixel()) +
+                         " samples per pixel; only greyscale DICOM is supported");
+    switch (pf.GetScalarType()) {
+    case gdcm::PixelFormat::UINT8: return StoredKind::uint8;
+    case gdcm::PixelFormat::INT8: return StoredKind::int8;
+    case gdcm::PixelFormat::UINT16: return StoredKind::uint16;
+    case gdcm::PixelFormat::INT16: return StoredKind::int16;
+    case gdcm::PixelFormat::UINT32: return StoredKind::uint32;
+    case gdcm::PixelFormat::INT32: return StoredKind::int32;
+    case gdcm::PixelFormat::FLOAT32: return StoredKind::float32;
+    case gdcm::PixelFormat::FLOAT64: return StoredKind::float64;
+    default:
+        throw InputError(file + ": DICOM pixel format " + pf.GetScalarTypeAsString() + " is not supported");
+    }
+}
+
+/// A series opened for reading: sorted slices, geometry, the stored kind.
+class DicomSource : public SliceSource {
+public:
+    /// `in_core`: the caller keeps every slice's stored values (read_dicom) and settles the
+    /// type itself; otherwise a first pass finds the range where the type depends on it.
+    DicomSource(const std::string& path, const std::string& uid, bool in_core = false) : path_(path) {
+        Scan s;
+        scan(s, path);
+        const Series& se = choose(s, uid);
+        const gdcm::Scanner& sc = s.scanner;
+        const std::string& first = se.files.front();
+        if (se.files.size() == 1 && !numbers(sc.GetValue(first.c_str(), tag_frames)).empty() &&
+            numbers(sc.GetValue(first.c_str(), tag_frames))[0] > 1)
+            throw InputError(first + ": multi-frame DICOM files are not supported (one slice per file)");
+        const std::vector<double> iop = numbers(sc.GetValue(first.c_str(), tag_orientation));
+        if (iop.size() != 6 && se.files.size() > 1)
+            throw InputError(first + ": no ImageOrientationPatient; the slices cannot be ordered");
+        std::array<double, 3> row{1, 0, 0}, col{0, 1, 0}, normal{0, 0, 1};
+        if (iop.size() == 6) {
+            row = {iop[0], iop[1], iop[2]};
+            col = {iop[3], iop[4], iop[5]};
+            normal = {row[1] * col[2] - row[2] * col[1], row[2] * col[0] - row[0] * col[2],
+                      row[0] * col[1] - row[1] * col[0]};
+        }
+        for (const std::string& f : se.files) {
+            const char* name = f.c_str();
+            if (numbers(sc.GetValue(name, tag_rows)) != numbers(sc.GetValue(first.c_str(), tag_rows)) ||
+                numbers(sc.GetValue(name, tag_columns)) != numbers(sc.GetValue(first.c_str(), tag_columns)))
+                throw InputError(f + ": slice is " + trimmed(sc.GetValue(name, tag_columns)) + "x" +
+                                 trimmed(sc.GetValue(name, tag_rows)) + ", but " + name_of(first) + " is " +
+                                 trimmed(sc.GetValue(first.c_str(), tag_columns)) + "x" +
+                                 trimmed(sc.GetValue(first.c_str(), tag_rows)) + "; one series must not mix sizes");
+            const std::vector<double> o = numbers(sc.GetValue(name, tag_orientation));
+            for (std::size_t i = 0; i < o.size() && i < iop.size(); ++i)
+                if (o.size() != iop.size() || std::fabs(o[i] - iop[i]) > 1e-4)
+                    throw InputError(f + ": ImageOrientationPatient differs from " + name_of(first) +
+                                     "'s; one series must not mix orientations");
+            const std::vector<double> ipp = numbers(sc.GetValue(name, tag_position));
+            if (ipp.size() != 3 && se.files.size() > 1)
+                throw InputError(f + ": no ImagePositionPatient; the slices cannot be ordered");
+            Slice sl;
+            sl.file = f;
+            if (ipp.size() == 3) sl.position = ipp[0] * normal[0] + ipp[1] * normal[1] + ipp[2] * normal[2];
+            const std::vector<double> slope = numbers(sc.GetValue(name, tag_slope));
+            const std::vector<double> intercept = numbers(sc.GetValue(name, tag_intercept));
+            if (!slope.empty()) sl.map.slope = slope[0];
+            if (!intercept.empty()) sl.map.intercept = intercept[0];
+            slices_.push_back(sl);
+        }
+        std::stable_sort(slices_.begin(), slices_.end(),
+                         [](const Slice& a, const Slice& b) { return a.position < b.position; });
+        check_spacing(s.dir);
+
+        const std::vector<double> ps = numbers(sc.GetValue(first.c_str(), tag_pixel_spacing));
+        if (ps.size() == 2 && ps[0] > 0 && ps[1] > 0) spacing = {ps[1], ps[0], 1.0};  // row spacing is y
+        if (slices_.size() > 1) {
+            spacing[2] = (slices_.back().position - slices_.front().position) / double(slices_.size() - 1);
+        } else {
+            const std::vector<double> t = numbers(sc.GetValue(first.c_str(), tag_thickness));
+            if (!t.empty() && t[0] > 0) spacing[2] = t[0];
+        }
+        const std::vector<double> ipp0 = numbers(sc.GetValue(slices_.front().file.c_str(), tag_position));
+        if (ipp0.size() == 3 && iop.size() == 6) {
+            oriented = true;
+            std::copy(ipp0.begin(), ipp0.end(), this->origin.begin());
+            axes = {row, col, normal};
+        }
+        const std::vector<double> rows = numbers(sc.GetValue(first.c_str(), tag_rows));
+        const std::vector<double> cols = numbers(sc.GetValue(first.c_str(), tag_columns));
+        if (rows.empty() || cols.empty() || rows[0] < 1 || cols[0] < 1)
+            throw InputError(first + ": no Rows/Columns: not an image");
+        dims = Dims{std::size_t(cols[0]), std::size_t(rows[0]), slices_.size()};
+        check_dims(dims, s.dir);
+        dir_ = s.dir;
+
+        // The stored kind from the first slice; every slice is checked against it.
+        decode(0);
+        kind_ = slice_kind_;
+        for (const Slice& sl : slices_) maps_.push_back(sl.map);
+        if (in_core) return;
+        const bool integer_data = kind_ != StoredKind::float32 && kind_ != StoredKind::float64;
+        const bool integral = std::all_of(maps_.begin(), maps_.end(), [](const Rescale& m) { return m.integral(); });
+        const bool shifts = std::any_of(maps_.begin(), maps_.end(), [](const Rescale& m) { return m.intercept != 0; });
+        double lo = 0, hi = 0;
+        if (integer_data && integral && shifts) {
+            // The type depends on the range of the results: one pass over the stored values.
+            lo = INFINITY;
+            hi = -INFINITY;
+            for (std::size_t z = 0; z < slices_.size(); ++z) {
+                if (z > 0) decode(z);
+                stored_range(buffer_.data(), kind_, slice_values(), lo, hi);
+            }
+        }
+        settle_type(lo, hi);
+    }
+
+    /// The value type, from the range [lo, hi] of every stored value.
+    void settle_type(double lo, double hi) { type = rescale_type(kind_, maps_, lo, hi, slices_.front().file); }
+
+    void read_slice(std::size_t z, void* dst) override {
+        decode(z);
+        rescale_values(buffer_.data(), kind_, slice_values(), slices_[z].map, dst, type);
+    }
+
+    /// Slice z's stored values (nx*ny of stored_kind()).
+    const std::vector<unsigned char>& stored_slice(std::size_t z) {
+        decode(z);
+        return buffer_;
+    }
+    StoredKind stored_kind() const { return kind_; }
+    const Rescale& map(std::size_t z) const { return slices_[z].map; }
+
+    std::vector<std::string> notes() const;
+
+private:
+    std::size_t slice_values() const { return dims.nx * dims.ny; }
+
+    void check_spacing(const std::string& dir) {
+        for (std::size_t i = 1; i < slices_.size(); ++i)
+            if (std::fabs(slices_[i].position - slices_[i - 1].position) < 1e-6)
+                throw InputError(slices_[i].file + ": same slice position as " + name_of(slices_[i - 1].file) +
+                                 " (" + std::to_string(slices_[i].position) + "); duplicate slices in one series");
+        if (slices_.size() < 3) return;
+        std::vector<double> gaps;
+        for (std::size_t i = 1; i < slices_.size(); ++i) gaps.push_back(slices_[i].position - slices_[i - 1].position);
+        std::vector<double> sorted = gaps;
+        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+        const double usual = sorted[sorted.size() / 2];
+        for (std::size_t i = 0; i < gaps.size(); ++i) {
+            if (std::fabs(gaps[i] - usual) <= 0.01 * usual) continue;
+            std::ostringstream m;
+            m.precision(6);
+            m << dir << ": uneven slice spacing: " << gaps[i] << " between " << name_of(slices_[i].file) << " (at "
+              << slices_[i].position << ") and " << name_of(slices_[i + 1].file) << " (at " << slices_[i + 1].position
+              << "), " << usual << " elsewhere";
+            if (gaps[i] > 1.5 * usual)
+                m << " (" << std::lround(gaps[i] / usual) - 1 << " slice(s) missing)";
+            throw InputError(m.str());
+        }
+    }
+
+    /// Decodes slice z's stored values into buffer_ (and slice_kind_).
+    void decode(std::size_t z) {
+        const std::string& f = slices_[z].file;
+        gdcm::ImageReader r;
+        r.SetFileName(f.c_str());
+        if (!r.Read())
+            throw InputError(f + ": GDCM cannot read an image from it (no pixel data, or a transfer syntax "
+                                 "it cannot decode)");
+        const gdcm::Image& img = r.GetImage();
+        if (img.GetDimension(0) != dims.nx || img.GetDimension(1) != dims.ny ||
+            (img.GetNumberOfDimensions() > 2 && img.GetDimension(2) > 1))
+            throw InputError(f + ": image is not " + std::to_string(dims.nx) + "x" + std::to_string(dims.ny) +
+                             " with one frame");
+        slice_kind_ = stored_kind_of(img.GetPixelFormat(), f);
+        if (z > 0 && slice_kind_ != kind_)
+            throw InputError(f + ": stored type " + stored_kind_name(slice_kind_) + " differs from the series' " +
+                             stored_kind_name(kind_));
+        const std::size_t bytes = slice_values() * stored_kind_size(slice_kind_);
+        if (img.GetBufferLength() != bytes)
+            throw InputError(f + ": pixel data holds " + std::to_string(img.GetBufferLength()) + " bytes, expected " +
+                             std::to_string(bytes));
+        buffer_.resize(bytes);
+        if (!img.GetBuffer(reinterpret_cast<char*>(buffer_.data())))
+            throw InputError(f + ": GDCM cannot decode the pixel data");
+    }
+
+    std::string path_, dir_;
+    std::vector<Slice> slices_;
+    std::vector<Rescale> maps_;
+    StoredKind kind_ = StoredKind::uint8, slice_kind_ = StoredKind::uint8;
+    std::vector<unsigned char> buffer_;
+};
+
+}  // namespace
+
+std::unique_ptr<SliceSource> open_dicom_slices(const std::string& path, const std::string& series_uid) {
+    return std::make_unique<DicomSource>(path, series_uid);
+}
+
+Volume read_dicom(const std::string& path, const std::string& series_uid) {
+    // Every slice decoded once: stored values kept until the range settles the type.
+    DicomSource s(path, series_uid, true);
+    const std::size_t plane = s.dims.nx * s.dims.ny, bytes = plane * stored_kind_size(s.stored_kind());
+    std::vector<unsigned char> stored(bytes * s.dims.nz);
+    double lo = INFINITY, hi = -INFINITY;
+    for (std::size_t z = 0; z < s.dims.nz; ++z) {
+        std::memcpy(&stored[z * bytes], s.stored_slice(z).data(), bytes);
+        stored_range(&stored[z * bytes], s.stored_kind(), plane, lo, hi);
+    }
+    s.settle_type(lo, hi);
+    Volume v(s.dims, s.type, path);
+    const std::size_t out_bytes = plane * value_size(s.type);
+    for (std::size_t z = 0; z < s.dims.nz; ++z)
+        rescale_values(&stored[z * bytes], s.stored_kind(), plane, s.map(z), static_cast<unsigned char*>(v.data()) + z * out_bytes,
+                       s.type);
+    v.spacing = s.spacing;
+    v.oriented = s.oriented;
+    v.origin = s.origin;
+    v.axes = s.axes;
+    return v;
+}
+
+std::vector<std::string> dicom_notes(const std::string& path, const std::string& series_uid) {
+    Scan s;
+    scan(s, path);
+    const Series* chosen = nullptr;
+    try {
+        chosen = &choose(s, series_uid);
+    } catch (const InputError&) {
+        // A tie: list them all, none chosen.
+    }
+    std::vector<std::string> notes;
+    notes.push_back(std::to_string(s.series.size()) + " DICOM series in " + s.dir + ":");
+    for (const auto& [uid, se] : s.series)
+        notes.push_back((chosen == &se ? "* " : "  ") + uid + "  " + std::to_string(se.files.size()) + " files  " +
+                        std::to_string(se.columns) + "x" + std::to_string(se.rows) +
+                        (se.description.empty() ? "" : "  \"" + se.description + "\""));
+    notes.push_back("(* = read; choose another with --series UID)");
+    return notes;
+}
+
+}  // namespace clfractal::io

@@ -1,0 +1,271 @@
+// NIfTI-1/2 through nifticlib (.nii, .nii.gz, .hdr/.img): stored voxel order, spacing from
+// pixdim, scl_slope/scl_inter applied only when asked (DESIGN §2 layer 2).
+#include "io_formats.hpp"
+
+#include <nifti2_io.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "clfractal/output_file.hpp"
+
+namespace fs = std::filesystem;
+
+namespace clfractal::io {
+namespace {
+
+struct NimFree {
+    void operator()(nifti_image* n) const { nifti_image_free(n); }
+};
+using NimPtr = std::unique_ptr<nifti_image, NimFree>;
+
+StoredKind stored_kind_of(int datatype, const std::string& path) {
+    switch (datatype) {
+    case DT_UINT8: return StoredKind::uint8;
+    case DT_INT8: return StoredKind::int8;
+    case DT_UINT16: return StoredKind::uint16;
+    case DT_INT16: return StoredKind::int16;
+    case DT_UINT32: return StoredKind::uint32;
+    case DT_INT32: return StoredKind::int32;
+    case DT_FLOAT32: return StoredKind::float32;
+    case DT_FLOAT64: return StoredKind::float64;
+    default:
+        throw InputError(path + ": NIfTI datatype " + nifti_datatype_string(datatype) + " (" +
+                         std::to_string(datatype) + ") is not a scalar type clfractal reads");
+    }
+}
+
+int datatype_of(ValueType t) {
+    switch (t) {
+    case ValueType::uint8: return DT_UINT8;
+    case ValueType::uint16: return DT_UINT16;
+    case ValueType::int16: return DT_INT16;
+    case ValueType::float32: return DT_FLOAT32;
+    }
+    throw std::logic_error("datatype_of: invalid ValueType");
+}
+
+/// nifticlib finds files by their extension, and looks for x.nii before x.nii.gz (so it
+/// would take the data of a neighbour x.nii for x.nii.gz): a single-file NIfTI is read
+/// through a temporary link of its own, named .nii or .nii.gz by its content; only
+/// .hdr/.img pairs are read where they are.
+struct NiftiName {
+    std::string name, link;
+    explicit NiftiName(const std::string& path) : name(path) {
+        std::string ext = fs::path(path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        if (ext == ".hdr" || ext == ".img") return;
+        unsigned char magic[2] = {0, 0};
+        if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+            if (std::fread(magic, 1, 2, f) != 2) magic[0] = 0;
+            std::fclose(f);
+        }
+        static std::atomic<unsigned> counter{0};
+        link = (fs::temp_directory_path() / ("clfractal-" + std::to_string(::getpid()) + "-" +
+                                             std::to_string(counter++) +
+                                             (magic[0] == 0x1f && magic[1] == 0x8b ? ".nii.gz" : ".nii")))
+                   .string();
+        std::error_code ec;
+        fs::create_symlink(fs::absolute(path, ec), link, ec);
+        if (ec) throw InputError(path + ": cannot read NIfTI under this name (rename it .nii or .nii.gz)");
+        name = link;
+    }
+    ~NiftiName() {
+        std::error_code ec;
+        if (!link.empty()) fs::remove(link, ec);
+    }
+};
+
+NimPtr read_header(const std::string& path, const std::string& name) {
+    nifti_set_debug_level(0);  // errors are ours to word, in one line
+    NimPtr nim(nifti_image_read(name.c_str(), 0));
+    if (!nim) throw InputError(path + ": cannot read the NIfTI header (not NIfTI, or truncated)");
+    return nim;
+}
+
+Rescale scale_of(const nifti_image& nim) {
+    Rescale m;
+    // slope 0 means "no scaling" (NIfTI-1 standard).
+    if (nim.scl_slope != 0 && std::isfinite(nim.scl_slope) && std::isfinite(nim.scl_inter)) {
+        m.slope = nim.scl_slope;
+        m.intercept = nim.scl_inter;
+    }
+    return m;
+}
+
+}  // namespace
+
+Volume read_nifti(const std::string& path, bool scaled) {
+    const NiftiName name(path);
+    NimPtr nim = read_header(path, name.name);
+    for (int a = 4; a <= 7; ++a)
+        if (nim->dim[0] >= a && nim->dim[a] > 1)
+            throw InputError(path + ": NIfTI has " + std::to_string(nim->dim[0]) +
+                             " dimensions with dim[" + std::to_string(a) + "] = " + std::to_string(nim->dim[a]) +
+                             "; only 3D scalar volumes are supported");
+    for (int a = 1; a <= 3; ++a)
+        if (nim->dim[a] < 1 && nim->dim[0] >= a)
+            throw InputError(path + ": NIfTI dim[" + std::to_string(a) + "] = " + std::to_string(nim->dim[a]));
+    const Dims dims{std::size_t(std::max<int64_t>(1, nim->nx)), std::size_t(std::max<int64_t>(1, nim->ny)),
+                    std::size_t(std::max<int64_t>(1, nim->nz))};
+    check_dims(dims, path);
+    const StoredKind kind = stored_kind_of(nim->datatype, path);
+    const Rescale map = scaled ? scale_of(*nim) : Rescale{};
+    if (map.identity()) value_type_for(kind, path);  // unsupported types fail before the data is read
+
+    if (nifti_image_load(nim.get()) != 0 || !nim->data)
+        throw InputError(path + ": NIfTI data truncated or unreadable (expected " +
+                         std::to_string(dims.vertices() * stored_kind_size(kind)) + " bytes of " +
+                         stored_kind_name(kind) + ")");
+    const std::size_t n = dims.vertices();
+    double lo = INFINITY, hi = -INFINITY;
+    stored_range(nim->data, kind, n, lo, hi);
+    const ValueType type = rescale_type(kind, {map}, lo, hi, path);
+    Volume v(dims, type, path);
+    rescale_values(nim->data, kind, n, map, v.data(), type);
+
+    const double pixdim[3] = {nim->dx, nim->dy, nim->dz};
+    for (int a = 0; a < 3; ++a) {
+        const double s = std::fabs(pixdim[a]);
+        v.spacing[a] = std::isfinite(s) && s > 0 ? s : 1.0;
+    }
+    // sform first, else qform: RAS+ (NIfTI) to LPS (DICOM) by negating x and y.
+    const nifti_dmat44* m = nim->sform_code > 0 ? &nim->sto_xyz : nim->qform_code > 0 ? &nim->qto_xyz : nullptr;
+    if (m) {
+        v.oriented = true;
+        const double sign[3] = {-1, -1, 1};
+        for (int r = 0; r < 3; ++r) v.origin[r] = sign[r] * m->m[r][3];
+        for (int c = 0; c < 3; ++c) {
+            double len = 0;
+            for (int r = 0; r < 3; ++r) len += m->m[r][c] * m->m[r][c];
+            len = std::sqrt(len);
+            for (int r = 0; r < 3; ++r) v.axes[c][r] = len > 0 ? sign[r] * m->m[r][c] / len : (r == c);
+        }
+    }
+    return v;
+}
+
+std::vector<std::string> nifti_notes(const std::string& path) {
+    const NiftiName name(path);
+    NimPtr nim = read_header(path, name.name);
+    std::vector<std::string> notes;
+    std::ostringstream s;
+    s << "NIfTI-" << (nim->nifti_type >= NIFTI_FTYPE_NIFTI2_1 ? 2 : 1) << ", stored "
+      << nifti_datatype_string(nim->datatype) << ", "
+      << (nim->byteorder == 2 /* MSB_FIRST */ ? "big" : "little") << "-endian";
+    notes.push_back(s.str());
+    const Rescale m = scale_of(*nim);
+    std::ostringstream sc;
+    sc.precision(10);
+    sc << "scl_slope " << nim->scl_slope << ", scl_inter " << nim->scl_inter
+       << (m.identity() ? " (no scaling)" : " (stored values; --scaled applies them)");
+    notes.push_back(sc.str());
+    notes.push_back(std::string("orientation ") +
+                    (nim->sform_code > 0 ? "sform" : nim->qform_code > 0 ? "qform" : "none (pixdim only)"));
+    return notes;
+}
+
+bool nifti_path(const std::string& path) {
+    std::string lower = fs::path(path).filename().string();
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    auto ends = [&](const std::string& e) {
+        return lower.size() > e.size() && lower.compare(lower.size() - e.size(), e.size(), e) == 0;
+    };
+    return ends(".nii") || ends(".nii.gz");
+}
+
+Geometry geometry_of(const Volume& v) { return Geometry{v.spacing, v.oriented, v.origin, v.axes}; }
+
+struct NiftiWriter::Impl {
+    std::string path, tmp;
+    znzFile file = nullptr;
+    std::size_t expected = 0, written = 0;
+    bool closed = false;
+};
+
+NiftiWriter::NiftiWriter(const std::string& path, const Dims& dims, ValueType type, const Geometry& g)
+    : impl_(std::make_unique<Impl>()) {
+    check_dims(dims, path);
+    Impl& w = *impl_;
+    w.path = path;
+    // The temporary name keeps the extension: nifticlib compresses by it.
+    const std::string name = fs::path(path).filename().string();
+    const bool gz = name.size() > 3 && (name.substr(name.size() - 3) == ".gz" || name.substr(name.size() - 3) == ".GZ");
+    const std::size_t ext_len = gz ? 7 : 4;
+    w.tmp = temporary_path(path.substr(0, path.size() - ext_len)) + path.substr(path.size() - ext_len);
+    w.expected = dims.vertices() * value_size(type);
+
+    const int64_t nd[8] = {3, int64_t(dims.nx), int64_t(dims.ny), int64_t(dims.nz), 1, 1, 1, 1};
+    nifti_set_debug_level(0);
+    NimPtr nim(nifti_make_new_nim(nd, datatype_of(type), 0));
+    if (!nim) throw InputError(path + ": cannot make a NIfTI header");
+    const bool wide = dims.nx > 32767 || dims.ny > 32767 || dims.nz > 32767;
+    nim->nifti_type = wide ? NIFTI_FTYPE_NIFTI2_1 : NIFTI_FTYPE_NIFTI1_1;
+    nim->dx = nim->pixdim[1] = g.spacing[0];
+    nim->dy = nim->pixdim[2] = g.spacing[1];
+    nim->dz = nim->pixdim[3] = g.spacing[2];
+    nim->xyz_units = NIFTI_UNITS_MM;
+    if (g.oriented) {
+        // LPS (DICOM) to RAS+ (NIfTI): negate x and y; columns are axis * spacing.
+        const double sign[3] = {-1, -1, 1};
+        nifti_dmat44 m{};
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) m.m[r][c] = sign[r] * g.axes[c][r] * g.spacing[c];
+            m.m[r][3] = sign[r] * g.origin[r];
+        }
+        m.m[3][3] = 1;
+        nim->sform_code = nim->qform_code = NIFTI_XFORM_SCANNER_ANAT;
+        nim->sto_xyz = m;
+        nim->qto_xyz = m;
+        nifti_dmat44_to_quatern(m, &nim->quatern_b, &nim->quatern_c, &nim->quatern_d, &nim->qoffset_x,
+                                &nim->qoffset_y, &nim->qoffset_z, nullptr, nullptr, nullptr, &nim->qfac);
+    }
+    if (nifti_set_filenames(nim.get(), w.tmp.c_str(), 0, 1) != 0)
+        throw InputError(path + ": cannot name the NIfTI output");
+    // Header now, data by write(): bit 2 leaves the file open, bit 1 (data) is off.
+    w.file = nifti_image_write_hdr_img(nim.get(), 2, "wb");
+    if (znz_isnull(w.file)) discard_temporary(w.tmp, path, "cannot write the NIfTI header");
+}
+
+NiftiWriter::~NiftiWriter() {
+    if (impl_->closed) return;
+    if (!znz_isnull(impl_->file)) znzclose(impl_->file);
+    std::error_code ec;
+    fs::remove(impl_->tmp, ec);
+}
+
+void NiftiWriter::write(const void* data, std::size_t bytes) {
+    Impl& w = *impl_;
+    if (w.closed || w.written + bytes > w.expected) throw std::logic_error("NiftiWriter::write: too much data");
+    if (nifti_write_buffer(w.file, data, int64_t(bytes)) != int64_t(bytes)) {
+        znzclose(w.file);
+        discard_temporary(w.tmp, w.path, "cannot write the NIfTI data");
+    }
+    w.written += bytes;
+}
+
+void NiftiWriter::close() {
+    Impl& w = *impl_;
+    if (w.written != w.expected) throw std::logic_error("NiftiWriter::close: not all data was written");
+    const int status = znzclose(w.file);
+    w.closed = true;
+    if (status != 0) discard_temporary(w.tmp, w.path, "cannot write the NIfTI file");
+    rename_into_place(w.tmp, w.path);
+}
+
+void write_nifti(const Volume& v, const std::string& path) {
+    NiftiWriter w(path, v.dims(), v.type(), geometry_of(v));
+    w.write(v.data(), v.size_bytes());
+    w.close();
+}
+
+}  // namespace clfractal::io
