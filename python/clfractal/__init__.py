@@ -306,9 +306,12 @@ def noise_dimension(mu, gamma: float = 1.0, kind: str = "uniform"):
 
 
 def read_volume(path: str) -> tuple[np.ndarray, tuple[float, float, float]]:
-    """Reads a volume file the library reads (NRRD ``.nrrd``/``.nhdr``, raw files named
-    ``NAME_XxYxZ_TYPE.raw``, ``synthetic:NAME[:N]``). Returns ``(array, spacing)``: the array
-    in ``(z, y, x)`` order and the spacing ``(dz, dy, dx)``."""
+    """Reads a volume file the library reads, the format told by the content: NRRD, NIfTI,
+    DICOM (a file or a series directory), TIFF (multi-page or a directory of slices),
+    MetaImage, raw files named ``NAME_XxYxZ_TYPE.raw``, or ``synthetic:NAME[:N]``. Returns
+    ``(array, spacing)``: the array in ``(z, y, x)`` order (the stored voxel order) and the
+    spacing ``(dz, dy, dx)``. Float data with NaN (an LD field) is read as it is; the
+    computing calls reject it."""
     out, spacing = _clfractal.read_volume(str(path))
     return _array(out), tuple(spacing)
 

@@ -349,7 +349,7 @@ nb::tuple read_volume_call(const std::string& path) {
     Volume v;
     {
         nb::gil_scoped_release no_gil;
-        v = read_volume(path);
+        v = read_volume(path, {}, FiniteCheck::keep);  // LD fields hold NaN; computing calls reject it
     }
     auto spacing = nb::make_tuple(v.spacing[2], v.spacing[1], v.spacing[0]);
     return nb::make_tuple(volume_out(std::move(v)), spacing);

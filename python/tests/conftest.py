@@ -44,7 +44,7 @@ def write_raw(directory, name, a):
 
 def read_nrrd(path):
     """A NRRD the CLI wrote (attached header, raw encoding) as a (z, y, x) array, with NumPy
-    only (clfractal.read_volume rejects float data with NaN, as LD fields have)."""
+    only (independent of the library's reader)."""
     data = pathlib.Path(path).read_bytes()
     end = data.index(b"\n\n") + 2
     fields = dict(line.split(": ", 1) for line in data[:end].decode().splitlines()[1:] if ": " in line)

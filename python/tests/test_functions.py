@@ -142,6 +142,7 @@ def test_local_fd_matches_cli(volume, cli, tmp_path):
     assert np.isfinite(ld).any() and np.isnan(ld).any()
     cli("local", write_raw(tmp_path, "v", volume), "--iso", repr(s), "--window", 4, "-o", tmp_path / "ld.nrrd")
     np.testing.assert_array_equal(ld, read_nrrd(tmp_path / "ld.nrrd"))
+    np.testing.assert_array_equal(ld, clfractal.read_volume(tmp_path / "ld.nrrd")[0])  # NaN kept
     with pytest.raises(ValueError, match="window"):
         clfractal.local_fd(volume, s, window=3)
     with pytest.raises(ValueError, match="finite|isovalue"):
