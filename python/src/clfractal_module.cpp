@@ -1,0 +1,417 @@
+// The extension module behind the `clfractal` Python package (python/clfractal/__init__.py):
+// thin calls into the C++ library. Arrays arrive as 3D NumPy arrays in (z, y, x) order of a
+// value type the library computes in (the package's one dtype table chose it, by name); they
+// are copied once, honouring their strides, into a clfractal::Volume (x fastest). Results
+// leave as NumPy arrays that own the library's buffers (no copy). Device work runs without
+// the GIL, one call at a time per OpenCL context; contexts and their program caches live for
+// the whole process.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "clfractal/components.hpp"
+#include "clfractal/device.hpp"
+#include "clfractal/fd.hpp"
+#include "clfractal/filter.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/mesh.hpp"
+#include "clfractal/noise.hpp"
+#include "clfractal/smooth.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/volume_io.hpp"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+using namespace clfractal;
+
+namespace {
+
+// ------------------------------------------------------------------ devices and contexts
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+/// One OpenCL context with the lock that serialises the calls made on it.
+struct Device {
+    Context* ctx = nullptr;
+    std::mutex* lock = nullptr;
+};
+
+/// The context for `selector` (a substring of "platform / device", case-insensitive), or the
+/// library's shared context (CLFRACTAL_DEVICE, CLFRACTAL_DEVICE_TYPE) when it is empty.
+/// One context per device, created on first use and kept for the life of the process, so
+/// every selector naming the same device shares its compiled programs.
+std::mutex registry_lock;
+std::map<Context*, std::unique_ptr<std::mutex>> context_locks;  // every context used so far
+
+Device device_for(const std::optional<std::string>& selector) {
+    static std::map<cl_device_id, std::unique_ptr<Context>> contexts;
+    std::lock_guard<std::mutex> guard(registry_lock);
+    Context* ctx = nullptr;
+    if (!selector || selector->empty()) {
+        ctx = &Context::shared();
+    } else {
+        std::vector<DeviceEntry> all = list_devices();
+        auto match = std::find_if(all.begin(), all.end(), [&](const DeviceEntry& e) {
+            return lower(e.platform + " / " + e.name).find(lower(*selector)) != std::string::npos;
+        });
+        if (match == all.end()) {
+            std::string names;
+            for (auto& e : all) names += (names.empty() ? "" : ", ") + e.platform + " / " + e.name;
+            throw DeviceError("device '" + *selector + "': no OpenCL device matches (devices: " + names + ")",
+                              CL_DEVICE_NOT_FOUND);
+        }
+        if (match->chosen) {
+            ctx = &Context::shared();  // the default device: its context
+        } else {
+            auto& owned_ctx = contexts[match->device()];
+            if (!owned_ctx) owned_ctx = std::make_unique<Context>(match->device);
+            ctx = owned_ctx.get();
+        }
+    }
+    auto& lock = context_locks[ctx];
+    if (!lock) lock = std::make_unique<std::mutex>();
+    return {ctx, lock.get()};
+}
+
+/// Runs f(ctx) on the selected device with the GIL released and the device's lock held.
+template <class F> auto on_device(const std::optional<std::string>& selector, F&& f) {
+    Device d = device_for(selector);
+    nb::gil_scoped_release no_gil;
+    std::lock_guard<std::mutex> guard(*d.lock);
+    return f(*d.ctx);
+}
+
+// ------------------------------------------------------------------ arrays in and out
+
+using InArray = nb::ndarray<nb::ro, nb::ndim<3>, nb::device::cpu>;
+
+/// Copies a (z, y, x) array of the value type `type_name` into a Volume, following its
+/// strides (in elements, any sign), so views and transposes need no copy beforehand.
+/// Float data holding NaN or Inf is rejected.
+Volume to_volume(const InArray& a, const std::string& type_name) {
+    const ValueType type = parse_value_type(type_name);
+    const std::size_t item = value_size(type);
+    if (a.itemsize() != item)
+        throw InputError("array: " + std::to_string(a.itemsize()) + "-byte elements given as " + type_name);
+    Volume v(Dims{a.shape(2), a.shape(1), a.shape(0)}, type, "array");
+    const auto* src = static_cast<const unsigned char*>(a.data());
+    auto* dst = static_cast<unsigned char*>(v.data());
+    const std::int64_t sz = a.stride(0) * std::int64_t(item), sy = a.stride(1) * std::int64_t(item),
+                       sx = a.stride(2) * std::int64_t(item);
+    const std::size_t nx = a.shape(2), row = nx * item;
+    for (std::size_t z = 0; z < a.shape(0); ++z)
+        for (std::size_t y = 0; y < a.shape(1); ++y, dst += row) {
+            const unsigned char* s = src + std::int64_t(z) * sz + std::int64_t(y) * sy;
+            if (sx == std::int64_t(item)) {
+                std::memcpy(dst, s, row);
+            } else {
+                for (std::size_t x = 0; x < nx; ++x) std::memcpy(dst + x * item, s + std::int64_t(x) * sx, item);
+            }
+        }
+    check_finite(v, "array");  // NaN and Inf are rejected as from files (DESIGN §1 "Grid")
+    return v;
+}
+
+/// A 1D NumPy array that owns `values` (moved to the heap, freed with the array).
+template <class T> nb::ndarray<nb::numpy, T, nb::ndim<1>> owned(std::vector<T>&& values) {
+    auto* heap = new std::vector<T>(std::move(values));
+    nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+    return nb::ndarray<nb::numpy, T, nb::ndim<1>>(heap->data(), {heap->size()}, owner);
+}
+
+/// A volume's bytes as a 1D uint8 NumPy array that owns the volume, with its type name;
+/// the package views them as (z, y, x) of its dtype.
+nb::tuple volume_out(Volume&& v) {
+    auto* heap = new Volume(std::move(v));
+    nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<Volume*>(p); });
+    nb::ndarray<nb::numpy, std::uint8_t, nb::ndim<1>> bytes(static_cast<std::uint8_t*>(heap->data()),
+                                                            {heap->size_bytes()}, owner);
+    const Dims& d = heap->dims();
+    return nb::make_tuple(bytes, std::string(value_type_name(heap->type())), nb::make_tuple(d.nz, d.ny, d.nx));
+}
+
+nb::dict make_dict(std::initializer_list<std::pair<const char*, nb::object>> items) {
+    nb::dict d;
+    for (auto& [key, value] : items) d[key] = value;
+    return d;
+}
+
+// ------------------------------------------------------------------ isovalues
+
+/// The isovalue set the library counts, and which of its entries the caller asked for
+/// (all when `pick` is empty). Integer data counts the integer range spanning the request.
+struct Isovalues {
+    IsovalueSet set;
+    std::vector<std::size_t> pick;
+};
+
+Isovalues choose_isovalues(const Volume& v, const std::optional<std::vector<double>>& requested, std::size_t bins) {
+    if (!requested) return {IsovalueSet::for_volume(v, bins), {}};
+    const std::vector<double>& s = *requested;
+    if (s.empty()) throw InputError("isovalues: the list is empty");
+    for (std::size_t j = 0; j < s.size(); ++j) {
+        if (!std::isfinite(s[j])) throw InputError("isovalues: value " + std::to_string(j) + " is not finite");
+        if (j && !(s[j - 1] < s[j]))
+            throw InputError("isovalues: the list must be strictly increasing (at index " + std::to_string(j) + ")");
+    }
+    if (v.type() == ValueType::float32) return {IsovalueSet::floats(std::vector<float>(s.begin(), s.end())), {}};
+    // float64 data, and int32/uint32 data (whose ranges may be wider than an integer set):
+    // float64 isovalues, compared exactly in double.
+    if (!is_integer(v.type()) || is_wide(v.type())) return {IsovalueSet::doubles(s), {}};
+    for (std::size_t j = 0; j < s.size(); ++j)
+        if (s[j] != std::floor(s[j]))
+            throw InputError("isovalues: integer data takes integer isovalues (value " + std::to_string(j) + " is " +
+                             std::to_string(s[j]) + ")");
+    Isovalues r{IsovalueSet::integers(std::int64_t(s.front()), std::int64_t(s.back())), {}};
+    for (double x : s) r.pick.push_back(std::size_t(std::int64_t(x) - std::int64_t(s.front())));
+    return r;
+}
+
+template <class T> std::vector<T> picked(const std::vector<T>& all, const std::vector<std::size_t>& pick) {
+    if (pick.empty() || all.empty()) return all;  // all: also fd_fit, empty with 2 levels
+    std::vector<T> out;
+    out.reserve(pick.size());
+    for (std::size_t j : pick) out.push_back(all[j]);
+    return out;
+}
+
+std::vector<double> isovalue_list(const Isovalues& iso) {
+    std::vector<double> all(iso.set.size());
+    for (std::size_t j = 0; j < all.size(); ++j) all[j] = iso.set.value(j);
+    return picked(all, iso.pick);
+}
+
+// ------------------------------------------------------------------ the calls
+
+nb::dict fd_curve_call(const InArray& a, const std::string& type, const std::string& kind_name, int levels,
+                       const std::optional<std::vector<double>>& isovalues, std::size_t bins,
+                       std::uint64_t min_count, const std::optional<std::string>& device) {
+    SpanKind kind;
+    if (kind_name == "box") kind = SpanKind::cubes;
+    else if (kind_name == "edge") kind = SpanKind::edges;
+    else throw InputError("kind '" + kind_name + "': expected 'box' or 'edge'");
+    if (levels < 2 || levels > 16) throw InputError("levels " + std::to_string(levels) + ": must be 2..16");
+    Volume v = to_volume(a, type);
+    std::string description;
+    double compile = 0;
+    auto [iso, f, seconds] = on_device(device, [&](Context& ctx) {
+        Isovalues iso = choose_isovalues(v, isovalues, bins);
+        SpanResult spans = count_spans(ctx, v, iso.set, SpanOptions{{kind}, levels});
+        FdCurve f = fd_curve(ctx, spans, kind);
+        description = ctx.description();
+        compile = ctx.compile_seconds();
+        return std::make_tuple(std::move(iso), std::move(f), spans.seconds);
+    });
+    // Rows of the requested isovalues, flattened level by level (levels x K).
+    std::vector<std::vector<std::uint64_t>> rows;
+    std::vector<std::uint64_t> counts;
+    for (auto& level : f.counts) {
+        rows.push_back(picked(level, iso.pick));
+        counts.insert(counts.end(), rows.back().begin(), rows.back().end());
+    }
+    std::vector<double> fd = picked(f.fd, iso.pick);
+    FdSummary s = summarize(fd, rows[0], rows[1], min_count);
+    nb::dict summary = make_dict({{"defined", nb::cast(s.defined)},
+                                  {"mean", nb::cast(s.mean)},
+                                  {"std", nb::cast(s.std)},
+                                  {"weighted_mean", nb::cast(s.weighted_mean)},
+                                  {"kappa", nb::cast(s.kappa)},
+                                  {"min_count", nb::cast(min_count)},
+                                  {"isovalues", nb::cast(fd.size())},
+                                  {"kind", nb::cast(kind_name)},
+                                  {"levels", nb::cast(levels)},
+                                  {"device", nb::cast(description)},
+                                  {"seconds_compute", nb::cast(seconds)},
+                                  {"seconds_compile", nb::cast(compile)}});
+    nb::dict out;
+    out["isovalues"] = owned(isovalue_list(iso));
+    out["counts"] = owned(std::move(counts));
+    out["fd"] = owned(std::move(fd));
+    out["fd_fit"] = owned(picked(f.fd_fit, iso.pick));
+    out["summary"] = summary;
+    return out;
+}
+
+nb::tuple local_fd_call(const InArray& a, const std::string& type, double iso, int window,
+                        const std::optional<std::string>& device) {
+    Volume v = to_volume(a, type);
+    return volume_out(on_device(device, [&](Context& ctx) { return local_fractal_dimension(ctx, v, iso, window); }));
+}
+
+nb::tuple components_call(const InArray& a, const std::string& type, const std::string& connectivity,
+                          const std::optional<std::vector<double>>& isovalues, std::size_t bins,
+                          const std::optional<std::string>& device) {
+    const Connectivity mode = parse_connectivity(connectivity);
+    Volume v = to_volume(a, type);
+    auto [iso, curve] = on_device(device, [&](Context& ctx) {
+        Isovalues iso = choose_isovalues(v, isovalues, bins);
+        ComponentCurve c = count_components(ctx, v, iso.set, mode);
+        return std::make_pair(std::move(iso), std::move(c));
+    });
+    return nb::make_tuple(owned(isovalue_list(iso)), owned(picked(curve.components, iso.pick)));
+}
+
+FilterSpec filter_spec(const std::string& method, double sigma, double sigma_s, double sigma_r) {
+    FilterSpec spec;
+    if (method == "median") spec = FilterSpec::median();
+    else if (method == "gaussian") spec = FilterSpec::gaussian(sigma);
+    else if (method == "bilateral") spec = FilterSpec::bilateral(sigma_s, sigma_r);
+    else throw InputError("method '" + method + "': expected 'median', 'gaussian' or 'bilateral'");
+    spec.check();
+    return spec;
+}
+
+nb::tuple filter_call(const InArray& a, const std::string& type, const std::string& method, double sigma,
+                      double sigma_s, double sigma_r, const std::optional<std::string>& device) {
+    const FilterSpec spec = filter_spec(method, sigma, sigma_s, sigma_r);
+    Volume v = to_volume(a, type);
+    return volume_out(on_device(device, [&](Context& ctx) { return apply_filter(ctx, v, spec); }));
+}
+
+nb::tuple targeted_filter_call(const InArray& a, const std::string& type, double iso, double threshold,
+                               const std::string& method, int window, double sigma, double sigma_s, double sigma_r,
+                               const std::optional<std::string>& device) {
+    const FilterSpec spec = filter_spec(method, sigma, sigma_s, sigma_r);
+    Volume v = to_volume(a, type);
+    TargetedResult r =
+        on_device(device, [&](Context& ctx) { return targeted_filter(ctx, v, spec, iso, threshold, window); });
+    nb::dict info = make_dict({{"selected", nb::cast(r.selected)},
+                               {"changed", nb::cast(r.changed)},
+                               {"selected_share", nb::cast(r.selected_share)},
+                               {"changed_share", nb::cast(r.changed_share)}});
+    return nb::make_tuple(volume_out(std::move(r.volume)), info);
+}
+
+nb::tuple smooth_call(const InArray& a, const std::string& type, double iso, double threshold, int window,
+                      const std::string& variant, double tau, const std::optional<std::string>& device) {
+    const SmoothVariant var = parse_smooth_variant(variant);
+    Volume v = to_volume(a, type);
+    SmoothResult r = on_device(
+        device, [&](Context& ctx) { return smooth_isosurface(ctx, v, iso, threshold, window, var, tau); });
+    nb::dict info = make_dict({{"high_vertices", nb::cast(r.high_vertices)},
+                               {"initial_edges", nb::cast(r.initial_edges)},
+                               {"edges_processed", nb::cast(r.edges_processed)},
+                               {"edges_lowered", nb::cast(r.edges_lowered)},
+                               {"vertices_changed", nb::cast(r.vertices_changed)}});
+    return nb::make_tuple(volume_out(std::move(r.volume)), info);
+}
+
+/// Mesh vertices as (n, 3) float32 in (z, y, x) order and triangles as (m, 3) int32 with the
+/// winding reversed, so that the right-hand normals still point towards lower values after
+/// the axis swap (a reflection).
+nb::tuple mesh_call(const InArray& a, const std::string& type, double iso, const std::string& method, bool color_by_ld,
+                    int window, const std::vector<double>& spacing_zyx, const std::optional<std::string>& device) {
+    const MeshMethod m = parse_mesh_method(method);
+    if (spacing_zyx.size() != 3) throw InputError("spacing: expected 3 values (dz, dy, dx)");
+    for (double s : spacing_zyx)
+        if (!(std::isfinite(s) && s > 0)) throw InputError("spacing: values must be finite and > 0");
+    Volume v = to_volume(a, type);
+    v.spacing = {spacing_zyx[2], spacing_zyx[1], spacing_zyx[0]};
+    Mesh mesh;
+    if (color_by_ld) {
+        Volume ld = on_device(device, [&](Context& ctx) { return local_fractal_dimension(ctx, v, iso, window); });
+        nb::gil_scoped_release no_gil;
+        mesh = extract_isosurface(v, iso, m);
+        clfractal::color_by_ld(mesh, ld);
+    } else {
+        nb::gil_scoped_release no_gil;
+        mesh = extract_isosurface(v, iso, m);
+    }
+    std::vector<float> vertices;
+    vertices.reserve(mesh.positions.size() * 3);
+    for (auto& p : mesh.positions) vertices.insert(vertices.end(), {p[2], p[1], p[0]});
+    std::vector<std::int32_t> faces;
+    faces.reserve(mesh.triangles.size() * 3);
+    for (auto& t : mesh.triangles)
+        faces.insert(faces.end(), {std::int32_t(t[0]), std::int32_t(t[2]), std::int32_t(t[1])});
+    nb::object ld = nb::none();
+    if (color_by_ld) ld = nb::cast(owned(std::move(mesh.ld)));
+    return nb::make_tuple(owned(std::move(vertices)), owned(std::move(faces)), ld);
+}
+
+nb::tuple read_volume_call(const std::string& path) {
+    Volume v;
+    {
+        nb::gil_scoped_release no_gil;
+        v = read_volume(path, {}, FiniteCheck::keep);  // LD fields hold NaN; computing calls reject it
+    }
+    auto spacing = nb::make_tuple(v.spacing[2], v.spacing[1], v.spacing[0]);
+    return nb::make_tuple(volume_out(std::move(v)), spacing);
+}
+
+nb::list devices_call() {
+    nb::list out;
+    for (auto& e : list_devices())
+        out.append(make_dict({{"platform", nb::cast(e.platform)},
+                              {"name", nb::cast(e.name)},
+                              {"type", nb::cast(e.type)},
+                              {"global_mem", nb::cast(e.global_mem)},
+                              {"max_alloc", nb::cast(e.max_alloc)},
+                              {"compute_units", nb::cast(e.compute_units)},
+                              {"default", nb::cast(e.chosen)}}));
+    return out;
+}
+
+}  // namespace
+
+NB_MODULE(_clfractal, m) {
+    m.doc() = "clfractal's C++ library; use the clfractal package, which documents every call.";
+    // Bad input (clfractal::InputError) -> ValueError; device failures -> RuntimeError.
+    nb::register_exception_translator([](const std::exception_ptr& p, void*) {
+        try {
+            std::rethrow_exception(p);
+        } catch (const InputError& e) {
+            PyErr_SetString(PyExc_ValueError, e.what());
+        } catch (const DeviceError& e) {
+            PyErr_SetString(PyExc_RuntimeError, e.what());
+        } catch (const cl::Error& e) {
+            PyErr_Format(PyExc_RuntimeError, "%s: %s (%d)", e.what(), cl_error_name(e.err()), e.err());
+        }
+    });
+    m.def("devices", &devices_call);
+    m.def("device_description", [](const std::optional<std::string>& device) {
+        return on_device(device, [](Context& ctx) { return ctx.description(); });
+    }, "device"_a = nb::none());
+    m.def("context_count", [] {
+        std::lock_guard<std::mutex> guard(registry_lock);
+        return context_locks.size();
+    }, "The number of OpenCL contexts this process has created (one per device used).");
+    m.def("fd_curve", &fd_curve_call, "volume"_a, "type"_a, "kind"_a, "levels"_a, "isovalues"_a.none(), "bins"_a,
+          "min_count"_a, "device"_a.none());
+    m.def("local_fd", &local_fd_call, "volume"_a, "type"_a, "iso"_a, "window"_a, "device"_a.none());
+    m.def("components", &components_call, "volume"_a, "type"_a, "connectivity"_a, "isovalues"_a.none(), "bins"_a,
+          "device"_a.none());
+    m.def("filter", &filter_call, "volume"_a, "type"_a, "method"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a,
+          "device"_a.none());
+    m.def("targeted_filter", &targeted_filter_call, "volume"_a, "type"_a, "iso"_a, "threshold"_a, "method"_a,
+          "window"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a, "device"_a.none());
+    m.def("smooth", &smooth_call, "volume"_a, "type"_a, "iso"_a, "threshold"_a, "window"_a, "variant"_a, "tau"_a,
+          "device"_a.none());
+    m.def("mesh", &mesh_call, "volume"_a, "type"_a, "iso"_a, "method"_a, "color_by_ld"_a, "window"_a, "spacing"_a,
+          "device"_a.none());
+    m.def("noise_dimension", [](double r, const std::string& kind) {
+        if (!(r >= 0) || !std::isfinite(r)) throw InputError("noise_dimension: r must be finite and >= 0");
+        const NoiseKind k = parse_noise_kind(kind);
+        return k == NoiseKind::uniform ? expected_edge_dimension(r) : expected_edge_dimension(r, k);
+    }, "r"_a, "kind"_a);
+    m.def("read_volume", &read_volume_call, "path"_a);
+}

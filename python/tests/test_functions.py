@@ -1,0 +1,323 @@
+"""Every function of the package against independent NumPy/SciPy references (references.py)
+and against the C++ results of the command-line tool on the same data."""
+import numpy as np
+import pytest
+from scipy import ndimage
+
+import clfractal
+import references as ref
+from conftest import noisy_sphere, read_nrrd, write_raw
+
+
+def read_csv(path):
+    return np.genfromtxt(path, delimiter=",", names=True, dtype=np.float64, missing_values="", filling_values=np.nan)
+
+
+def assert_same_nan(a, b, **tol):
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    np.testing.assert_array_equal(np.isnan(a), np.isnan(b))
+    np.testing.assert_allclose(a[~np.isnan(a)], b[~np.isnan(b)], **tol)
+
+
+# Awkward sizes: odd and even axes, one axis of 3 vertices (2 in G').
+@pytest.fixture(scope="module", params=[(np.uint8, (13, 11, 17)), (np.uint16, (9, 3, 12)),
+                                        (np.int16, (10, 15, 7)), (np.float32, (12, 13, 11))],
+                ids=lambda p: f"{np.dtype(p[0]).name}" if isinstance(p, tuple) else str(p))
+def volume(request):
+    dtype, shape = request.param
+    v = noisy_sphere(shape, dtype, seed=3)
+    if dtype == np.int16:
+        v = (v.astype(np.int32) * 37 - 4000).astype(np.int16)  # negative values and a wide range
+    return v
+
+
+# ------------------------------------------------------------------ fd_curve
+
+@pytest.mark.parametrize("kind", ["box", "edge"])
+def test_fd_curve_matches_the_definition(volume, kind):
+    levels = 3
+    c = clfractal.fd_curve(volume, kind=kind, levels=levels)
+    iso = ref.default_isovalues(volume)
+    np.testing.assert_array_equal(c.isovalues, iso)
+    assert c.counts.dtype == np.uint64 and c.counts.shape == (levels, len(iso))
+    counts = ref.span_counts(volume, iso, kind, levels)
+    np.testing.assert_array_equal(c.counts, counts)
+    fd = ref.dimension(counts)
+    assert_same_nan(c.fd, fd, rtol=1e-12)
+    assert_same_nan(c.fd_fit, ref.dimension_fit(counts), rtol=1e-6, atol=1e-9)
+    s = ref.summary(fd, counts)
+    assert c.summary["defined"] == s["defined"] > 0
+    for key in ("mean", "std", "weighted_mean", "kappa"):
+        assert c.summary[key] == pytest.approx(s[key], rel=1e-9, abs=1e-12), key
+    assert c.summary["kind"] == kind and c.summary["levels"] == levels
+
+
+def test_fd_curve_options_and_cli(volume, cli, tmp_path):
+    path = write_raw(tmp_path, "v", volume)
+    c = clfractal.fd_curve(volume, kind="edge")
+    cli("fd", path, "--edge", "--csv", tmp_path / "fd.csv")
+    table = read_csv(tmp_path / "fd.csv")
+    np.testing.assert_array_equal(c.isovalues, table["isovalue"].astype(c.isovalues.dtype))
+    np.testing.assert_array_equal(c.counts[0], table["count"])
+    np.testing.assert_array_equal(c.counts[1], table["count_sub"])
+    assert_same_nan(c.fd, table["fd"], rtol=1e-5)  # the CSV prints 6 digits
+    assert c.fd_fit is None
+    # A chosen isovalue list, min_count, and bins for float data.
+    pick = c.isovalues[::3]
+    sub = clfractal.fd_curve(volume, kind="edge", isovalues=pick, min_count=5)
+    np.testing.assert_array_equal(sub.isovalues, pick)
+    np.testing.assert_array_equal(sub.counts, c.counts[:, ::3])
+    s = ref.summary(ref.dimension(sub.counts), sub.counts, min_count=5)
+    assert sub.summary["defined"] == s["defined"] and sub.summary["mean"] == pytest.approx(s["mean"])
+    if volume.dtype == np.float32:
+        few = clfractal.fd_curve(volume, bins=17)
+        np.testing.assert_array_equal(few.isovalues, ref.default_isovalues(volume, 17))
+
+
+def test_fd_curve_to_pandas(volume):
+    pd = pytest.importorskip("pandas")
+    c = clfractal.fd_curve(volume, levels=3)
+    df = c.to_pandas()
+    assert isinstance(df, pd.DataFrame)
+    assert list(df.columns) == ["isovalue", "count", "count_sub", "count_l2", "fd", "fd_fit"]
+    np.testing.assert_array_equal(df["count_l2"], c.counts[2])
+
+
+def test_fd_curve_bad_arguments(volume):
+    with pytest.raises(ValueError, match="kind"):
+        clfractal.fd_curve(volume, kind="cubes")
+    with pytest.raises(ValueError, match="levels"):
+        clfractal.fd_curve(volume, levels=1)
+    with pytest.raises(ValueError, match="increasing"):
+        clfractal.fd_curve(volume, isovalues=[5, 3])
+    with pytest.raises(ValueError, match="empty"):
+        clfractal.fd_curve(volume, isovalues=[])
+    if volume.dtype != np.float32:
+        with pytest.raises(ValueError, match="integer"):
+            clfractal.fd_curve(volume, isovalues=[10.5])
+
+
+# ------------------------------------------------------------------ components
+
+@pytest.mark.parametrize("connectivity", ["cube", "freudenthal"])
+def test_components_match_labelling(volume, connectivity, cli, tmp_path):
+    iso, counts = clfractal.components(volume, connectivity=connectivity)
+    np.testing.assert_array_equal(iso, ref.default_isovalues(volume))
+    assert counts.dtype == np.int64
+    expected = [ref.components(volume, s, connectivity) for s in iso]
+    np.testing.assert_array_equal(counts, expected)
+    assert counts.max() > 1  # the noise makes pieces: the check is not vacuous
+    path = write_raw(tmp_path, "v", volume)
+    cli("components", path, "--connectivity", connectivity, "--csv", tmp_path / "c.csv")
+    np.testing.assert_array_equal(counts, read_csv(tmp_path / "c.csv")["components"])
+    some_iso, some = clfractal.components(volume, connectivity=connectivity, isovalues=iso[1::5])
+    np.testing.assert_array_equal(some_iso, iso[1::5])
+    np.testing.assert_array_equal(some, counts[1::5])
+    with pytest.raises(ValueError, match="connectivity|freudenthal"):
+        clfractal.components(volume, connectivity="face")
+
+
+# ------------------------------------------------------------------ local_fd
+
+def test_local_fd_reference_is_the_brute_force_count():
+    v = noisy_sphere((9, 7, 10), np.uint8, seed=5)
+    for revision in (1, 2):
+        np.testing.assert_array_equal(ref.local_fd(v, 100, 4, revision), ref.local_fd_brute_force(v, 100, 4, revision))
+
+
+@pytest.mark.parametrize("window", [2, 4, 8])
+def test_local_fd_matches_revision_2_windows(volume, window):
+    s = float(np.median(volume)) + 0.5
+    ld = clfractal.local_fd(volume, s, window=window)
+    assert ld.dtype == np.float32 and ld.shape == volume.shape
+    # The kernels take log2 in float (kernels/local.cl): within 1e-6, while two distinct count
+    # ratios with I_W' <= 64 give LDs more than 4e-5 apart, so every count is checked exactly.
+    assert_same_nan(ld, ref.local_fd(volume, s, window, revision=2), rtol=1e-6)
+
+
+def test_local_fd_matches_cli(volume, cli, tmp_path):
+    s = float(np.median(volume))
+    ld = clfractal.local_fd(volume, s, window=4)
+    assert ld.dtype == np.float32 and ld.shape == volume.shape
+    assert np.isfinite(ld).any() and np.isnan(ld).any()
+    cli("local", write_raw(tmp_path, "v", volume), "--iso", repr(s), "--window", 4, "-o", tmp_path / "ld.nrrd")
+    np.testing.assert_array_equal(ld, read_nrrd(tmp_path / "ld.nrrd"))
+    np.testing.assert_array_equal(ld, clfractal.read_volume(tmp_path / "ld.nrrd")[0])  # NaN kept
+    with pytest.raises(ValueError, match="window"):
+        clfractal.local_fd(volume, s, window=3)
+    with pytest.raises(ValueError, match="finite|isovalue"):
+        clfractal.local_fd(volume, float("nan"))
+
+
+# ------------------------------------------------------------------ filters
+
+def test_median_equals_scipy(volume, cli, tmp_path):
+    out = clfractal.median(volume)
+    assert out.dtype == volume.dtype and out.shape == volume.shape
+    np.testing.assert_array_equal(out, ndimage.median_filter(volume, size=3, mode="nearest"))
+    cli("filter", write_raw(tmp_path, "v", volume), "--median", "-o", tmp_path / "m.nrrd")
+    np.testing.assert_array_equal(out, read_nrrd(tmp_path / "m.nrrd"))
+
+
+@pytest.mark.parametrize("sigma", [0.7, 1.5])
+def test_gaussian_is_the_exact_gaussian(volume, sigma):
+    out = clfractal.gaussian(volume, sigma)
+    assert out.dtype == volume.dtype
+    exact = ndimage.gaussian_filter(volume.astype(np.float64), sigma, mode="nearest",
+                                    truncate=np.ceil(3 * sigma) / sigma)
+    if volume.dtype.kind == "f":
+        np.testing.assert_allclose(out, exact, rtol=1e-5, atol=1e-4)
+    else:
+        info = np.iinfo(volume.dtype)
+        assert np.abs(out.astype(np.float64) - np.clip(exact, info.min, info.max)).max() <= 1.0
+    with pytest.raises(ValueError, match="(?i)sigma"):
+        clfractal.gaussian(volume, -1)
+
+
+def test_bilateral_matches_its_definition(volume):
+    sigma_r = float(np.std(volume))
+    out = clfractal.bilateral(volume, 1.0, sigma_r)
+    assert out.dtype == volume.dtype
+    exact = ref.bilateral(volume, 1.0, sigma_r)
+    if volume.dtype.kind == "f":
+        np.testing.assert_allclose(out, exact, rtol=1e-4, atol=1e-3)
+    else:
+        assert np.abs(out.astype(np.float64) - exact).max() <= 1.0
+
+
+def test_targeted_filter(volume):
+    s, h = float(np.median(volume)), 2.3
+    out, changed = clfractal.targeted_filter(volume, s, h, window=4)
+    ld = clfractal.local_fd(volume, s, window=4)
+    expected = np.where(ld > h, ndimage.median_filter(volume, size=3, mode="nearest"), volume)
+    np.testing.assert_array_equal(out, expected)
+    assert changed == pytest.approx(np.mean(out != volume))
+    assert 0 < changed < 1
+    g, _ = clfractal.targeted_filter(volume, s, h, method="gaussian", sigma=1.0, window=4)
+    full = clfractal.gaussian(volume, 1.0)
+    np.testing.assert_array_equal(g, np.where(ld > h, full, volume))
+    with pytest.raises(ValueError, match="method"):
+        clfractal.targeted_filter(volume, s, h, method="mean")
+
+
+@pytest.mark.parametrize("variant", ["plain", "gaussian"])
+def test_smooth_leaves_no_high_fractal_edge(volume, variant, cli, tmp_path):
+    s, h = float(np.median(volume)) + 0.5, 2.2
+    out, info = clfractal.smooth(volume, s, h, window=4, variant=variant)
+    assert out.dtype == volume.dtype
+    assert (out <= volume).all()  # values only decrease
+    assert info["vertices_changed"] == np.count_nonzero(out != volume) > 0
+    ld = clfractal.local_fd(volume, s, window=4)  # computed once, on the input
+    high = ld > h
+    s_cmp = np.float32(s) if volume.dtype == np.float32 else s
+    for axis in range(3):
+        n = out.shape[axis]
+        fu, fw = np.take(out, range(n - 1), axis=axis), np.take(out, range(1, n), axis=axis)
+        hit = (np.minimum(fu, fw) < s_cmp) & (s_cmp <= np.maximum(fu, fw))
+        hu, hw = np.take(high, range(n - 1), axis=axis), np.take(high, range(1, n), axis=axis)
+        assert not (hit & (hu | hw)).any()
+    cli("smooth", write_raw(tmp_path, "v", volume), "--iso", repr(s), "--threshold", h, "--window", 4,
+        "--variant", variant, "-o", tmp_path / "s.nrrd")
+    np.testing.assert_array_equal(out, read_nrrd(tmp_path / "s.nrrd"))
+
+
+# ------------------------------------------------------------------ mesh
+
+def read_ply(path):
+    data = path.read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().splitlines()
+    nv = int(next(l for l in header if l.startswith("element vertex")).split()[-1])
+    nf = int(next(l for l in header if l.startswith("element face")).split()[-1])
+    fields = [("x", "<f4"), ("y", "<f4"), ("z", "<f4")]
+    if "property uchar red" in header:
+        fields += [("r", "u1"), ("g", "u1"), ("b", "u1")]
+    if "property float ld" in header:
+        fields += [("ld", "<f4")]
+    vertices = np.frombuffer(data, dtype=fields, count=nv, offset=end)
+    faces = np.frombuffer(data, dtype=[("n", "u1"), ("i", "<i4", 3)], count=nf, offset=end + vertices.nbytes)
+    return vertices, faces
+
+
+@pytest.mark.parametrize("method", ["mc", "mt"])
+def test_mesh(volume, method, cli, tmp_path):
+    s = float(np.median(volume)) + 0.5
+    verts, faces, ld = clfractal.mesh(volume, s, method=method, color_by_ld=True, window=4)
+    assert verts.dtype == np.float32 and verts.shape[1] == 3
+    assert faces.dtype == np.int32 and faces.shape[1] == 3 and faces.min() >= 0 and faces.max() < len(verts)
+    assert ld.dtype == np.float32 and ld.shape == (len(verts),)
+    if method == "mc":  # one vertex per intersected grid edge, at its interpolation point
+        points = ref.edge_points(volume, s)
+        assert len(verts) == len(points)
+        order = np.lexsort(verts.T[::-1])
+        np.testing.assert_allclose(verts[order], points[np.lexsort(points.T[::-1])], atol=1e-4)
+    # C++ results: the same mesh in (x, y, z) order with the opposite winding.
+    cli("mesh", write_raw(tmp_path, "v", volume), "--iso", repr(s), "--method", method, "--color-by-ld",
+        "--window", 4, "-o", tmp_path / "m.ply")
+    pv, pf = read_ply(tmp_path / "m.ply")
+    np.testing.assert_array_equal(verts, np.stack([pv["z"], pv["y"], pv["x"]], axis=1))
+    np.testing.assert_array_equal(faces, pf["i"][:, [0, 2, 1]])
+    np.testing.assert_array_equal(ld, pv["ld"])
+    plain = clfractal.mesh(volume, s, method=method, spacing=(2.0, 1.0, 0.5))
+    assert len(plain) == 2
+    np.testing.assert_allclose(plain[0], verts * np.float32([2.0, 1.0, 0.5]), rtol=1e-6)
+
+
+def test_mesh_normals_point_to_lower_values():
+    # Distance from the centre: low inside, so normals point inwards.
+    v = noisy_sphere((21, 20, 19), np.float32, amplitude=0.0)
+    verts, faces = clfractal.mesh(-v, -100.0)
+    a, b, c = (verts[faces[:, i]] for i in range(3))
+    normals = np.cross(b - a, c - a)
+    centre = np.array([(n - 1) / 2 for n in v.shape])
+    inward = np.einsum("ij,ij->i", normals, centre - (a + b + c) / 3)
+    assert (inward > 0).mean() > 0.99
+
+
+# ------------------------------------------------------------------ noise, I/O, devices
+
+def test_noise_dimension_is_theorem_1():
+    r = np.array([0.0, 0.1, 0.49, 0.5, 0.75, 1.0, 2.0, 10.0])
+    np.testing.assert_allclose(clfractal.noise_dimension(r), ref.theorem1(r), rtol=1e-12)
+    assert clfractal.noise_dimension(0.0) == pytest.approx(2.0)
+    assert clfractal.noise_dimension(3.0, gamma=2.0) == pytest.approx(float(ref.theorem1(1.5)))
+    g = clfractal.noise_dimension([0.0, 1.0, 4.0], kind="gaussian")
+    assert g[0] == pytest.approx(2.0, abs=1e-6) and 2 < g[1] < g[2] < 3
+    with pytest.raises(ValueError):
+        clfractal.noise_dimension(-1.0)
+    with pytest.raises(ValueError, match="uniform|gaussian"):
+        clfractal.noise_dimension(1.0, kind="pink")
+
+
+def test_read_volume(tmp_path):
+    v = noisy_sphere((6, 5, 4), np.uint16)
+    a, spacing = clfractal.read_volume(write_raw(tmp_path, "v", v))
+    np.testing.assert_array_equal(a, v)
+    assert a.dtype == np.uint16 and spacing == (1.0, 1.0, 1.0)
+    # NRRD with spacings per axis (x y z) and big-endian values.
+    header = ("NRRD0004\ntype: int16\ndimension: 3\nsizes: 4 5 6\nspacings: 0.5 1 2\n"
+              "endian: big\nencoding: raw\n\n")
+    w = (v.astype(np.int16) - 300)
+    (tmp_path / "w.nrrd").write_bytes(header.encode() + w.astype(">i2").tobytes())
+    a, spacing = clfractal.read_volume(str(tmp_path / "w.nrrd"))
+    np.testing.assert_array_equal(a, w)
+    assert spacing == (2.0, 1.0, 0.5)
+    s, _ = clfractal.read_volume("synthetic:sphere:16")
+    assert s.shape == (16, 16, 16)
+    with pytest.raises(ValueError, match="missing_4x4x4_uint8.raw: no such file"):
+        clfractal.read_volume(tmp_path / "missing_4x4x4_uint8.raw")
+    (tmp_path / "short_4x4x4_uint8.raw").write_bytes(b"\0" * 10)
+    with pytest.raises(ValueError, match="short_4x4x4_uint8.raw"):
+        clfractal.read_volume(tmp_path / "short_4x4x4_uint8.raw")
+
+
+def test_devices_and_device_choice():
+    listed = clfractal.devices()
+    assert listed and sum(d["default"] for d in listed) == 1
+    default = next(d for d in listed if d["default"])
+    assert clfractal.device_description() == f"{default['platform']} / {default['name']}"
+    v = noisy_sphere((8, 8, 8), np.uint8)
+    chosen = clfractal.fd_curve(v, device=default["name"][:6].lower())
+    np.testing.assert_array_equal(chosen.counts, clfractal.fd_curve(v).counts)
+    with pytest.raises(RuntimeError, match="no OpenCL device matches"):
+        clfractal.fd_curve(v, device="no-such-device")
