@@ -2,6 +2,7 @@
 #include "clfractal/slice_reader.hpp"
 
 #include "clfractal/output_file.hpp"
+#include "nrrd_guard.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -36,18 +37,6 @@ bool has_extension(const std::string& path, const char* a, const char* b) {
     std::string ext = fs::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return ext == a || ext == b;
-}
-
-// Byte offset just past the blank line that ends an attached NRRD header.
-std::size_t attached_data_offset(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::string line;
-    std::size_t offset = 0;
-    while (std::getline(in, line)) {
-        offset += line.size() + 1;
-        if (line.empty() || line == "\r") return offset;
-    }
-    throw InputError(path + ": NRRD header has no blank line before the data");
 }
 
 }  // namespace
@@ -122,6 +111,8 @@ struct SliceReader::Impl {
     }
 
     void open_nrrd(const RawOptions& raw) {
+        // The same checked header as read_nrrd: data files, where the data starts.
+        const NrrdHeader checked = check_nrrd(spec);
         Nrrd* header = nrrdNew();
         NrrdIoState* nio = nrrdIoStateNew();
         nio->skipData = AIR_TRUE;
@@ -139,7 +130,7 @@ struct SliceReader::Impl {
             return read_whole(raw);  // read_nrrd words the message
         }
         const bool simple = header->dim == 3 && nio->lineSkip == 0 && nio->byteSkip == 0 && !nio->dataFSkip &&
-                            nio->dataFNArr->len <= 1 &&
+                            checked.data_files.size() == 1 &&
                             (nio->encoding == nrrdEncodingRaw || nio->encoding == nrrdEncodingGzip) &&
                             (header->type == nrrdTypeUChar || header->type == nrrdTypeUShort ||
                              header->type == nrrdTypeShort || header->type == nrrdTypeFloat ||
@@ -164,15 +155,8 @@ struct SliceReader::Impl {
                 spacing[a] = sp;
         }
         swap = file_value_size > 1 && (nio->endian == airEndianBig) != host_big_endian;
-        if (nio->dataFNArr->len == 1) {
-            fs::path p(nio->dataFN[0]);
-            if (p.is_relative() && nio->path) p = fs::path(nio->path) / p;
-            data_path = p.string();
-            data_offset = 0;
-        } else {
-            data_path = spec;
-            data_offset = attached_data_offset(spec);
-        }
+        data_path = checked.data_files[0];
+        data_offset = checked.attached ? std::size_t(checked.data_offset) : 0;
         if (nio->encoding == nrrdEncodingGzip) {
             method = "gzip";
         } else {
@@ -351,8 +335,7 @@ NrrdSliceWriter::NrrdSliceWriter(const std::string& path, const Dims& dims, Valu
 NrrdSliceWriter::~NrrdSliceWriter() {
     if (impl_->closed) return;
     impl_->out.close();
-    std::error_code ec;
-    fs::remove(impl_->tmp, ec);
+    remove_temporary(impl_->tmp);
 }
 
 void NrrdSliceWriter::write(const void* slices, std::size_t count) {

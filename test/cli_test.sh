@@ -280,5 +280,37 @@ expect 2 'clfractal: error: .*no_such_dir' -- "$bin" survey no_such_dir
 mkdir -p empty_dir
 expect 2 'clfractal: error: .*empty_dir' -- "$bin" survey empty_dir
 
+# Outputs: a symlink keeps its link, a FIFO feeds its reader, "-" is stdout, every output
+# is checked before any work, and a failed run leaves nothing behind.
+mkdir -p out_target && rm -f out_link.csv && ln -s out_target/real.csv out_link.csv
+expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:20 --csv out_link.csv
+[ -L out_link.csv ] && [ "$(head -1 out_target/real.csv)" = "isovalue,count,count_sub,fd" ] && pass || fail "symlinked output lost its link"
+expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:20 --csv out_link.csv --json out_link_check.json
+[ -L out_link.csv ] && [ -z "$(ls out_target | grep tmp)" ] && pass || fail "second write through the symlink"
+rm -f out.fifo && mkfifo out.fifo
+(head -1 < out.fifo > fifo_first_line.txt) &
+reader=$!
+expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:20 --csv out.fifo
+wait $reader
+[ -p out.fifo ] && [ "$(cat fifo_first_line.txt)" = "isovalue,count,count_sub,fd" ] && pass || fail "FIFO output: $(cat fifo_first_line.txt)"
+out=$("$bin" -q fd synthetic:sphere:20 --csv - 2>/dev/null)
+[ "$(head -1 <<<"$out")" = "isovalue,count,count_sub,fd" ] && [ ! -e ./- ] && pass || fail "--csv - is not stdout: $(head -2 <<<"$out")"
+"$bin" -q fd synthetic:sphere:20 --csv - 2>&1 >/dev/null | grep -q 'mean FD' && pass || fail "--csv -: the report is not on stderr"
+expect 2 'clfractal: error: no_dir/p.png: cannot write: folder .no_dir. does not exist' -- "$bin" -q fd synthetic:sphere:20 --csv nb.csv --json nb.json --plot no_dir/p.png
+[ ! -e nb.csv ] && [ ! -e nb.json ] && pass || fail "a failed run left outputs behind"
+expect 2 'clfractal: error: .*named as two outputs' -- "$bin" -q fd synthetic:sphere:20 --csv same.csv --json same.csv
+expect 2 'clfractal: error: out_target: cannot write: is a folder' -- "$bin" -q local synthetic:sphere:20 --iso 100 -o out_target
+expect 2 'clfractal: error: no_dir/m.ply: cannot write' -- "$bin" -q local synthetic:sphere:20 --iso 100 -o ok_ld.nrrd --mesh no_dir/m.ply
+[ ! -e ok_ld.nrrd ] && pass || fail "local -o written although --mesh cannot be"
+# A failed input leaves no output and no temporary.
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n\nabc' > out_cut.nrrd
+expect 2 'clfractal: error: out_cut.nrrd: truncated' -- "$bin" -q fd out_cut.nrrd --csv cut.csv --json cut.json
+[ -z "$(ls | grep -E '^cut\.|tmp-')" ] && pass || fail "outputs or temporaries left: $(ls | grep -E '^cut\.|tmp-')"
+"$bin" -q local synthetic:sphere:20 --iso 100 -o - --stream > ld_stdout.nrrd 2>/dev/null && pass || fail "local -o - --stream"
+"$bin" -q local synthetic:sphere:20 --iso 100 -o - > ld_stdout2.nrrd 2>/dev/null && pass || fail "local -o -"
+for f in ld_stdout.nrrd ld_stdout2.nrrd; do
+  [ "$(head -c 4 $f)" = "NRRD" ] && [ "$(stat -c %s $f)" -gt 32000 ] && pass || fail "$f: not the LD NRRD"
+done
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]
