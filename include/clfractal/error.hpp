@@ -14,6 +14,13 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// A host allocation that failed: bad input to the command-line tool (exit code 2), but
+/// told apart from other bad input by the C ABI (CLF_ERROR_OUT_OF_MEMORY).
+class HostOutOfMemory : public InputError {
+public:
+    using InputError::InputError;
+};
+
 /// A failure of the OpenCL runtime: the message carries the OpenCL error name,
 /// the call that failed and, for build failures, the build log.
 class DeviceError : public std::runtime_error {
