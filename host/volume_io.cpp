@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "clfractal/synthetic.hpp"
+#include "nrrd_guard.hpp"
 
 namespace fs = std::filesystem;
 
@@ -231,12 +232,14 @@ Volume read_raw(const std::string& path, const RawOptions& opt) {
 }
 
 Volume read_nrrd(const std::string& path) {
+    // teem only sees a header that check_nrrd bounded, with data files that can hold it.
+    check_nrrd(path);
     // Header first, so that absurd sizes are rejected before teem allocates the data.
     NrrdPtr header(nrrdNew());
     NrrdIoPtr nio(nrrdIoStateNew());
     nio->skipData = AIR_TRUE;
     if (nrrdLoad(header.get(), path.c_str(), nio.get()))
-        throw InputError(path + ": cannot read NRRD: " + biff_message());
+        throw InputError(printable(path) + ": cannot read NRRD: " + printable(biff_message()));
     if (header->dim != 3)
         throw InputError(path + ": NRRD has " + std::to_string(header->dim) +
                          " axes; only 3D scalar volumes are supported");
@@ -246,7 +249,7 @@ Volume read_nrrd(const std::string& path) {
 
     NrrdPtr nrrd(nrrdNew());
     if (nrrdLoad(nrrd.get(), path.c_str(), nullptr))
-        throw InputError(path + ": cannot read NRRD: " + biff_message());
+        throw InputError(printable(path) + ": cannot read NRRD: " + printable(biff_message()));
 
     Volume v(dims, type, path);
     if (nrrd->type == nrrdTypeDouble) {
