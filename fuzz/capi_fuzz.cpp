@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string name = (data[8] & 1) ? "v.nrrd" : (data[8] & 2) ? "v_2x2x2_uint8.raw" : "v.nhdr";
     const std::vector<std::uint8_t> rest(data + 13, data + size);
     std::vector<std::uint8_t> values(nx * ny * nz * 4 + 1, 0);
-    std::memcpy(values.data(), rest.data(), std::min(values.size(), rest.size()));
+    if (!rest.empty()) std::memcpy(values.data(), rest.data(), std::min(values.size(), rest.size()));
 
     clf_volume* v = nullptr;
     const clf_status s = clf_volume_create((nulls & 1) ? nullptr : values.data(), nx, ny, nz, type,

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include <teem/nrrd.h>
+#include <zlib.h>
 
 #include "clfractal/error.hpp"
 #include "clfractal/volume.hpp"
@@ -413,6 +414,36 @@ NrrdHeader check_nrrd(const std::string& path) {
                                               std::to_string(available) + " characters");
     }
     return h;
+}
+
+void read_gzip_data(const std::string& file, std::uint64_t offset, void* dst, std::uint64_t bytes,
+                    const std::string& name) {
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw InputError(printable(name) + ": cannot open: " + std::strerror(errno));
+    if (::lseek(fd, off_t(offset), SEEK_SET) < 0) {
+        ::close(fd);
+        throw InputError(printable(name) + ": cannot seek to the data");
+    }
+    gzFile gz = gzdopen(fd, "rb");
+    if (!gz) {
+        ::close(fd);
+        throw InputError(printable(name) + ": cannot open the gzip stream");
+    }
+    auto* out = static_cast<unsigned char*>(dst);
+    std::uint64_t done = 0;
+    std::string problem;
+    while (done < bytes && problem.empty()) {
+        const unsigned chunk = unsigned(std::min<std::uint64_t>(bytes - done, 1u << 30));
+        const int got = gzread(gz, out + done, chunk);
+        if (gzdirect(gz)) problem = "the data is not gzip-compressed";
+        else if (got < 0) {
+            int code = Z_OK;
+            problem = std::string("gzip data corrupt: ") + gzerror(gz, &code);
+        } else if (got == 0) problem = "gzip data truncated: " + std::to_string(done) + " of " + std::to_string(bytes) + " bytes";
+        else done += std::uint64_t(got);
+    }
+    gzclose(gz);
+    if (!problem.empty()) throw InputError(printable(name) + ": " + problem);
 }
 
 }  // namespace clfractal

@@ -50,4 +50,10 @@ std::string printable(const std::string& text);
 /// enough characters). Throws InputError "<path>: <problem>" with the input sanitised.
 NrrdHeader check_nrrd(const std::string& path);
 
+/// Decompresses exactly `bytes` bytes of the gzip data of `file` that starts at `offset`
+/// into `dst`, never more; short, corrupt or non-gzip data is an InputError naming `name`.
+/// (teem's own gzip reader leaks its stream state on corrupt data.)
+void read_gzip_data(const std::string& file, std::uint64_t offset, void* dst, std::uint64_t bytes,
+                    const std::string& name);
+
 }  // namespace clfractal

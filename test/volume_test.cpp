@@ -458,12 +458,12 @@ TEST_CASE("bad NRRD files name the file and teem's reason") {
 
     std::string crc(reinterpret_cast<const char*>(gzip_payload), sizeof gzip_payload);
     crc[crc.size() - 8] ^= 0x5a;  // CRC-32 of the payload
-    check_bad("bad_crc.nrrd", gzip_header + crc, "cannot read NRRD");
+    check_bad("bad_crc.nrrd", gzip_header + crc, "gzip data");
     const std::string cut(reinterpret_cast<const char*>(gzip_payload), 30);
-    check_bad("cut_gzip.nrrd", gzip_header + cut, "cannot read NRRD");
+    check_bad("cut_gzip.nrrd", gzip_header + cut, "gzip data");
     std::string deflate(reinterpret_cast<const char*>(gzip_payload), sizeof gzip_payload);
     std::fill(deflate.begin() + 12, deflate.begin() + 20, '\0');
-    check_bad("bad_deflate.nrrd", gzip_header + deflate, "cannot read NRRD");
+    check_bad("bad_deflate.nrrd", gzip_header + deflate, "gzip data");
 }
 
 TEST_CASE("write_nrrd: failures name the path and leave no temporary") {
