@@ -66,7 +66,7 @@ clf_status guarded(F&& f) {
     } catch (const HostOutOfMemory& e) {
         return fail(CLF_ERROR_OUT_OF_MEMORY, e.what());
     } catch (const InputError& e) {
-        return fail(CLF_ERROR_INPUT, e.what());
+        return fail(CLF_ERROR_INPUT, printable(e.what()));
     } catch (const DeviceError& e) {
         return fail(e.out_of_memory() ? CLF_ERROR_OUT_OF_MEMORY : CLF_ERROR_DEVICE, e.what());
     } catch (const std::bad_alloc&) {

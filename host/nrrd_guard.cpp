@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -187,15 +188,6 @@ std::uint64_t NrrdHeader::values() const {
     return n;
 }
 
-std::string printable(const std::string& text) {
-    std::string s = text;
-    for (char& c : s) {
-        const unsigned char u = static_cast<unsigned char>(c);
-        if (u < 0x20 || u == 0x7f) c = '?';
-    }
-    return s;
-}
-
 NrrdHeader check_nrrd(const std::string& path) {
     // teem prints warnings to stderr unless told not to; the library never prints.
     static const bool quiet_teem = (nrrdStateVerboseIO = 0, true);
@@ -218,6 +210,13 @@ NrrdHeader check_nrrd(const std::string& path) {
             if (end - pos >= limit)
                 throw fail("header line " + quote(head.substr(pos, 40)) + " is longer than " +
                            std::to_string(limit) + " characters");
+            // teem's line reader overruns its buffer on a NUL; no header needs control bytes.
+            const unsigned char c = static_cast<unsigned char>(head[end]);
+            if ((c < 0x20 && c != '\t') || c == 0x7f) {
+                char code[8];
+                std::snprintf(code, sizeof code, "0x%02x", c);
+                throw fail("header line " + quote(head.substr(pos, end - pos)) + " contains the control byte " + code);
+            }
             ++end;
         }
         if (end >= head.size() && head.size() > NrrdLimits::header_bytes)

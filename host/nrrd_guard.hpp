@@ -40,10 +40,6 @@ struct NrrdHeader {
     std::uint64_t values() const;
 };
 
-/// Replaces control characters and non-UTF-8-looking bytes of `text` by '?', for error
-/// messages that quote input.
-std::string printable(const std::string& text);
-
 /// Reads the header of `path` (bounded), checks its field syntax, the data files (regular
 /// files, present, short enough paths), and the data size the header implies against the
 /// files (raw: at least that many bytes; gzip: a gzip stream that can hold it; ascii/hex:

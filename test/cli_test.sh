@@ -306,6 +306,16 @@ expect 2 'clfractal: error: no_dir/m.ply: cannot write' -- "$bin" -q local synth
 printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n\nabc' > out_cut.nrrd
 expect 2 'clfractal: error: out_cut.nrrd: truncated' -- "$bin" -q fd out_cut.nrrd --csv cut.csv --json cut.json
 [ -z "$(ls | grep -E '^cut\.|tmp-')" ] && pass || fail "outputs or temporaries left: $(ls | grep -E '^cut\.|tmp-')"
+# Stopped by SIGTERM while writing: the temporary is removed.
+"$bin" -q local synthetic:noisy-sphere:320 --iso 128 -o term.nrrd --stream >/dev/null 2>&1 &
+writer=$!
+seen=0
+for i in $(seq 1 200); do
+  if ls | grep -q '^term\.nrrd\.tmp-'; then seen=1; kill -TERM $writer; break; fi
+  sleep 0.1
+done
+wait $writer
+[ $seen -eq 1 ] && [ -z "$(ls | grep '^term\.nrrd')" ] && pass || fail "SIGTERM: seen=$seen, left: $(ls | grep '^term')"
 "$bin" -q local synthetic:sphere:20 --iso 100 -o - --stream > ld_stdout.nrrd 2>/dev/null && pass || fail "local -o - --stream"
 "$bin" -q local synthetic:sphere:20 --iso 100 -o - > ld_stdout2.nrrd 2>/dev/null && pass || fail "local -o -"
 for f in ld_stdout.nrrd ld_stdout2.nrrd; do

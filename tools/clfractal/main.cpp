@@ -547,7 +547,7 @@ int main(int argc, char** argv) {
         if (rc == 0) outputs.commit();
         return rc;
     } catch (const InputError& e) {
-        std::cerr << "clfractal: error: " << e.what() << "\n";
+        std::cerr << "clfractal: error: " << printable(e.what()) << "\n";
         return 2;
     } catch (const DeviceError& e) {
         std::cerr << "clfractal: error: " << (e.out_of_memory() ? "the device is out of memory: " : "") << e.what()
