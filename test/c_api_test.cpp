@@ -314,12 +314,15 @@ TEST_CASE("every C entry point checks handles, enums and ranges; clf_last_error 
     const double nan_range[2] = {std::numeric_limits<double>::quiet_NaN(), 1};
     CHECK(clf_stream_create(cc.c, 2, 2, CLF_UINT16, nullptr, nan_range, &st) == CLF_ERROR_INPUT);
 
-    // A host allocation that fails (4 TiB) is out of memory, not bad input.
+    // A host allocation that fails (4 TiB) is out of memory, not bad input. (ASan's operator
+    // new aborts on such a request instead of throwing, so not under ASan.)
+#ifndef __SANITIZE_ADDRESS__
     clf_volume* huge = reinterpret_cast<clf_volume*>(1);
     CHECK(clf_volume_create(bytes, std::size_t(1) << 14, std::size_t(1) << 14, std::size_t(1) << 12, CLF_FLOAT32,
                             &huge) == CLF_ERROR_OUT_OF_MEMORY);
     CHECK(huge == nullptr);
     CHECK(std::string(clf_last_error()).find("cannot allocate") != std::string::npos);
+#endif
     CHECK(clf_local_dimension(cc.c, nullptr, 1, 8, nullptr) == CLF_ERROR_INPUT);
     clf_curve_destroy(curve);
     clf_volume_destroy(cv);
