@@ -46,14 +46,28 @@ clf_status fail(clf_status status, const std::string& message) {
     return status;
 }
 
+/// For getters: clears the last error and returns `value`, or records why `fallback` is
+/// returned.
+template <class T> T got(bool ok, T value, T fallback, const char* why) {
+    if (ok) {
+        last_error.clear();
+        return value;
+    }
+    last_error = why;
+    return fallback;
+}
+
 // Runs f, turning every exception into a status and the last-error message.
 template <class F>
 clf_status guarded(F&& f) {
     try {
         f();
+        last_error.clear();
         return CLF_OK;
+    } catch (const HostOutOfMemory& e) {
+        return fail(CLF_ERROR_OUT_OF_MEMORY, e.what());
     } catch (const InputError& e) {
-        return fail(CLF_ERROR_INPUT, e.what());
+        return fail(CLF_ERROR_INPUT, printable(e.what()));
     } catch (const DeviceError& e) {
         return fail(e.out_of_memory() ? CLF_ERROR_OUT_OF_MEMORY : CLF_ERROR_DEVICE, e.what());
     } catch (const std::bad_alloc&) {
@@ -72,10 +86,18 @@ static_assert(int(CLF_UINT8) == int(ValueType::uint8) && int(CLF_UINT16) == int(
               int(CLF_UINT32) == int(ValueType::uint32) && int(CLF_FLOAT64) == int(ValueType::float64) &&
               std::size(all_value_types) == 8, "clf_type and ValueType disagree");
 
-ValueType to_value_type(clf_type t) {
-    if (int(t) < 0 || std::size_t(t) >= std::size(all_value_types))
-        throw InputError("type: unknown clf_type " + std::to_string(int(t)));
+// Types and kinds arrive as int and are compared as int: converting an int outside an
+// enum's values to the enum would be undefined.
+ValueType to_value_type(int t, const char* call) {
+    if (t < 0 || std::size_t(t) >= std::size(all_value_types))
+        throw InputError(std::string(call) + ": unknown clf_type " + std::to_string(t));
     return all_value_types[std::size_t(t)];
+}
+
+SpanKind to_span_kind(int kind, const char* call) {
+    if (kind == int(CLF_BOX)) return SpanKind::cubes;
+    if (kind == int(CLF_EDGE)) return SpanKind::edges;
+    throw InputError(std::string(call) + ": kind " + std::to_string(kind) + " must be CLF_BOX or CLF_EDGE");
 }
 
 
@@ -130,9 +152,14 @@ clf_status clf_context_create(const char* device_filter, clf_context** out) {
     });
 }
 
-void clf_context_destroy(clf_context* ctx) { delete ctx; }
+void clf_context_destroy(clf_context* ctx) {
+    delete ctx;
+    last_error.clear();
+}
 
-const char* clf_context_description(const clf_context* ctx) { return ctx ? ctx->description.c_str() : ""; }
+const char* clf_context_description(const clf_context* ctx) {
+    return got<const char*>(ctx != nullptr, ctx ? ctx->description.c_str() : "", "", "clf_context_description: context is NULL");
+}
 
 clf_status clf_volume_read(const char* path, clf_volume** out) {
     if (!out) return fail(CLF_ERROR_INPUT, "clf_volume_read: out is NULL");
@@ -145,32 +172,38 @@ clf_status clf_volume_read(const char* path, clf_volume** out) {
     });
 }
 
-clf_status clf_volume_create(const void* data, size_t nx, size_t ny, size_t nz, clf_type type, clf_volume** out) {
+clf_status clf_volume_create(const void* data, size_t nx, size_t ny, size_t nz, int type, clf_volume** out) {
     if (!out) return fail(CLF_ERROR_INPUT, "clf_volume_create: out is NULL");
     *out = nullptr;
     return guarded([&] {
         require(data != nullptr, "clf_volume_create: data is NULL");
         auto v = std::make_unique<clf_volume>();
-        v->volume = Volume(Dims{nx, ny, nz}, to_value_type(type), "clf_volume_create");
+        v->volume = Volume(Dims{nx, ny, nz}, to_value_type(type, "clf_volume_create"), "clf_volume_create");
         std::memcpy(v->volume.data(), data, v->volume.size_bytes());
         check_finite(v->volume, "clf_volume_create");
         *out = v.release();
     });
 }
 
-void clf_volume_destroy(clf_volume* volume) { delete volume; }
+void clf_volume_destroy(clf_volume* volume) {
+    delete volume;
+    last_error.clear();
+}
 
 void clf_volume_dims(const clf_volume* volume, size_t dims[3]) {
-    if (!volume || !dims) return;
+    if (!got(volume && dims, true, false, "clf_volume_dims: volume or dims is NULL")) return;
     dims[0] = volume->volume.dims().nx;
     dims[1] = volume->volume.dims().ny;
     dims[2] = volume->volume.dims().nz;
 }
 
-clf_type clf_volume_type(const clf_volume* volume) { return clf_type(int(volume->volume.type())); }
+clf_type clf_volume_type(const clf_volume* volume) {
+    if (!got(volume != nullptr, true, false, "clf_volume_type: volume is NULL")) return CLF_TYPE_NONE;
+    return clf_type(int(volume->volume.type()));
+}
 
 void clf_curve_options_default(clf_curve_options* options) {
-    if (!options) return;
+    if (!got(options != nullptr, true, false, "clf_curve_options_default: options is NULL")) return;
     *options = clf_curve_options{};
     options->kind = CLF_BOX;
     options->levels = 2;
@@ -185,7 +218,7 @@ clf_status clf_curve_compute(clf_context* ctx, const clf_volume* volume, const c
         clf_curve_options o;
         clf_curve_options_default(&o);
         if (options) o = *options;
-        require(o.kind == CLF_BOX || o.kind == CLF_EDGE, "clf_curve_compute: kind must be CLF_BOX or CLF_EDGE");
+        const SpanKind kind = to_span_kind(o.kind, "clf_curve_compute");
         if (o.levels < 2 || o.levels > 16) throw InputError("levels " + std::to_string(o.levels) + ": must be 2..16");
         const Volume& v = volume->volume;
         IsovalueSet iso;
@@ -196,7 +229,6 @@ clf_status clf_curve_compute(clf_context* ctx, const clf_volume* volume, const c
                     "bins: 8/16-bit integer data uses every integer of its value range");
             iso = IsovalueSet::for_volume(v, o.bins ? o.bins : 256);
         }
-        const SpanKind kind = o.kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes;
         SpanOptions opt{{kind}, o.levels, 0};
         SpanResult spans = count_spans(*ctx->ctx, v, iso, opt);
         auto c = std::make_unique<clf_curve>();
@@ -205,34 +237,49 @@ clf_status clf_curve_compute(clf_context* ctx, const clf_volume* volume, const c
     });
 }
 
-void clf_curve_destroy(clf_curve* curve) { delete curve; }
+void clf_curve_destroy(clf_curve* curve) {
+    delete curve;
+    last_error.clear();
+}
 
-size_t clf_curve_size(const clf_curve* curve) { return curve ? curve->curve.fd.size() : 0; }
+size_t clf_curve_size(const clf_curve* curve) {
+    return got<size_t>(curve != nullptr, curve ? curve->curve.fd.size() : 0, 0, "clf_curve_size: curve is NULL");
+}
 
-int clf_curve_levels(const clf_curve* curve) { return curve ? curve->curve.levels() : 0; }
+int clf_curve_levels(const clf_curve* curve) {
+    return got(curve != nullptr, curve ? curve->curve.levels() : 0, 0, "clf_curve_levels: curve is NULL");
+}
+
+namespace {
+constexpr double no_value = std::numeric_limits<double>::quiet_NaN();
+bool valid_index(const clf_curve* curve, size_t j) { return curve && j < curve->curve.fd.size(); }
+constexpr const char* bad_index = "curve is NULL or index out of range";
+}  // namespace
 
 double clf_curve_isovalue(const clf_curve* curve, size_t j) {
-    if (!curve || j >= curve->curve.fd.size()) return std::numeric_limits<double>::quiet_NaN();
-    return curve->curve.isovalues.value(j);
+    const bool ok = valid_index(curve, j);
+    return got(ok, ok ? curve->curve.isovalues.value(j) : no_value, no_value, bad_index);
 }
 
 double clf_curve_dimension(const clf_curve* curve, size_t j) {
-    if (!curve || j >= curve->curve.fd.size()) return std::numeric_limits<double>::quiet_NaN();
-    return curve->curve.fd[j];
+    const bool ok = valid_index(curve, j);
+    return got(ok, ok ? curve->curve.fd[j] : no_value, no_value, bad_index);
 }
 
 double clf_curve_dimension_fit(const clf_curve* curve, size_t j) {
-    if (!curve || j >= curve->curve.fd.size()) return std::numeric_limits<double>::quiet_NaN();
-    return curve->curve.levels() > 2 ? curve->curve.fd_fit[j] : curve->curve.fd[j];
+    const bool ok = valid_index(curve, j);
+    return got(ok, ok ? (curve->curve.levels() > 2 ? curve->curve.fd_fit[j] : curve->curve.fd[j]) : no_value, no_value,
+               bad_index);
 }
 
 uint64_t clf_curve_count(const clf_curve* curve, int level, size_t j) {
-    if (!curve || level < 0 || level >= curve->curve.levels() || j >= curve->curve.fd.size()) return 0;
-    return curve->curve.counts[std::size_t(level)][j];
+    const bool ok = valid_index(curve, j) && level >= 0 && level < curve->curve.levels();
+    return got<uint64_t>(ok, ok ? curve->curve.counts[std::size_t(level)][j] : 0, 0,
+                         "clf_curve_count: curve is NULL or level or index out of range");
 }
 
 void clf_curve_summary(const clf_curve* curve, uint64_t min_count, clf_summary* out) {
-    if (!curve || !out) return;
+    if (!got(curve && out, true, false, "clf_curve_summary: curve or out is NULL")) return;
     const FdSummary s = summarize(curve->curve.fd, curve->curve.counts[0], curve->curve.counts[1], min_count);
     out->defined = s.defined;
     out->mean = s.mean;
@@ -241,7 +288,7 @@ void clf_curve_summary(const clf_curve* curve, uint64_t min_count, clf_summary* 
     out->kappa = s.kappa;
 }
 
-clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, clf_type type, const clf_curve_options* options,
+clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, int type, const clf_curve_options* options,
                              const double* range, clf_stream** out) {
     if (!out) return fail(CLF_ERROR_INPUT, "clf_stream_create: out is NULL");
     *out = nullptr;
@@ -251,7 +298,7 @@ clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, clf_type ty
         clf_curve_options_default(&o);
         if (options) o = *options;
         if (o.levels < 2 || o.levels > 16) throw InputError("levels " + std::to_string(o.levels) + ": must be 2..16");
-        const ValueType t = to_value_type(type);
+        const ValueType t = to_value_type(type, "clf_stream_create");
         check_dims(Dims{nx, ny, 1}, "clf_stream_create");
         if (range && !(std::isfinite(range[0]) && std::isfinite(range[1]) && range[0] <= range[1]))
             throw InputError("clf_stream_create: range must be finite with min <= max");
@@ -274,7 +321,10 @@ clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, clf_type ty
     });
 }
 
-void clf_stream_destroy(clf_stream* stream) { delete stream; }
+void clf_stream_destroy(clf_stream* stream) {
+    delete stream;
+    last_error.clear();
+}
 
 clf_status clf_stream_push_slice(clf_stream* stream, const void* slice) {
     return guarded([&] {
@@ -283,16 +333,18 @@ clf_status clf_stream_push_slice(clf_stream* stream, const void* slice) {
     });
 }
 
-size_t clf_stream_slices(const clf_stream* stream) { return stream ? stream->stream->slices() : 0; }
+size_t clf_stream_slices(const clf_stream* stream) {
+    return got<size_t>(stream != nullptr, stream ? stream->stream->slices() : 0, 0, "clf_stream_slices: stream is NULL");
+}
 
-clf_status clf_stream_curve(const clf_stream* stream, clf_kind kind, clf_curve** out) {
+clf_status clf_stream_curve(const clf_stream* stream, int kind, clf_curve** out) {
     if (!out) return fail(CLF_ERROR_INPUT, "clf_stream_curve: out is NULL");
     *out = nullptr;
     return guarded([&] {
         require(stream != nullptr, "clf_stream_curve: stream is NULL");
-        require(kind == CLF_BOX || kind == CLF_EDGE, "clf_stream_curve: kind must be CLF_BOX or CLF_EDGE");
+        const SpanKind k = to_span_kind(kind, "clf_stream_curve");
         auto c = std::make_unique<clf_curve>();
-        c->curve = stream->stream->curve(kind == CLF_EDGE ? SpanKind::edges : SpanKind::cubes);
+        c->curve = stream->stream->curve(k);
         *out = c.release();
     });
 }

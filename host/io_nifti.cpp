@@ -209,7 +209,7 @@ NiftiWriter::NiftiWriter(const std::string& path, const Dims& dims, ValueType ty
     const std::string name = fs::path(path).filename().string();
     const bool gz = name.size() > 3 && (name.substr(name.size() - 3) == ".gz" || name.substr(name.size() - 3) == ".GZ");
     const std::size_t ext_len = gz ? 7 : 4;
-    w.tmp = temporary_path(path.substr(0, path.size() - ext_len)) + path.substr(path.size() - ext_len);
+    w.tmp = temporary_path(path, path.substr(path.size() - ext_len));
     w.expected = dims.vertices() * value_size(type);
 
     const int64_t nd[8] = {3, int64_t(dims.nx), int64_t(dims.ny), int64_t(dims.nz), 1, 1, 1, 1};

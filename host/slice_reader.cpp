@@ -4,6 +4,7 @@
 #include "clfractal/output_file.hpp"
 #include "clfractal/volume_io.hpp"
 #include "io_formats.hpp"
+#include "nrrd_guard.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -36,17 +37,6 @@ void swap_bytes(unsigned char* p, std::size_t n, std::size_t size) {
     for (std::size_t i = 0; i < n; ++i, p += size) std::reverse(p, p + size);
 }
 
-// Byte offset just past the blank line that ends an attached NRRD header.
-std::size_t attached_data_offset(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::string line;
-    std::size_t offset = 0;
-    while (std::getline(in, line)) {
-        offset += line.size() + 1;
-        if (line.empty() || line == "\r") return offset;
-    }
-    throw InputError(path + ": NRRD header has no blank line before the data");
-}
 
 }  // namespace
 
@@ -145,6 +135,8 @@ struct SliceReader::Impl {
     }
 
     void open_nrrd(const RawOptions& raw) {
+        // The same checked header as read_nrrd: data files, where the data starts.
+        const NrrdHeader checked = check_nrrd(spec);
         Nrrd* header = nrrdNew();
         NrrdIoState* nio = nrrdIoStateNew();
         nio->skipData = AIR_TRUE;
@@ -162,7 +154,7 @@ struct SliceReader::Impl {
             return read_whole(raw);  // read_nrrd words the message
         }
         const bool simple = header->dim == 3 && nio->lineSkip == 0 && nio->byteSkip == 0 && !nio->dataFSkip &&
-                            nio->dataFNArr->len <= 1 &&
+                            checked.data_files.size() == 1 &&
                             (nio->encoding == nrrdEncodingRaw || nio->encoding == nrrdEncodingGzip) &&
                             value_type_of_nrrd(header->type).has_value();
         if (!simple) return read_whole(raw);
@@ -180,15 +172,8 @@ struct SliceReader::Impl {
                 spacing[a] = sp;
         }
         swap = file_value_size > 1 && (nio->endian == airEndianBig) != host_big_endian;
-        if (nio->dataFNArr->len == 1) {
-            fs::path p(nio->dataFN[0]);
-            if (p.is_relative() && nio->path) p = fs::path(nio->path) / p;
-            data_path = p.string();
-            data_offset = 0;
-        } else {
-            data_path = spec;
-            data_offset = attached_data_offset(spec);
-        }
+        data_path = checked.data_files[0];
+        data_offset = checked.attached ? std::size_t(checked.data_offset) : 0;
         if (nio->encoding == nrrdEncodingGzip) {
             method = "gzip";
         } else {
@@ -361,8 +346,7 @@ NrrdSliceWriter::NrrdSliceWriter(const std::string& path, const Dims& dims, Valu
 NrrdSliceWriter::~NrrdSliceWriter() {
     if (impl_->closed) return;
     impl_->out.close();
-    std::error_code ec;
-    fs::remove(impl_->tmp, ec);
+    remove_temporary(impl_->tmp);
 }
 
 void NrrdSliceWriter::write(const void* slices, std::size_t count) {

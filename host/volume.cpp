@@ -86,7 +86,7 @@ Volume::Volume(Dims dims, ValueType type, std::string name_)
     try {
         bytes_.resize(bytes);
     } catch (const std::bad_alloc&) {
-        throw InputError(what + ": cannot allocate " + std::to_string(bytes) + " bytes for " +
+        throw HostOutOfMemory(what + ": cannot allocate " + std::to_string(bytes) + " bytes for " +
                          dims_string(dims) + " " + value_type_name(type));
     }
 }

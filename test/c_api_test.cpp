@@ -218,7 +218,7 @@ TEST_CASE("bad input through the C ABI: a status, a message, NULL handles, no ex
     CHECK(clf_volume_create(nan_data, 2, 2, 2, CLF_FLOAT32, &cv) == CLF_ERROR_INPUT);
     CHECK(cv == nullptr);
     CHECK(std::string(clf_last_error()).find("NaN") != std::string::npos);
-    CHECK(clf_volume_create(nan_data, 2, 2, 2, clf_type(9), &cv) == CLF_ERROR_INPUT);
+    CHECK(clf_volume_create(nan_data, 2, 2, 2, 9, &cv) == CLF_ERROR_INPUT);
     CHECK(clf_volume_create(nullptr, 2, 2, 2, CLF_UINT8, &cv) == CLF_ERROR_INPUT);
     CHECK(clf_volume_create(nan_data, 0, 2, 2, CLF_UINT8, &cv) == CLF_ERROR_INPUT);
     CHECK(clf_volume_create(nan_data, std::size_t(1) << 30, std::size_t(1) << 30, 4, CLF_UINT8, &cv) ==
@@ -252,6 +252,112 @@ TEST_CASE("bad input through the C ABI: a status, a message, NULL handles, no ex
     clf_curve_destroy(nullptr);
     clf_context_destroy(nullptr);
     CHECK(std::string(clf_version()) == "0.1.0");
+}
+
+TEST_CASE("every C entry point checks handles, enums and ranges; clf_last_error follows every call") {
+    CContext cc;
+    unsigned char bytes[8] = {0, 10, 20, 30, 40, 50, 60, 70};
+    clf_volume* cv = nullptr;
+    // Types and kinds are ints, checked before any conversion: any int is safe.
+    for (int bad : {-1, 8, 9, 1 << 30, std::numeric_limits<int>::min()}) {
+        CAPTURE(bad);
+        CHECK(clf_volume_create(bytes, 2, 2, 2, bad, &cv) == CLF_ERROR_INPUT);
+        CHECK(std::string(clf_last_error()).find("unknown clf_type") != std::string::npos);
+        clf_stream* st = reinterpret_cast<clf_stream*>(1);
+        CHECK(clf_stream_create(cc.c, 2, 2, bad, nullptr, nullptr, &st) == CLF_ERROR_INPUT);
+        CHECK(st == nullptr);
+    }
+    REQUIRE(clf_volume_create(bytes, 2, 2, 2, CLF_UINT8, &cv) == CLF_OK);
+    CHECK(std::string(clf_last_error()).empty());
+    clf_curve_options o;
+    clf_curve_options_default(&o);
+    clf_curve* curve = nullptr;
+    for (int bad : {-1, 2, 77}) {
+        o.kind = bad;
+        CHECK(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_ERROR_INPUT);
+        CHECK(std::string(clf_last_error()).find("CLF_BOX or CLF_EDGE") != std::string::npos);
+        CHECK(curve == nullptr);
+    }
+    o.kind = CLF_EDGE;
+    REQUIRE(clf_curve_compute(cc.c, cv, &o, &curve) == CLF_OK);
+    CHECK(std::string(clf_last_error()).empty());
+
+    // Getters: a fallback value on NULL or out of range, with the reason; "" when fine.
+    CHECK(clf_volume_type(nullptr) == CLF_TYPE_NONE);
+    CHECK(std::string(clf_last_error()).find("NULL") != std::string::npos);
+    CHECK(clf_volume_type(cv) == CLF_UINT8);
+    CHECK(std::string(clf_last_error()).empty());
+    size_t dims[3] = {7, 7, 7};
+    clf_volume_dims(nullptr, dims);
+    CHECK(dims[0] == 7);
+    CHECK(!std::string(clf_last_error()).empty());
+    clf_volume_dims(cv, nullptr);
+    CHECK(!std::string(clf_last_error()).empty());
+    clf_volume_dims(cv, dims);
+    CHECK((dims[0] == 2 && dims[1] == 2 && dims[2] == 2));
+    CHECK(std::string(clf_last_error()).empty());
+    CHECK(clf_curve_size(nullptr) == 0);
+    CHECK(clf_curve_levels(nullptr) == 0);
+    CHECK(std::isnan(clf_curve_isovalue(curve, clf_curve_size(curve))));
+    CHECK(std::string(clf_last_error()).find("out of range") != std::string::npos);
+    CHECK(std::isnan(clf_curve_dimension(nullptr, 0)));
+    CHECK(std::isnan(clf_curve_dimension_fit(curve, 1u << 30)));
+    CHECK(clf_curve_count(curve, -1, 0) == 0);
+    CHECK(clf_curve_count(curve, 2, 0) == 0);
+    CHECK(clf_curve_isovalue(curve, 0) == 0);
+    CHECK(std::string(clf_last_error()).empty());
+    clf_summary summary{};
+    clf_curve_summary(nullptr, 0, &summary);
+    CHECK(!std::string(clf_last_error()).empty());
+    clf_curve_summary(curve, 0, nullptr);
+    CHECK(!std::string(clf_last_error()).empty());
+    CHECK(clf_stream_slices(nullptr) == 0);
+    CHECK(std::string(clf_context_description(nullptr)).empty());
+    CHECK(!std::string(clf_last_error()).empty());
+    CHECK(!std::string(clf_context_description(cc.c)).empty());
+    CHECK(std::string(clf_last_error()).empty());
+    clf_curve_options_default(nullptr);
+    CHECK(!std::string(clf_last_error()).empty());
+
+    // Streams: NULL handles and kinds; an int16 range far outside the type is clipped
+    // before any conversion to an integer ({-1e19, 10}: every int16 from -32768 to 10).
+    CHECK(clf_stream_push_slice(nullptr, bytes) == CLF_ERROR_INPUT);
+    clf_curve* sc = nullptr;
+    CHECK(clf_stream_curve(nullptr, CLF_BOX, &sc) == CLF_ERROR_INPUT);
+    clf_stream* st = nullptr;
+    const double wide[2] = {-1e19, 10};
+    REQUIRE(clf_stream_create(cc.c, 2, 2, CLF_INT16, nullptr, wide, &st) == CLF_OK);
+    const std::int16_t slice[4] = {-5, 3, 10, -32768};
+    REQUIRE(clf_stream_push_slice(st, slice) == CLF_OK);
+    REQUIRE(clf_stream_push_slice(st, slice) == CLF_OK);
+    CHECK(clf_stream_curve(st, 5, &sc) == CLF_ERROR_INPUT);
+    CHECK(sc == nullptr);
+    REQUIRE(clf_stream_curve(st, CLF_BOX, &sc) == CLF_OK);
+    CHECK(clf_curve_size(sc) == 32768 + 10 + 1);
+    CHECK(clf_curve_isovalue(sc, 0) == -32768);
+    CHECK(clf_curve_isovalue(sc, clf_curve_size(sc) - 1) == 10);
+    clf_curve_destroy(sc);
+    clf_stream_destroy(st);
+    st = reinterpret_cast<clf_stream*>(1);
+    const double beyond[2] = {1e19, 1e30};
+    CHECK(clf_stream_create(cc.c, 2, 2, CLF_INT16, nullptr, beyond, &st) == CLF_ERROR_INPUT);
+    CHECK(st == nullptr);
+    const double nan_range[2] = {std::numeric_limits<double>::quiet_NaN(), 1};
+    CHECK(clf_stream_create(cc.c, 2, 2, CLF_UINT16, nullptr, nan_range, &st) == CLF_ERROR_INPUT);
+
+    // A host allocation that fails (4 TiB) is out of memory, not bad input. (ASan's operator
+    // new aborts on such a request instead of throwing, so not under ASan.)
+#ifndef __SANITIZE_ADDRESS__
+    clf_volume* huge = reinterpret_cast<clf_volume*>(1);
+    CHECK(clf_volume_create(bytes, std::size_t(1) << 14, std::size_t(1) << 14, std::size_t(1) << 12, CLF_FLOAT32,
+                            &huge) == CLF_ERROR_OUT_OF_MEMORY);
+    CHECK(huge == nullptr);
+    CHECK(std::string(clf_last_error()).find("cannot allocate") != std::string::npos);
+#endif
+    CHECK(clf_local_dimension(cc.c, nullptr, 1, 8, nullptr) == CLF_ERROR_INPUT);
+    clf_curve_destroy(curve);
+    clf_volume_destroy(cv);
+    CHECK(std::string(clf_last_error()).empty());
 }
 
 }  // TEST_SUITE

@@ -423,5 +423,47 @@ expect 2 'clfractal: error: .*--fractal4 needs --threshold' -- "$bin" filter syn
 expect 2 'clfractal: error: .*--q: only with --fractal4' -- "$bin" filter synthetic:sphere:20 --median --q 2 -o f4.nrrd
 expect 2 'clfractal: error: .*exclude each other' -- "$bin" filter synthetic:sphere:20 --median --fractal4 --fractal --iso 3 --threshold 3 -o f4.nrrd
 
+# Outputs: a symlink keeps its link, a FIFO feeds its reader, "-" is stdout, every output
+# is checked before any work, and a failed run leaves nothing behind.
+mkdir -p out_target && rm -f out_link.csv && ln -s out_target/real.csv out_link.csv
+expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:20 --csv out_link.csv
+[ -L out_link.csv ] && [ "$(head -1 out_target/real.csv)" = "isovalue,count,count_sub,fd" ] && pass || fail "symlinked output lost its link"
+expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:20 --csv out_link.csv --json out_link_check.json
+[ -L out_link.csv ] && [ -z "$(ls out_target | grep tmp)" ] && pass || fail "second write through the symlink"
+rm -f out.fifo && mkfifo out.fifo
+(head -1 < out.fifo > fifo_first_line.txt) &
+reader=$!
+expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:20 --csv out.fifo
+wait $reader
+[ -p out.fifo ] && [ "$(cat fifo_first_line.txt)" = "isovalue,count,count_sub,fd" ] && pass || fail "FIFO output: $(cat fifo_first_line.txt)"
+out=$("$bin" -q fd synthetic:sphere:20 --csv - 2>/dev/null)
+[ "$(head -1 <<<"$out")" = "isovalue,count,count_sub,fd" ] && [ ! -e ./- ] && pass || fail "--csv - is not stdout: $(head -2 <<<"$out")"
+"$bin" -q fd synthetic:sphere:20 --csv - 2>&1 >/dev/null | grep -q 'mean FD' && pass || fail "--csv -: the report is not on stderr"
+expect 2 'clfractal: error: no_dir/p.png: cannot write: folder .no_dir. does not exist' -- "$bin" -q fd synthetic:sphere:20 --csv nb.csv --json nb.json --plot no_dir/p.png
+[ ! -e nb.csv ] && [ ! -e nb.json ] && pass || fail "a failed run left outputs behind"
+expect 2 'clfractal: error: .*named as two outputs' -- "$bin" -q fd synthetic:sphere:20 --csv same.csv --json same.csv
+expect 2 'clfractal: error: out_target: cannot write: is a folder' -- "$bin" -q local synthetic:sphere:20 --iso 100 -o out_target
+expect 2 'clfractal: error: no_dir/m.ply: cannot write' -- "$bin" -q local synthetic:sphere:20 --iso 100 -o ok_ld.nrrd --mesh no_dir/m.ply
+[ ! -e ok_ld.nrrd ] && pass || fail "local -o written although --mesh cannot be"
+# A failed input leaves no output and no temporary.
+printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n\nabc' > out_cut.nrrd
+expect 2 'clfractal: error: out_cut.nrrd: truncated' -- "$bin" -q fd out_cut.nrrd --csv cut.csv --json cut.json
+[ -z "$(ls | grep -E '^cut\.|tmp-')" ] && pass || fail "outputs or temporaries left: $(ls | grep -E '^cut\.|tmp-')"
+# Stopped by SIGTERM while writing: the temporary is removed.
+"$bin" -q local synthetic:noisy-sphere:320 --iso 128 -o term.nrrd --stream >/dev/null 2>&1 &
+writer=$!
+seen=0
+for i in $(seq 1 200); do
+  if ls | grep -q '^term\.nrrd\.tmp-'; then seen=1; kill -TERM $writer; break; fi
+  sleep 0.1
+done
+wait $writer
+[ $seen -eq 1 ] && [ -z "$(ls | grep '^term\.nrrd')" ] && pass || fail "SIGTERM: seen=$seen, left: $(ls | grep '^term')"
+"$bin" -q local synthetic:sphere:20 --iso 100 -o - --stream > ld_stdout.nrrd 2>/dev/null && pass || fail "local -o - --stream"
+"$bin" -q local synthetic:sphere:20 --iso 100 -o - > ld_stdout2.nrrd 2>/dev/null && pass || fail "local -o -"
+for f in ld_stdout.nrrd ld_stdout2.nrrd; do
+  [ "$(head -c 4 $f)" = "NRRD" ] && [ "$(stat -c %s $f)" -gt 32000 ] && pass || fail "$f: not the LD NRRD"
+done
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -340,7 +340,7 @@ TEST_CASE("PLY files read back identically, with and without colours and LD") {
         CHECK(back.triangles == mesh.triangles);
         CHECK(back.colors == mesh.colors);
         REQUIRE(back.ld.size() == mesh.ld.size());
-        CHECK(std::memcmp(back.ld.data(), mesh.ld.data(), 4 * mesh.ld.size()) == 0);  // NaN included
+        CHECK((mesh.ld.empty() || std::memcmp(back.ld.data(), mesh.ld.data(), 4 * mesh.ld.size()) == 0));  // NaN included
         CHECK(back.edge_points.empty());
     }
     // The header a PLY reader sees, byte for byte.

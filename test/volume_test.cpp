@@ -526,9 +526,9 @@ TEST_CASE("bad NRRD files name the file and teem's reason") {
         CHECK(contains(m, path + ": "));
         CHECK_MESSAGE(contains(m, reason), m);
     };
-    check_bad("short_data.nrrd", nrrd_header("uchar", "4 4 4") + "abcdefgh", "cannot read NRRD");
-    check_bad("short_data.nrrd", nrrd_header("ushort", "4 4 4") + std::string(127, 'a'),
-              "cannot read NRRD");
+    check_bad("short_data.nrrd", nrrd_header("uchar", "4 4 4") + "abcdefgh",
+              "truncated: the header claims 64 bytes (64 values of uchar) of raw data, the file holds 8");
+    check_bad("short_data.nrrd", nrrd_header("ushort", "4 4 4") + std::string(127, 'a'), "truncated");
     check_bad("unknown_type.nrrd", nrrd_header("foo", "2 2 2") + "abcdefgh", "foo");
     check_bad("int64.nrrd",
               nrrd_header("long long", "2 2 2", "endian: little\nencoding: raw\n") + std::string(64, 'a'),
@@ -537,22 +537,22 @@ TEST_CASE("bad NRRD files name the file and teem's reason") {
               nrrd_header("unsigned long long", "2 2 2", "endian: little\nencoding: raw\n") + std::string(64, 'a'),
               "unsupported NRRD type");
     check_bad("huge.nrrd", nrrd_header("uchar", "100000 100000 100000") + "abcdefgh",
-              "dims 100000x100000x100000 exceed the maximum of 2^40 vertices");
+              "sizes '100000 100000 100000' exceed the maximum of 2^40 values");
     check_bad("two_d.nrrd",
               "NRRD0004\ntype: uchar\ndimension: 2\nsizes: 2 2\nencoding: raw\n\nabcd",
               "only 3D scalar volumes");
-    check_bad("not_nrrd.nrrd", "hello\n", "cannot read NRRD");
+    check_bad("not_nrrd.nrrd", "hello\n", "not a NRRD file");
     check_bad("missing_data.nhdr", nrrd_header("uchar", "2 2 2", "encoding: raw\ndata file: nope.raw\n"),
-              "cannot read NRRD");
+              "nope.raw' does not exist");
 
     std::string crc(reinterpret_cast<const char*>(gzip_payload), sizeof gzip_payload);
     crc[crc.size() - 8] ^= 0x5a;  // CRC-32 of the payload
-    check_bad("bad_crc.nrrd", gzip_header + crc, "cannot read NRRD");
+    check_bad("bad_crc.nrrd", gzip_header + crc, "gzip data");
     const std::string cut(reinterpret_cast<const char*>(gzip_payload), 30);
-    check_bad("cut_gzip.nrrd", gzip_header + cut, "cannot read NRRD");
+    check_bad("cut_gzip.nrrd", gzip_header + cut, "gzip data");
     std::string deflate(reinterpret_cast<const char*>(gzip_payload), sizeof gzip_payload);
     std::fill(deflate.begin() + 12, deflate.begin() + 20, '\0');
-    check_bad("bad_deflate.nrrd", gzip_header + deflate, "cannot read NRRD");
+    check_bad("bad_deflate.nrrd", gzip_header + deflate, "gzip data");
 }
 
 TEST_CASE("write_nrrd: failures name the path and leave no temporary") {

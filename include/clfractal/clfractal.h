@@ -7,6 +7,28 @@
  *  - Every function that can fail returns a clf_status; CLF_OK is 0. On failure the
  *    thread's last-error message (clf_last_error) names the input and the problem, and
  *    output handles are left NULL. No C++ exception crosses this boundary.
+ *  - Every entry point checks its arguments: a NULL handle or pointer, and a type or kind
+ *    outside its enum, is CLF_ERROR_INPUT (a getter returns its documented fallback and
+ *    sets the last-error message). Types and kinds are passed as int and checked before
+ *    they are converted, so any int is safe to pass.
+ *  - After every call (except clf_last_error and clf_version), clf_last_error() describes
+ *    that call: "" when it succeeded.
+ *  - A failed host or device allocation is CLF_ERROR_OUT_OF_MEMORY, never a crash.
+ *
+ * Lifetime: a handle is valid from the call that creates it until its clf_*_destroy;
+ * destroying NULL does nothing, destroying twice or using a destroyed handle is undefined.
+ * Curves and volumes do not refer to the context or volume they came from (each may be
+ * destroyed in any order); a stream needs its context until clf_stream_destroy. Strings
+ * returned (clf_version, clf_last_error, clf_context_description) live until the next call
+ * on the same thread (clf_last_error), until the context is destroyed (the description), or
+ * forever (the version).
+ *
+ * Threads: any number of threads may call the library at once. Objects are not locked:
+ * one thread at a time per clf_volume being created, per clf_curve and per clf_stream, but
+ * read-only calls (getters, a volume passed as input) may share an object freely. A
+ * clf_context may be shared by threads (its kernel cache is locked; launches on it are
+ * serialised by its queue); one context per thread gives independent queues. The
+ * last-error message is per thread.
  *  - Volumes are x fastest: value (x, y, z) sits at x + nx * (y + ny * z).
  *  - Definitions (intersection a < s <= b, isovalue sets, subsampling, dimensions) are
  *    those of the C++ library: see README.md and the headers in include/clfractal.
@@ -31,6 +53,7 @@ typedef enum clf_status {
 
 /* Value types. float64 needs a device with cl_khr_fp64 (else CLF_ERROR_INPUT naming it). */
 typedef enum clf_type {
+    CLF_TYPE_NONE = -1, /* clf_volume_type of NULL */
     CLF_UINT8 = 0,
     CLF_UINT16 = 1,
     CLF_INT16 = 2,
@@ -54,7 +77,7 @@ typedef struct clf_stream clf_stream;   /* a volume arriving slice by slice */
  * range when it holds at most 65,536 integers, else 256 uniform values: float32 values for
  * float32 data, float64 values for the others). */
 typedef struct clf_curve_options {
-    clf_kind kind;
+    int kind;                /* a clf_kind */
     int levels;              /* pyramid levels 0..levels-1, >= 2; 2 = the thesis' ratio */
     size_t bins;             /* float and int32/uint32 data: number of uniform isovalues (0: 256) */
     const float* isovalues;  /* float and int32/uint32 data: an explicit sorted list instead of
@@ -73,8 +96,8 @@ typedef struct clf_summary {
 /* The library version, "MAJOR.MINOR.PATCH". */
 const char* clf_version(void);
 
-/* The message of the calling thread's last failure ("" if none). Valid until the next
- * failing call on this thread. */
+/* The message of the calling thread's last call: "" if it succeeded, else what failed.
+ * Valid until the next call on this thread. */
 const char* clf_last_error(void);
 
 /* ---- device context ---- */
@@ -94,9 +117,10 @@ const char* clf_context_description(const clf_context* ctx);
 clf_status clf_volume_read(const char* path, clf_volume** out);
 /* A volume holding a copy of `data` (nx * ny * nz values of `type`, x fastest). Float
  * data containing NaN or Inf is rejected. */
-clf_status clf_volume_create(const void* data, size_t nx, size_t ny, size_t nz, clf_type type, clf_volume** out);
+clf_status clf_volume_create(const void* data, size_t nx, size_t ny, size_t nz, int type, clf_volume** out);
 void clf_volume_destroy(clf_volume* volume);
 void clf_volume_dims(const clf_volume* volume, size_t dims[3]);
+/* The volume's clf_type; CLF_TYPE_NONE for NULL. */
 clf_type clf_volume_type(const clf_volume* volume);
 
 /* ---- fractal dimension curves ---- */
@@ -122,11 +146,11 @@ void clf_curve_summary(const clf_curve* curve, uint64_t min_count, clf_summary* 
 
 /* A stream of nx * ny slices of `type`, pushed in z order. Its isovalues: options->isovalues
  * (float and int32/uint32 data), else for integer data the default set of `range` = {min,
- * max} (NULL: the type's whole range): every integer when it holds at most 65,536, else
+ * max} (NULL: the type's whole range; an integer range is clipped to the type's values): every integer when it holds at most 65,536, else
  * options->bins (default 256) uniform values; for float data options->bins uniform values
  * over `range` (required, since the stream cannot know the values to come). options->levels as for
  * curves; both kinds (box and edge) are counted. */
-clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, clf_type type, const clf_curve_options* options,
+clf_status clf_stream_create(clf_context* ctx, size_t nx, size_t ny, int type, const clf_curve_options* options,
                              const double* range, clf_stream** out);
 void clf_stream_destroy(clf_stream* stream);
 /* Adds the next slice: nx * ny values of the stream's type, x fastest. Float slices with
@@ -135,7 +159,7 @@ clf_status clf_stream_push_slice(clf_stream* stream, const void* slice);
 size_t clf_stream_slices(const clf_stream* stream);
 /* The curve of the slices pushed so far (at least 2 are needed for a cube), identical to
  * clf_curve_compute on the volume of those slices; the stream goes on afterwards. */
-clf_status clf_stream_curve(const clf_stream* stream, clf_kind kind, clf_curve** out);
+clf_status clf_stream_curve(const clf_stream* stream, int kind, clf_curve** out);
 
 /* ---- local fractal dimension (eq. 2.6) ---- */
 

@@ -126,7 +126,10 @@ public:
     cl::Kernel kernel(const std::string& family, const std::string& name, const std::string& options);
 
     /// Seconds spent compiling programs so far (reported apart from compute time).
-    double compile_seconds() const { return compile_seconds_; }
+    double compile_seconds() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return compile_seconds_;
+    }
 
     /// Enqueues `kernel` after checking the sizes against the device and kernel limits
     /// (global a multiple of local, local <= CL_KERNEL_WORK_GROUP_SIZE).
@@ -144,7 +147,7 @@ private:
     std::size_t max_alloc_ = 0, global_mem_ = 0, max_work_group_ = 0, local_mem_ = 0;
     unsigned compute_units_ = 0;
     bool fp64_ = false;
-    std::mutex mutex_;
+    mutable std::mutex mutex_;
     std::map<std::pair<std::string, std::string>, cl::Program> programs_;
     double compile_seconds_ = 0;
 };

@@ -6,12 +6,27 @@
 
 namespace clfractal {
 
+/// `text` with every control character (a byte below 0x20, or 0x7f) replaced by '?': for
+/// messages that quote input (file names, header lines), so that none reaches a terminal.
+inline std::string printable(std::string text) {
+    for (char& c : text)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    return text;
+}
+
 /// Bad input: a malformed or truncated file, wrong dimensions, NaN in float data,
 /// an unknown type, an absurd size or an invalid argument. The message names the
 /// file (or argument) and the problem in one line.
 class InputError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
+};
+
+/// A host allocation that failed: bad input to the command-line tool (exit code 2), but
+/// told apart from other bad input by the C ABI (CLF_ERROR_OUT_OF_MEMORY).
+class HostOutOfMemory : public InputError {
+public:
+    using InputError::InputError;
 };
 
 /// A failure of the OpenCL runtime: the message carries the OpenCL error name,

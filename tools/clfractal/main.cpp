@@ -20,6 +20,7 @@
 #include "clfractal/fd.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
+#include "clfractal/output_file.hpp"
 #include "clfractal/render.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/synthetic.hpp"
@@ -555,7 +556,7 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    try {
+    const auto run = [&]() -> int {
         if (app.got_subcommand("devices")) return cmd_devices();
         if (app.got_subcommand(info)) return cmd_info(info_volume, info_raw);
         if (app.got_subcommand(fd)) return cmd_fd(fa);
@@ -565,8 +566,19 @@ int main(int argc, char** argv) {
         if (app.got_subcommand(bench)) return cmd_bench(bench_size, bench_repeats, bench_json);
         for (auto& c : commands)
             if (app.got_subcommand(c.app)) return c.run();
+        return 0;
+    };
+    try {
+        // Every output path is checked before any work; with one of them "-" (stdout), the
+        // report moves to stderr. The outputs appear together when the command succeeds.
+        for (const CLI::App* chosen : app.get_subcommands())
+            if (check_output_options(*chosen)) std::cout.rdbuf(std::cerr.rdbuf());
+        OutputRun outputs;
+        const int rc = run();
+        if (rc == 0) outputs.commit();
+        return rc;
     } catch (const InputError& e) {
-        std::cerr << "clfractal: error: " << e.what() << "\n";
+        std::cerr << "clfractal: error: " << printable(e.what()) << "\n";
         return 2;
     } catch (const DeviceError& e) {
         std::cerr << "clfractal: error: " << (e.out_of_memory() ? "the device is out of memory: " : "") << e.what()

@@ -1,9 +1,14 @@
 #include "output.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <set>
+#include <sstream>
 
 #include "clfractal/error.hpp"
 #include "clfractal/output_file.hpp"
@@ -25,22 +30,61 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 void plot_png(const std::string& script, const std::string& data, const std::string& path) {
     if (std::system("command -v gnuplot >/dev/null 2>&1") != 0)
         throw InputError(path + ": --plot needs gnuplot (Debian: apt-get install gnuplot-nox); CSV/JSON work without it");
-    const std::string tmp_png = temporary_path(path) + ".png";
+    // gnuplot writes a regular file: the temporary beside the target, or for a FIFO, a
+    // device or stdout, one in the system's temporary folder that is then copied there.
+    const OutputTarget target = check_output(path);
+    const std::string tmp_png =
+        target.direct ? (fs::temp_directory_path() / ("clfractal-plot-" + std::to_string(::getpid()) + ".png")).string()
+                      : temporary_path(path);
     // The script goes to gnuplot's stdin (no path ever reaches a shell); inside a gnuplot
-    // single-quoted string a quote is written twice.
+    // single-quoted string a quote is written twice. gnuplot's own stdout is discarded: it
+    // would get the image if the output could not be opened.
     std::string quoted;
     for (char c : tmp_png) quoted += c == '\'' ? std::string("''") : std::string(1, c);
     const std::string text = "$DATA << EOD\n" + data + "EOD\nset output '" + quoted + "'\n" + script;
-    FILE* p = popen("gnuplot", "w");
+    FILE* p = popen("gnuplot >/dev/null", "w");
     int status = -1;
     if (p) {
         fwrite(text.data(), 1, text.size(), p);
         status = pclose(p);
     }
     std::error_code ec;
-    if (status != 0 || !fs::exists(tmp_png)) {
-        fs::remove(tmp_png, ec);
+    if (status != 0 || !fs::is_regular_file(tmp_png, ec) || fs::file_size(tmp_png, ec) == 0) {
+        if (target.direct) fs::remove(tmp_png, ec);
+        else discard_temporary(tmp_png, path, "gnuplot failed (see its message above)");
         throw InputError(path + ": gnuplot failed (see its message above)");
     }
-    rename_into_place(tmp_png, path);
+    if (!target.direct) return rename_into_place(tmp_png, path);
+    std::ifstream in(tmp_png, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    fs::remove(tmp_png, ec);
+    write_file_atomic(path, bytes.str());
+}
+
+const std::vector<std::string>& output_option_names() {
+    static const std::vector<std::string> names{"--output", "--csv",     "--json",     "--plot",
+                                                "--mesh",   "--preview", "--markdown", "--histogram"};
+    return names;
+}
+
+bool check_output_options(const CLI::App& command) {
+    std::set<std::string> files;
+    bool to_stdout = false;
+    for (const CLI::Option* o : command.get_options()) {
+        bool output = false;
+        for (const std::string& name : o->get_lnames())
+            for (const std::string& n : output_option_names()) output |= "--" + name == n;
+        if (!output) continue;
+        for (const std::string& path : o->results()) {
+            const OutputTarget t = check_output(path);
+            if (path == "-") {
+                if (to_stdout) throw InputError("-: only one output can go to standard output");
+                to_stdout = true;
+            } else if (!t.direct && !files.insert(t.file).second) {
+                throw InputError(path + ": named as two outputs of the same run");
+            }
+        }
+    }
+    return to_stdout;
 }
