@@ -73,55 +73,69 @@ double mean_edge_span(double r) {
     return s / (3.0 * n);
 }
 
-EdgeSpanSums intersected_edge_spans(const Volume& v, const IsovalueSet& iso) {
-    const std::size_t k = iso.size();
-    std::vector<double> values(k);
-    for (std::size_t j = 0; j < k; ++j) values[j] = iso.value(j);
-    // The first isovalue index with s > x: a < s <= b holds for the indices [first(a), first(b)).
-    auto first_above = [&](double x) -> std::size_t {
+namespace {
+
+// The first isovalue index with s > x: a < s <= b holds for the indices [first(a), first(b)).
+struct FirstAbove {
+    const IsovalueSet& iso;
+    const std::vector<double>& values;
+    std::size_t operator()(double x) const {
+        const std::size_t k = values.size();
         if (iso.integer()) {
             const double j = std::floor(x) - double(iso.first()) + 1;
             return std::size_t(std::clamp(j, 0.0, double(k)));
         }
         return std::size_t(std::upper_bound(values.begin(), values.end(), x) - values.begin());
-    };
-    const Dims d = v.dims();
-    const int threads = omp_get_max_threads();
-    std::vector<std::vector<double>> sums(threads, std::vector<double>(k + 1, 0.0));
-    std::vector<std::vector<std::int64_t>> counts(threads, std::vector<std::int64_t>(k + 1, 0));
-    visit(v, [&](const auto* p) {
+    }
+};
+
+// Per thread, the difference arrays of the span sums and counts (k + 1 entries each).
+template <class T>
+void accumulate_edge_spans(const T* p, const Dims& d, const FirstAbove& first_above,
+                           std::vector<std::vector<double>>& sums, std::vector<std::vector<std::int64_t>>& counts) {
 #pragma omp parallel for schedule(static)
-        for (long long z = 0; z < (long long)d.nz; ++z) {
-            const int t = omp_get_thread_num();
-            std::vector<double>& sum = sums[t];
-            std::vector<std::int64_t>& count = counts[t];
-            auto edge = [&](double a, double b) {
-                if (a > b) std::swap(a, b);
-                if (!(a < b)) return;
-                const std::size_t lo = first_above(a), hi = first_above(b);
-                if (lo == hi) return;
-                sum[lo] += b - a;
-                sum[hi] -= b - a;
-                ++count[lo];
-                --count[hi];
-            };
-            for (std::size_t y = 0; y < d.ny; ++y)
-                for (std::size_t x = 0; x < d.nx; ++x) {
-                    const std::size_t i = v.index(x, y, std::size_t(z));
-                    const double f = double(p[i]);
-                    if (x + 1 < d.nx) edge(f, double(p[i + 1]));
-                    if (y + 1 < d.ny) edge(f, double(p[i + d.nx]));
-                    if (std::size_t(z) + 1 < d.nz) edge(f, double(p[i + d.nx * d.ny]));
+    for (long long z = 0; z < (long long)d.nz; ++z) {
+        const int t = omp_get_thread_num();
+        std::vector<double>& sum = sums[std::size_t(t)];
+        std::vector<std::int64_t>& count = counts[std::size_t(t)];
+        for (std::size_t y = 0; y < d.ny; ++y)
+            for (std::size_t x = 0; x < d.nx; ++x) {
+                const std::size_t i = x + d.nx * (y + d.ny * std::size_t(z));
+                const double f = double(p[i]);
+                const double g[3] = {x + 1 < d.nx ? double(p[i + 1]) : f, y + 1 < d.ny ? double(p[i + d.nx]) : f,
+                                     std::size_t(z) + 1 < d.nz ? double(p[i + d.nx * d.ny]) : f};
+                for (double h : g) {
+                    const double a = std::min(f, h), b = std::max(f, h);
+                    if (!(a < b)) continue;  // a flat edge (or none) is never intersected
+                    const std::size_t lo = first_above(a), hi = first_above(b);
+                    if (lo == hi) continue;
+                    sum[lo] += b - a;
+                    sum[hi] -= b - a;
+                    ++count[lo];
+                    --count[hi];
                 }
-        }
-    });
+            }
+    }
+}
+
+}  // namespace
+
+EdgeSpanSums intersected_edge_spans(const Volume& v, const IsovalueSet& iso) {
+    const std::size_t k = iso.size();
+    std::vector<double> values(k);
+    for (std::size_t j = 0; j < k; ++j) values[j] = iso.value(j);
+    const FirstAbove first_above{iso, values};
+    const int threads = omp_get_max_threads();
+    std::vector<std::vector<double>> sums(std::size_t(threads), std::vector<double>(k + 1, 0.0));
+    std::vector<std::vector<std::int64_t>> counts(std::size_t(threads), std::vector<std::int64_t>(k + 1, 0));
+    visit(v, [&](const auto* p) { accumulate_edge_spans(p, v.dims(), first_above, sums, counts); });
     EdgeSpanSums r{std::vector<double>(k, 0.0), std::vector<std::uint64_t>(k, 0)};
     double run_sum = 0;
     std::int64_t run_count = 0;
     for (std::size_t j = 0; j < k; ++j) {
         for (int t = 0; t < threads; ++t) {
-            run_sum += sums[t][j];
-            run_count += counts[t][j];
+            run_sum += sums[std::size_t(t)][j];
+            run_count += counts[std::size_t(t)][j];
         }
         r.sum[j] = run_sum;
         r.count[j] = std::uint64_t(run_count);
