@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint8_t nulls = data[7];
     const std::string name = (data[8] & 1) ? "v.nrrd" : (data[8] & 2) ? "v_2x2x2_uint8.raw" : "v.nhdr";
     const std::vector<std::uint8_t> rest(data + 13, data + size);
-    std::vector<std::uint8_t> values(nx * ny * nz * 4 + 1, 0);
+    std::vector<std::uint8_t> values(nx * ny * nz * 8 + 1, 0);  // 8: the widest value type
     if (!rest.empty()) std::memcpy(values.data(), rest.data(), std::min(values.size(), rest.size()));
 
     clf_volume* v = nullptr;
