@@ -41,6 +41,29 @@ struct RenderOptions {
 /// across each triangle. An empty mesh gives a background-only image.
 Image render_mesh(const Mesh& mesh, const RenderOptions& opt = {});
 
+/// An axial slice of a volume with an isosurface's contour and an LD field, for reports.
+struct SliceView {
+    /// Slice z in grey (its 0.5% .. 99.5% value quantiles mapped black .. white), one pixel
+    /// per vertex, rows top to bottom from y = ny - 1 down to y = 0, with the LD field blended
+    /// over it in the colour map (ld_colour) wherever LD is defined.
+    Image image;
+    /// The contour of the isovalue in the slice: the segments (x0, y0, x1, y1) that marching
+    /// squares draws, one per crossed face edge pair (negative vertices f < s separated, as
+    /// marching cubes does on a cube face), in grid coordinates times the spacing. A grid edge
+    /// with span [a, b] is crossed iff a < s <= b (float32 data compare with s rounded to
+    /// float32), at the linear interpolation point of s.
+    std::vector<std::array<float, 4>> contour;
+};
+
+/// The view of slice z of `v` for isovalue `iso`, with `ld` (float32, v's dims, NaN where
+/// undefined; or null) blended at opacity `alpha`. Throws InputError when z is out of range
+/// or ld's dims differ.
+SliceView render_slice(const Volume& v, std::size_t z, double iso, const Volume* ld = nullptr, double alpha = 0.45);
+
+/// The axial slice whose x and y grid edges the isovalue crosses most often (the nearest to
+/// the middle among equals): where the contour has the most to show.
+std::size_t busiest_slice(const Volume& v, double iso);
+
 /// Writes an RGB PNG through libpng, to a temporary name renamed into place. Throws
 /// InputError naming the path when it cannot be written.
 void write_png(const Image& image, const std::string& path);

@@ -108,11 +108,8 @@ void add_components_command(CLI::App& app, Commands& commands);
 void add_survey_command(CLI::App& app, Commands& commands);
 /// fd4 and local4 (cmd_fd4.cpp).
 void add_fd4_commands(CLI::App& app, Commands& commands);
+void add_report_command(CLI::App& app, Commands& commands);
 
-/// Components (log scale) against the isovalue, with the FD curve on the other axis when
-/// `fd` is given (thesis Figs. 2.1 + 3.2 in one figure); zero counts are left out.
-void write_components_plot(const clfractal::IsovalueSet& iso, const std::vector<std::int64_t>& components,
-                           const std::vector<double>* fd, const std::string& title, const std::string& path);
 }  // namespace cli
 
 void add_noise_command(CLI::App& app, cli::Commands& commands);

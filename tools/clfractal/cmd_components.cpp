@@ -11,42 +11,11 @@
 #include "clfractal/components.hpp"
 #include "cli.hpp"
 #include "output.hpp"
+#include "plots.hpp"
 
 using namespace clfractal;
 
 namespace cli {
-
-void write_components_plot(const IsovalueSet& iso, const std::vector<std::int64_t>& components,
-                           const std::vector<double>* fd, const std::string& title, const std::string& path) {
-    std::ostringstream data;
-    bool any = false;
-    for (std::size_t j = 0; j < iso.size(); ++j) {
-        // Log scale: zero counts are left out of the components line ("?" in gnuplot).
-        const bool c_ok = components[j] > 0;
-        const bool d_ok = fd && !std::isnan((*fd)[j]);
-        if (!c_ok && !d_ok) continue;
-        any = true;
-        data << iso_string(iso, j) << " " << (c_ok ? std::to_string(components[j]) : "?") << " "
-             << (d_ok ? fd_string((*fd)[j]) : "?") << "\n";
-    }
-    if (!any) data << iso_string(iso, 0) << " ? ?\n";
-    std::ostringstream script;
-    script << "set terminal pngcairo size 900,540 font 'sans,11'\n"
-           << "set xlabel 'isovalue'\nset autoscale xfix\nset grid\n"
-           << "set title " << std::quoted(title) << " noenhanced\n"
-           << "set datafile missing '?'\n";
-    if (fd) {
-        script << "set ylabel 'fractal dimension'\nset yrange [1.8:3.05]\n"
-               << "set y2label 'isosurface components (log scale)'\nset logscale y2\nset y2tics\nset ytics nomirror\n"
-               << "set key top right\n"
-               << "plot '$DATA' using 1:3 with lines lw 2 lc rgb '#1f5fa8' title 'fractal dimension', "
-               << "'$DATA' using 1:2 axes x1y2 with lines lw 2 lc rgb '#c0392b' title 'components'\n";
-    } else {
-        script << "set ylabel 'isosurface components (log scale)'\nset logscale y\nset key off\n"
-               << "plot '$DATA' using 1:2 with lines lw 2 lc rgb '#c0392b'\n";
-    }
-    plot_png(script.str(), data.str(), path);
-}
 
 namespace {
 
@@ -128,11 +97,15 @@ int run_components(const ComponentsArgs& a) {
         for (std::size_t j = 0; j < iso.size(); ++j) out << iso_string(iso, j) << "," << c.components[j] << "\n";
         write_file_atomic(a.csv, out.str());
     }
-    if (!a.plot.empty())
-        write_components_plot(iso, c.components, nullptr,
+    if (!a.plot.empty()) {
+        // The annotations come from the box-dimension curve: the cube count underlay, the
+        // greyed few-cube isovalues and the clean bands (two levels, cheap beside the sweep).
+        const FdCurve f = fd_curve(ctx, count_spans(ctx, v, iso), SpanKind::cubes);
+        write_components_plot(f, clean_bands(f), c.components, false,
                               std::filesystem::path(a.volume).filename().string() + ": isosurface components (" +
                                   connectivity_name(mode) + ")",
                               a.plot);
+    }
     return bad ? 1 : 0;
 }
 

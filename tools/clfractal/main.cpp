@@ -27,6 +27,7 @@
 #include "clfractal/volume_io.hpp"
 #include "cli.hpp"
 #include "output.hpp"
+#include "plots.hpp"
 
 using namespace clfractal;
 using json = nlohmann::json;
@@ -133,50 +134,6 @@ struct FdArgs {
     bool stream = false;
     RawArgs raw;
 };
-
-// D(s) read at a glance: guide lines at 2 (clean surface) and 3 (space-filling noise), the
-// clean bands shaded, the cube count as a grey underlay on a second axis, isovalues whose
-// subsampled count is below the floor (1% of the largest, or --min-count) drawn as grey
-// points instead of the line, fd_fit dashed when there are more than two levels, values
-// clamped into [1, 4] so that none runs off the chart, and the legend under the plot.
-void write_fd_plot(const FdCurve& f, const std::vector<CleanBand>& bands, std::uint64_t min_count,
-                   const std::string& title, const std::string& path) {
-    const std::vector<std::uint64_t>& sub = f.counts[1];
-    const std::uint64_t largest = sub.empty() ? 0 : *std::max_element(sub.begin(), sub.end());
-    const std::uint64_t floor_count = std::max<std::uint64_t>({min_count, largest / 100, 1});
-    const bool fit = f.levels() > 2;
-    auto shown = [](double d) { return std::isnan(d) ? std::string("NaN") : std::to_string(std::clamp(d, 1.0, 4.0)); };
-    std::ostringstream data;
-    double lo = 1.8, hi = 3.05;
-    for (std::size_t j = 0; j < f.fd.size(); ++j) {
-        const bool low = sub[j] < floor_count;
-        const double d = f.fd[j];
-        if (!std::isnan(d)) lo = std::min(lo, std::clamp(d, 1.0, 4.0)), hi = std::max(hi, std::clamp(d, 1.0, 4.0));
-        data << iso_string(f.isovalues, j) << " " << (low ? "NaN" : shown(d)) << " " << (low ? shown(d) : "NaN") << " "
-             << f.counts[0][j] << " " << (fit ? shown(f.fd_fit[j]) : "NaN") << "\n";
-    }
-    std::ostringstream script;
-    script << "set terminal pngcairo size 900,560 font 'sans,11'\n"
-           << "set xlabel 'isovalue'\nset ylabel 'fractal " << (f.kind == SpanKind::cubes ? "box" : "edge")
-           << " span dimension D(s)'\nset y2label 'intersected " << (f.kind == SpanKind::cubes ? "cubes" : "edges")
-           << " I(s)'\nset y2tics\nset ytics nomirror\nset y2range [0:*]\n"
-           << "set yrange [" << lo - 0.05 << ":" << hi + 0.05 << "]\nset autoscale xfix\nset grid\n"
-           << "set key below horizontal maxrows 2 spacing 1.2\nset xlabel offset 0,0.3\n"
-           << "set title " << std::quoted(title) << " noenhanced\n"
-           << "set arrow from graph 0, first 2 to graph 1, first 2 nohead dt 2 lc rgb '#2e7d32' lw 1.5 front\n"
-           << "set arrow from graph 0, first 3 to graph 1, first 3 nohead dt 2 lc rgb '#c62828' lw 1.5 front\n";
-    for (const CleanBand& b : bands)
-        script << "set object rect from first " << f.isovalues.value(b.first) << ", graph 0 to first "
-               << f.isovalues.value(b.last) << ", graph 1 fc rgb '#c8e6c9' fs solid 0.6 noborder behind\n";
-    script << "plot '$DATA' using 1:4 axes x1y2 with filledcurves x1 fs solid 0.25 lc rgb '#9e9e9e' title 'I(s)', "
-           << "'' using 1:2 with lines lw 2 lc rgb '#1f5fa8' title 'D(s)', "
-           << "'' using 1:3 with points pt 7 ps 0.4 lc rgb '#9e9e9e' title 'D(s), few cubes', "
-           << (fit ? "'' using 1:5 with lines lw 1.5 dt 3 lc rgb '#6a1b9a' title 'fd\\_fit (all levels)', " : "")
-           << "NaN with lines dt 2 lc rgb '#2e7d32' title '2: clean surface', "
-           << "NaN with lines dt 2 lc rgb '#c62828' title '3: noise', "
-           << "NaN with boxes fs solid 0.6 lc rgb '#c8e6c9' title 'clean band'\n";
-    plot_png(script.str(), data.str(), path);
-}
 
 int cmd_fd(const FdArgs& a) {
     if (a.stream) {
@@ -289,7 +246,7 @@ int cmd_fd(const FdArgs& a) {
         write_file_atomic(a.json_path, j.dump(1) + "\n");
     }
     if (!a.plot.empty() && a.components)
-        write_components_plot(iso, comp.components, &f.fd,
+        write_components_plot(f, bands, comp.components, true,
                               std::filesystem::path(a.volume).filename().string() + ": FD and isosurface components",
                               a.plot);
     else if (!a.plot.empty())
@@ -573,6 +530,7 @@ int main(int argc, char** argv) {
     add_components_command(app, commands);
     add_survey_command(app, commands);
     cli::add_fd4_commands(app, commands);
+    cli::add_report_command(app, commands);
 
     try {
         app.parse(argc, argv);

@@ -14,6 +14,10 @@ void write_file_atomic(const std::string& path, const std::string& content);
 /// the PNG `path`. Throws InputError with a clear message when gnuplot is not installed.
 void plot_png(const std::string& script, const std::string& data, const std::string& path);
 
+/// The same, returning the PNG's bytes (drawn in a file of the system's temporary folder,
+/// removed again); `what` names the figure in errors.
+std::string plot_png_bytes(const std::string& script, const std::string& data, const std::string& what);
+
 /// The long names of the options that name an output file, in every subcommand.
 const std::vector<std::string>& output_option_names();
 

@@ -1,0 +1,155 @@
+// Independent checks of `clfractal report`:
+//   report_check curve VOLUME REPORT.json
+//     recomputes the curve with the plain references (test/reference: the span counts of
+//     levels 0 and 1 by the difference histogram, components by breadth-first search) and
+//     checks that the clean bands of the JSON are exactly the maximal runs of clean
+//     isovalues, that every recommended isovalue is clean (D <= clean_fd, I >= clean_share x
+//     the largest) with the JSON's counts, D and components, and that the noisiest
+//     well-populated isovalue is the largest D among the well-populated ones.
+//   report_check screenshot SHOT.png
+//     decodes a browser screenshot (libpng) and checks it is not blank: many distinct colours,
+//     a share of non-white pixels, and pixels of the LD colour map's blue and red ends.
+// Exit 0 when everything holds, 1 with one line per failure otherwise.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <set>
+
+#include "clfractal/render.hpp"
+#include "clfractal/volume_io.hpp"
+#include "reference/mesh_reference.hpp"
+#include "reference/span_reference.hpp"
+
+using namespace clfractal;
+using json = nlohmann::json;
+
+namespace {
+
+int failures = 0;
+void fail(const std::string& what) {
+    std::cout << "FAIL: " << what << "\n";
+    ++failures;
+}
+double number(const json& x) { return x.is_null() ? NAN : x.get<double>(); }
+
+int check_curve(const std::string& volume, const std::string& json_path) {
+    std::ifstream in(json_path);
+    const json j = json::parse(in);
+    const Volume v = read_volume(volume);
+    const IsovalueSet iso = IsovalueSet::for_volume(v, j["isovalues"]["count"].get<std::size_t>());
+    if (iso.size() != j["isovalues"]["count"].get<std::size_t>()) fail("isovalue count differs");
+    const std::vector<std::uint64_t> i0 = ref::cubes_histogram(v, iso), i1 = ref::cubes_histogram(ref::level(v, 1), iso);
+    const double max_fd = j["clean_fd"].get<double>(), share = j["clean_share"].get<double>();
+    const std::uint64_t largest = *std::max_element(i0.begin(), i0.end());
+    const double floor_count = std::max(1.0, share * double(largest));
+    std::vector<double> d(iso.size());
+    std::vector<char> clean(iso.size());
+    for (std::size_t k = 0; k < iso.size(); ++k) {
+        d[k] = i0[k] && i1[k] ? std::log2(double(i0[k]) / double(i1[k])) : NAN;
+        clean[k] = !std::isnan(d[k]) && d[k] <= max_fd && double(i0[k]) >= floor_count;
+    }
+    auto index_of = [&](double s) {
+        for (std::size_t k = 0; k < iso.size(); ++k)
+            if (iso.value(k) == s) return k;
+        fail("isovalue " + std::to_string(s) + " is not one of the curve's");
+        return std::size_t(0);
+    };
+
+    // The maximal runs of clean isovalues, as sets of (first, last).
+    std::set<std::pair<std::size_t, std::size_t>> runs, bands;
+    for (std::size_t k = 0; k < iso.size();) {
+        if (!clean[k]) {
+            ++k;
+            continue;
+        }
+        const std::size_t first = k;
+        while (k < iso.size() && clean[k]) ++k;
+        runs.insert({first, k - 1});
+    }
+    for (const json& b : j["clean_bands"]) {
+        const std::size_t first = index_of(b["first"].get<double>()), last = index_of(b["last"].get<double>());
+        bands.insert({first, last});
+        if (index_of(b["isovalue"].get<double>()) != first + (last - first) / 2)
+            fail("band " + std::to_string(first) + ".." + std::to_string(last) + ": the representative is not its middle");
+    }
+    if (runs != bands)
+        fail("clean bands: the JSON has " + std::to_string(bands.size()) + ", the reference curve " +
+             std::to_string(runs.size()) + " (or they differ)");
+
+    const json& rec = j["recommended"];
+    if (rec.size() != j["clean_bands"].size()) fail("one recommended isovalue per band expected");
+    std::size_t checked = 0;
+    auto check_point = [&](const json& r, const std::string& what) {
+        const std::size_t k = index_of(r["isovalue"].get<double>());
+        if (r["count"].get<std::uint64_t>() != i0[k]) fail(what + ": count differs from the reference");
+        if (r["count_sub"].get<std::uint64_t>() != i1[k]) fail(what + ": count_sub differs from the reference");
+        if (!(std::abs(number(r["fd"]) - d[k]) <= 1e-12)) fail(what + ": D differs from the reference");
+        const std::size_t below = ref::components(v, iso.value(k), false, ref::Adjacency::six);
+        const std::size_t above = ref::components(v, iso.value(k), true, ref::Adjacency::twenty_six);
+        const std::int64_t want = below && above ? std::int64_t(below + above) - 1 : 0;
+        if (r["components"].get<std::int64_t>() != want)
+            fail(what + ": components " + r["components"].dump() + ", breadth-first search " + std::to_string(want));
+        return k;
+    };
+    for (std::size_t i = 0; i < rec.size(); ++i) {
+        const std::string what = "recommended " + rec[i]["isovalue"].dump();
+        const std::size_t k = check_point(rec[i], what);
+        if (!clean[k])
+            fail(what + " is not clean: D " + std::to_string(d[k]) + ", I " + std::to_string(i0[k]) + " (floor " +
+                 std::to_string(floor_count) + ")");
+        else
+            ++checked;
+    }
+    // The noisiest well-populated isovalue.
+    std::size_t noisiest = iso.size();
+    for (std::size_t k = 0; k < iso.size(); ++k)
+        if (!std::isnan(d[k]) && double(i0[k]) >= floor_count && (noisiest == iso.size() || d[k] > d[noisiest]))
+            noisiest = k;
+    if (noisiest == iso.size() ? !j["noisiest"].is_null()
+                               : j["noisiest"].is_null() || check_point(j["noisiest"], "noisiest") != noisiest)
+        fail("noisiest well-populated isovalue differs from the reference");
+    std::cout << "curve: " << iso.size() << " isovalues, " << runs.size() << " clean runs, " << checked
+              << " recommended isovalues clean by the reference (largest I " << largest << ")";
+    if (noisiest < iso.size()) std::cout << ", noisiest " << iso.text(noisiest) << " at D " << d[noisiest];
+    std::cout << "\n";
+    return failures ? 1 : 0;
+}
+
+int check_screenshot(const std::string& path) {
+    const Image img = read_png(path);
+    std::set<std::uint32_t> colours;
+    std::size_t non_white = 0, blue = 0, red = 0;
+    for (std::size_t y = 0; y < img.height; ++y)
+        for (std::size_t x = 0; x < img.width; ++x) {
+            const auto p = img.pixel(x, y);
+            colours.insert(std::uint32_t(p[0]) << 16 | std::uint32_t(p[1]) << 8 | p[2]);
+            non_white += p[0] < 240 || p[1] < 240 || p[2] < 240;
+            blue += p[2] > 150 && p[0] < 90 && p[1] < 90;
+            red += p[0] > 150 && p[1] < 90 && p[2] < 90;
+        }
+    const double n = double(img.width * img.height), share = double(non_white) / n;
+    std::cout << "screenshot: " << img.width << "x" << img.height << ", " << colours.size() << " distinct colours, "
+              << 100 * share << "% non-white, " << blue << " blue and " << red << " red pixels\n";
+    if (colours.size() < 200) fail("fewer than 200 distinct colours: blank or unstyled");
+    if (share < 0.05) fail("less than 5% of the pixels are not white: blank");
+    if (blue < 500) fail("no LD-coloured picture (blue end) in the screenshot");
+    return failures ? 1 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        const std::string mode = argc > 1 ? argv[1] : "";
+        if (mode == "curve" && argc == 4) return check_curve(argv[2], argv[3]);
+        if (mode == "screenshot" && argc == 3) return check_screenshot(argv[2]);
+        std::cerr << "usage: report_check curve VOLUME REPORT.json | screenshot SHOT.png\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cout << "FAIL: " << e.what() << "\n";
+        return 1;
+    }
+}

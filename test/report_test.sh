@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# clfractal report end to end: the page and its JSON on a synthetic volume (and on a real
+# MRI in NIfTI when ../shared/data is there), checked by report_check.py (structure, inline
+# PNGs, no network, numbers equal to the JSON) and report_check (every recommended isovalue
+# clean by the plain reference curve); bad input fails with one line and leaves nothing.
+# usage: report_test.sh CLFRACTAL REPORT_CHECK PYTHON3 REPORT_CHECK_PY WORKDIR SHARED_DATA
+set -u
+cli=$1 check=$2 py=$3 check_py=$4 work=$5 data=$6
+here=$(dirname "$0")
+source "$here/cli_lib.sh"
+rm -rf "$work" && mkdir -p "$work"
+
+report() {  # report NAME VOLUME: report, then both checks
+  local name=$1 volume=$2
+  local out rc
+  out=$("$cli" -q report "$volume" -o "$work/$name.html" --json "$work/$name.json" 2>&1)
+  rc=$?
+  if [ $rc -ne 0 ]; then fail "report $volume exited $rc: $out"; return; fi
+  grep -q "wrote .*$name.html" <<<"$out" && pass || fail "report $volume: no 'wrote' line: $out"
+  "$py" "$check_py" "$work/$name.html" "$work/$name.json" && pass || fail "report_check.py $name"
+  "$check" curve "$volume" "$work/$name.json" && pass || fail "report_check curve $name"
+}
+
+# A noisy sphere: clean where the noise is small, rough where it grows (both views).
+report sphere synthetic:noisy-sphere:72
+"$py" - "$work/sphere.json" <<'PY' && pass || fail "sphere: expected a clean band and a noisiest view"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert len(j["recommended"]) >= 1 and j["noisiest"] is not None and len(j["views"]) == 2, j
+assert j["noisiest"]["fd"] > j["recommended"][0]["fd"]
+PY
+
+# A real MRI through the NIfTI reader (the path every command reads with).
+nifti="$data/formats/avg152T1_RL_nifti.nii.gz"
+if [ -f "$nifti" ]; then report mri "$nifti"; else echo "skip: $nifti not found"; fi
+
+# Bad input: one error line naming the file, exit 2, no output left behind.
+expect 2 "clfractal: error: .*no-such.nrrd" -- "$cli" -q report "$work/no-such.nrrd" -o "$work/bad.html"
+[ ! -e "$work/bad.html" ] && pass || fail "bad input left $work/bad.html"
+expect 2 "clfractal: error: .*missing-dir" -- "$cli" -q report synthetic:sphere:16 -o "$work/missing-dir/r.html"
+expect 2 "clfractal: error: .*--window" -- "$cli" -q report synthetic:sphere:16 -o "$work/w.html" --window 3
+[ ! -e "$work/w.html" ] && pass || fail "bad window left $work/w.html"
+
+echo "report: $passes passed, $failures failed"
+[ "$failures" -eq 0 ]

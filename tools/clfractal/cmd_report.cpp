@@ -1,0 +1,344 @@
+// clfractal report: one self-contained HTML page (no network, images inline) answering
+// "which isovalues are clean, and how noisy is my scan?" for one volume, and the same
+// numbers as JSON.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "clfractal/advice.hpp"
+#include "clfractal/components.hpp"
+#include "clfractal/fd.hpp"
+#include "clfractal/fd4.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/mesh.hpp"
+#include "clfractal/render.hpp"
+#include "cli.hpp"
+#include "output.hpp"
+#include "plots.hpp"
+#include "report_html.hpp"
+
+using namespace clfractal;
+using json = nlohmann::json;
+
+namespace cli {
+namespace {
+
+struct ReportArgs {
+    std::string volume, output, json_path;
+    double clean_fd = 2.2, clean_share = 0.01;
+    int window = 8;
+    std::size_t bins = 0;
+    RawArgs raw;
+};
+
+using clock_type = std::chrono::steady_clock;
+double seconds_since(clock_type::time_point t) {
+    return std::chrono::duration<double>(clock_type::now() - t).count();
+}
+
+// A number for JSON: null unless finite (JSON has no infinity).
+json finite_json(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+// One isovalue shown in pictures: its LD-coloured mesh and an axial slice.
+struct View {
+    std::string role;  ///< "best clean band", "noisiest well-populated"
+    std::size_t index = 0;
+    double isovalue = 0;
+    std::string mesh_png, slice_png;
+    json facts;
+};
+
+View make_view(Context& ctx, const Volume& v, const IsovalueSet& iso, std::size_t j, const std::string& role,
+               int window) {
+    View w;
+    w.role = role;
+    w.index = j;
+    w.isovalue = iso.value(j);
+    const std::string s = iso.text(j);
+    progress(role + " isovalue " + s + ": LD field, mesh, slice");
+    const Volume ld = local_fractal_dimension(ctx, v, w.isovalue, window);
+    const LocalSummary sum = summarize_local(ld);
+
+    Mesh mesh = extract_isosurface(v, w.isovalue);
+    color_by_ld(mesh, ld);
+    RenderOptions ro;
+    ro.width = 640, ro.height = 520;
+    const Image preview = render_mesh(mesh, ro);
+    mesh = Mesh();  // the pictures need only the image from here on
+    ImageFigure mf;
+    mf.image = &preview;
+    mf.title = role + ": LD-coloured isosurface (marching cubes, window " + std::to_string(window) + ")";
+    mf.label = "isovalue " + s;
+    w.mesh_png = image_figure(mf).png("report: mesh preview at " + s);
+
+    const std::size_t z = busiest_slice(v, w.isovalue);
+    const SliceView sv = render_slice(v, z, w.isovalue, &ld);
+    ImageFigure sf;
+    sf.image = &sv.image;
+    sf.dx = v.spacing[0], sf.dy = v.spacing[1];
+    sf.axes = true;
+    sf.xlabel = "x", sf.ylabel = "y";
+    sf.title = role + ": axial slice z = " + std::to_string(z) + ", LD overlaid where defined";
+    sf.label = "isovalue " + s + ", z = " + std::to_string(z);
+    sf.lines = sv.contour;
+    sf.line_title = "contour f = " + s;
+    w.slice_png = image_figure(sf).png("report: slice at " + s);
+
+    w.facts = {{"role", role},
+               {"isovalue", w.isovalue},
+               {"slice_z", z},
+               {"ld_defined", sum.defined},
+               {"ld_mean", fd_json(sum.defined ? sum.mean : NAN)},
+               {"ld_above_red", sum.above_red}};
+    return w;
+}
+
+// A row of numbers of the JSON: one <td> per pointer.
+std::string cells(const json& data, const std::vector<std::pair<std::string, int>>& pointers) {
+    std::string row;
+    for (const auto& [p, digits] : pointers) row += "<td>" + html::number(data, p, digits) + "</td>";
+    return row;
+}
+
+std::string build_html(const json& j, const std::string& fd_png, const std::string& comp_png,
+                       const std::vector<View>& views) {
+    using html::escape;
+    using html::number;
+    std::ostringstream b;
+    const std::string name = j["volume"]["file"].get<std::string>();
+    b << "<h1>clfractal report: " << escape(std::filesystem::path(name).filename().string()) << "</h1>\n"
+      << "<p class=\"note\">Isosurface fractal dimension for every isovalue (<i>The Nature of the Isosurface Fractal "
+         "Dimension</i>). D(s) about 2: a clean surface; towards 3: noise. Clean band: consecutive isovalues with "
+         "D(s) &le; "
+      << number(j, "/clean_fd", 4) << " on a surface of at least " << number(j, "/clean_share", 4)
+      << " &times; the largest.</p>\n";
+
+    std::ostringstream s_volume, s_answer, s_recommended, s_bands, s_fd, s_components, s_d4;
+    s_volume << "<section id=\"volume\"><h2>Volume</h2><table>\n"
+      << "<tr><th class=\"l\">file</th><td class=\"l\">" << escape(name) << "</td></tr>\n"
+      << "<tr><th class=\"l\">format</th><td class=\"l\">";
+    for (const auto& line : j["volume"]["format"]) s_volume << escape(line.get<std::string>()) << "<br>";
+    s_volume << "</td></tr>\n<tr><th class=\"l\">dims</th><td class=\"l\">" << number(j, "/volume/dims/0") << " &times; "
+      << number(j, "/volume/dims/1") << " &times; " << number(j, "/volume/dims/2") << " ("
+      << number(j, "/volume/vertices") << " vertices)</td></tr>\n"
+      << "<tr><th class=\"l\">type</th><td class=\"l\">" << escape(j["volume"]["type"].get<std::string>())
+      << "</td></tr>\n<tr><th class=\"l\">spacing</th><td class=\"l\">" << number(j, "/volume/spacing/0", 6) << " &times; "
+      << number(j, "/volume/spacing/1", 6) << " &times; " << number(j, "/volume/spacing/2", 6) << "</td></tr>\n"
+      << "<tr><th class=\"l\">values</th><td class=\"l\">" << number(j, "/volume/value_range/0", 8) << " .. "
+      << number(j, "/volume/value_range/1", 8) << "</td></tr>\n"
+      << "<tr><th class=\"l\">isovalues</th><td class=\"l\">" << number(j, "/isovalues/count") << " ("
+      << number(j, "/isovalues/first", 8) << " .. " << number(j, "/isovalues/last", 8) << ")</td></tr>\n"
+      << "</table></section>\n";
+
+    s_answer << "<section id=\"answer\"><h2>Answer</h2>\n";
+    if (j["recommended"].empty()) {
+        s_answer << "<p class=\"big\">No clean band: every well-populated isovalue is rough (D(s) above "
+          << number(j, "/clean_fd", 4) << ").</p>\n";
+    } else {
+        s_answer << "<p class=\"big\">Use isovalue " << number(j, "/recommended/0/isovalue", 8) << " (D = "
+          << number(j, "/recommended/0/fd", 4) << ", " << number(j, "/recommended/0/count") << " cubes, "
+          << number(j, "/recommended/0/components") << " components).</p>\n";
+    }
+    s_answer << "<p>Noise: ";
+    if (j["noise"]["amplitude"].is_null())
+        s_answer << "n/a (no well-populated isovalue has an edge dimension in the trusted range " << number(j, "/noise/trusted_edge_fd/0", 3)
+          << " .. " << number(j, "/noise/trusted_edge_fd/1", 3) << ")";
+    else
+        s_answer << "&plusmn;" << number(j, "/noise/amplitude", 4) << " grey values (uniform), r = noise / gradient "
+          << number(j, "/noise/ratio", 4) << ", median over " << number(j, "/noise/isovalues_used")
+          << " isovalues (Theorem 1 inverted)";
+    s_answer << ". 4D dimension D4 = " << number(j, "/d4", 5) << " (3: a smooth field, towards 4: noise).</p></section>\n";
+
+    s_recommended << "<section id=\"recommended\"><h2>Recommended isovalues</h2>\n"
+      << "<p class=\"note\">The middle isovalue of each clean band, best band first (widest, then largest "
+         "surface). noise ratio: r = &mu;/&gamma; from the edge dimension at that isovalue (Theorem 1 inverted).</p>\n"
+      << "<table><tr><th>isovalue</th><th>D(s)</th><th>cubes I(s)</th><th>components</th><th>edge D</th>"
+         "<th>noise ratio r</th></tr>\n";
+    for (std::size_t i = 0; i < j["recommended"].size(); ++i) {
+        const std::string p = "/recommended/" + std::to_string(i);
+        s_recommended << "<tr>"
+          << cells(j, {{p + "/isovalue", 8}, {p + "/fd", 4}, {p + "/count", 0}, {p + "/components", 0},
+                       {p + "/edge_fd", 4}, {p + "/noise_ratio", 3}})
+          << "</tr>\n";
+    }
+    s_recommended << "</table></section>\n";
+
+    s_bands << "<section id=\"bands\"><h2>Clean bands</h2>\n<table><tr><th>first</th><th>last</th><th>width</th>"
+         "<th>use</th><th>mean D</th><th>max D</th><th>largest I(s)</th></tr>\n";
+    for (std::size_t i = 0; i < j["clean_bands"].size(); ++i) {
+        const std::string p = "/clean_bands/" + std::to_string(i);
+        s_bands << "<tr>"
+          << cells(j, {{p + "/first", 8}, {p + "/last", 8}, {p + "/width", 0}, {p + "/isovalue", 8}, {p + "/mean_fd", 4},
+                       {p + "/max_fd", 4}, {p + "/max_count", 0}})
+          << "</tr>\n";
+    }
+    if (j["clean_bands"].empty()) s_bands << "<tr><td colspan=\"7\" class=\"l\">none</td></tr>\n";
+    s_bands << "</table></section>\n";
+
+    s_fd << "<section id=\"fd\"><h2>Fractal dimension D(s)</h2>\n"
+      << "<p>mean D " << number(j, "/fd/mean", 4) << ", std " << number(j, "/fd/std", 4) << ", count-weighted mean "
+      << number(j, "/fd/weighted_mean", 4) << " over " << number(j, "/fd/defined") << " isovalues. Noisiest well-populated "
+      << "isovalue: ";
+    if (j["noisiest"].is_null()) s_fd << "none";
+    else
+        s_fd << number(j, "/noisiest/isovalue", 8) << " (D = " << number(j, "/noisiest/fd", 4) << ", "
+          << number(j, "/noisiest/count") << " cubes, " << number(j, "/noisiest/components") << " components, r = "
+          << number(j, "/noisiest/noise_ratio", 3) << ")";
+    s_fd << ".</p>\n" << html::png_image(fd_png, "fractal dimension curve") << "</section>\n";
+
+    s_components << "<section id=\"components\"><h2>Isosurface components</h2>\n"
+      << html::png_image(comp_png, "component curve") << "</section>\n";
+
+    s_d4 << "<section id=\"d4\"><h2>4D dimension</h2>\n<p>D4 = " << number(j, "/d4", 5) << " from I4(G, q) = "
+      << number(j, "/fd4/i4_l0") << " and I4(G', 2q) = " << number(j, "/fd4/i4_l1") << ", bin width q = "
+      << number(j, "/fd4/q", 6) << ": one number for the whole field, no isovalue (3: smooth, towards 4: noise).</p>"
+      << "</section>\n";
+
+    std::vector<std::string> s_views;
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        std::ostringstream s_view;
+        const View& w = views[i];
+        const std::string p = "/views/" + std::to_string(i);
+        s_view << "<section id=\"view-" << i << "\" class=\"view\"><h2>" << escape(w.role) << ": isovalue "
+          << number(j, p + "/isovalue", 8) << "</h2>\n<p>LD defined at " << number(j, p + "/ld_defined")
+          << " vertices, mean LD " << number(j, p + "/ld_mean", 4) << ", share above 2.5 (red) "
+          << number(j, p + "/ld_above_red", 3) << ".</p>\n<div class=\"pair\"><figure>"
+          << html::png_image(w.mesh_png, w.role + " mesh") << "<figcaption>isosurface coloured by LD</figcaption>"
+          << "</figure><figure>" << html::png_image(w.slice_png, w.role + " slice")
+          << "<figcaption>axial slice " << number(j, p + "/slice_z")
+          << ", the contour in yellow, LD blended where defined</figcaption></figure></div></section>\n";
+        s_views.push_back(s_view.str());
+    }
+    // The answer and the pictures first (what a screenshot shows), the tables after.
+    b << s_volume.str() << s_answer.str() << "<div class=\"pair\">" << s_fd.str() << s_components.str() << "</div>\n";
+    if (!s_views.empty()) b << s_views[0];
+    b << s_recommended.str();
+    for (std::size_t i = 1; i < s_views.size(); ++i) b << s_views[i];
+    b << s_bands.str() << s_d4.str();
+    b << "<p class=\"note\">" << escape(j["device"].get<std::string>()) << "; " << number(j, "/seconds", 3)
+      << " s.</p>\n";
+    return html::page("clfractal report: " + name, b.str());
+}
+
+int run_report(const ReportArgs& a) {
+    const auto t0 = clock_type::now();
+    json j;
+    j["volume"]["file"] = a.volume;
+    j["volume"]["format"] = describe_volume_file(a.volume, a.raw.options());
+    Volume v = read_volume(a.volume, a.raw.options());
+    if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue");
+    const Dims d = v.dims();
+    const ValueRange range = value_range(v);
+    j["volume"]["dims"] = {d.nx, d.ny, d.nz};
+    j["volume"]["vertices"] = v.vertices();
+    j["volume"]["type"] = value_type_name(v.type());
+    j["volume"]["spacing"] = {v.spacing[0], v.spacing[1], v.spacing[2]};
+    j["volume"]["value_range"] = {range.min, range.max};
+    j["clean_fd"] = a.clean_fd;
+    j["clean_share"] = a.clean_share;
+
+    Context& ctx = Context::shared();
+    j["device"] = ctx.description();
+    const IsovalueSet iso = IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
+    j["isovalues"] = {{"count", iso.size()}, {"first", iso.value(0)}, {"last", iso.value(iso.size() - 1)}};
+    progress("report on " + dims_string(d) + " " + value_type_name(v.type()) + ", " + std::to_string(iso.size()) +
+             " isovalues, on " + ctx.description());
+
+    const FdCurve f = fd_curve(ctx, count_spans(ctx, v, iso), SpanKind::cubes);
+    const std::vector<CleanBand> bands = clean_bands(f, BandOptions{a.clean_fd, a.clean_share});
+    const FdSummary sum = summarize(f.fd, f.counts[0], f.counts[1]);
+    j["fd"] = {{"mean", fd_json(sum.mean)},
+               {"std", fd_json(sum.std)},
+               {"weighted_mean", fd_json(sum.weighted_mean)},
+               {"defined", sum.defined}};
+    j["clean_bands"] = bands_json(f, bands);
+    progress("components");
+    const ComponentCurve comp = count_components(ctx, v, iso, Connectivity::cube);
+    progress("noise estimate and 4D dimension");
+    const NoiseEstimate noise = estimate_noise(ctx, v, iso, a.clean_share);
+    j["noise"] = noise_json(noise);
+    const Fd4Result r4 = fractal_dimension_4d(ctx, v);
+    j["d4"] = fd_json(r4.d4);
+    j["fd4"] = {{"q", r4.q}, {"vmin", r4.vmin}, {"i4_l0", r4.i4}, {"i4_l1", r4.i4_sub}, {"d4", fd_json(r4.d4)}};
+
+    // One isovalue's numbers. The noise ratio is Theorem 1 inverted at the isovalue's edge
+    // dimension (0 at D_E <= 2), trusted inside [noise_fd_min, noise_fd_max] only.
+    auto point = [&](std::size_t k) {
+        const double de = noise.edge_fd[k];
+        return json{{"isovalue", iso.value(k)},
+                    {"fd", fd_json(f.fd[k])},
+                    {"count", f.counts[0][k]},
+                    {"count_sub", f.counts[1][k]},
+                    {"components", comp.components[k]},
+                    {"edge_fd", fd_json(de)},
+                    {"noise_ratio", finite_json(std::isnan(de) ? NAN : noise_ratio_from_edge_dimension(de))},
+                    {"noise_ratio_trusted", !std::isnan(de) && de >= noise_fd_min && de <= noise_fd_max}};
+    };
+    j["recommended"] = json::array();
+    for (const CleanBand& b : bands) j["recommended"].push_back(point(b.representative));
+    // The noisiest well-populated isovalue: the largest D(s) among the isovalues whose
+    // surface passes the clean bands' size floor.
+    const std::uint64_t largest = *std::max_element(f.counts[0].begin(), f.counts[0].end());
+    const double floor_count = std::max(1.0, a.clean_share * double(largest));
+    std::size_t noisiest = iso.size();
+    for (std::size_t k = 0; k < iso.size(); ++k)
+        if (!std::isnan(f.fd[k]) && double(f.counts[0][k]) >= floor_count &&
+            (noisiest == iso.size() || f.fd[k] > f.fd[noisiest]))
+            noisiest = k;
+    j["noisiest"] = noisiest < iso.size() ? point(noisiest) : json(nullptr);
+
+    progress("plots");
+    const std::string title = std::filesystem::path(a.volume).filename().string();
+    const CurveAxis axis = curve_axis(f, bands);
+    const std::string fd_png = curve_plot(axis, {fd_panel(f)}, title + ": mean FD " + fd_string(sum.mean).substr(0, 5))
+                                   .png("report: FD plot");
+    const std::string comp_png =
+        curve_plot(axis, {components_panel(comp.components)}, title + ": isosurface components (cube)")
+            .png("report: components plot");
+
+    std::vector<View> views;
+    if (!bands.empty()) views.push_back(make_view(ctx, v, iso, bands.front().representative, "best clean band", a.window));
+    if (noisiest < iso.size())
+        views.push_back(make_view(ctx, v, iso, noisiest, "noisiest well-populated", a.window));
+    j["views"] = json::array();
+    for (const View& w : views) j["views"].push_back(w.facts);
+    j["seconds"] = seconds_since(t0);
+
+    const std::string page = build_html(j, fd_png, comp_png, views);
+    write_file_atomic(a.output, page);
+    if (!a.json_path.empty()) write_file_atomic(a.json_path, j.dump(1) + "\n");
+
+    std::cout << "volume      " << a.volume << "  " << dims_string(d) << " " << value_type_name(v.type()) << "\n";
+    print_bands(std::cout, f, bands, a.clean_fd, a.clean_share);
+    print_noise(std::cout, noise);
+    std::cout << std::setprecision(4) << "D4          " << fd_string(r4.d4).substr(0, 6) << "\n"
+              << "wrote       " << a.output << " (" << page.size() / 1024 << " KiB, self-contained)"
+              << (a.json_path.empty() ? "" : " and " + a.json_path) << "\n"
+              << "time        " << j["seconds"].get<double>() << " s\n";
+    return 0;
+}
+
+}  // namespace
+
+void add_report_command(CLI::App& app, Commands& commands) {
+    auto a = std::make_shared<ReportArgs>();
+    CLI::App* c = app.add_subcommand("report", "one self-contained HTML page: curves, clean bands, noise, D4, pictures");
+    c->add_option("VOLUME", a->volume, "a volume file or synthetic:NAME[:N]")->required();
+    c->add_option("-o,--output", a->output, "the HTML page to write")->required();
+    c->add_option("--json", a->json_path, "write the same numbers as JSON");
+    c->add_option("--bins", a->bins, "number of uniform isovalues for float data (default 256)");
+    c->add_option("--clean-fd", a->clean_fd, "clean bands: D(s) at most this")->capture_default_str();
+    c->add_option("--clean-share", a->clean_share, "clean bands: I(s) at least this share of the largest")
+        ->capture_default_str();
+    add_window_option(c, a->window, "LD window k of the pictures");
+    a->raw.add(c);
+    commands.push_back({c, [a] { return run_report(*a); }});
+}
+
+}  // namespace cli

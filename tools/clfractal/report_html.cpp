@@ -1,0 +1,63 @@
+#include "report_html.hpp"
+
+#include <gdcmBase64.h>
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace cli::html {
+
+std::string escape(const std::string& text) {
+    std::string out;
+    out.reserve(text.size());
+    for (char c : text) switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            case '\'': out += "&#39;"; break;
+            default: out += c;
+        }
+    return out;
+}
+
+std::string base64(const std::string& bytes) {
+    const std::size_t n = gdcm::Base64::GetEncodeLength(bytes.data(), bytes.size());
+    std::string out(n, '\0');
+    if (gdcm::Base64::Encode(out.data(), out.size(), bytes.data(), bytes.size()) != n)
+        throw std::runtime_error("base64: the encoder wrote an unexpected length");
+    return out;
+}
+
+std::string png_image(const std::string& png, const std::string& alt) {
+    return "<img src=\"data:image/png;base64," + base64(png) + "\" alt=\"" + escape(alt) + "\">";
+}
+
+std::string number(const nlohmann::json& data, const std::string& pointer, int digits) {
+    const nlohmann::json& x = data.at(nlohmann::json::json_pointer(pointer));
+    const std::string open = "<span class=\"num\" data-json=\"" + escape(pointer) + "\"";
+    if (x.is_null()) return open + ">n/a</span>";
+    if (x.is_number_integer()) return open + ">" + x.dump() + "</span>";
+    if (!x.is_number()) throw std::logic_error("report: " + pointer + " is not a number");
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, x.get<double>());
+    return open + " data-digits=\"" + std::to_string(digits) + "\">" + buf + "</span>";
+}
+
+std::string page(const std::string& title, const std::string& body) {
+    return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + escape(title) +
+           "</title>\n<style>\n"
+           "body{font-family:sans-serif;max-width:1120px;margin:1.5em auto;padding:0 1em;color:#212121;"
+           "background:#fff;line-height:1.4}\n"
+           "h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:2px solid #1f5fa8;padding-bottom:.15em;"
+           "margin-top:1.6em}\n"
+           "table{border-collapse:collapse;margin:.6em 0}td,th{border:1px solid #ccc;padding:.25em .6em;"
+           "text-align:right}th{background:#eef3f9}td.l,th.l{text-align:left}\n"
+           "img{max-width:100%;height:auto;border:1px solid #ddd}.pair{display:flex;gap:1em;flex-wrap:wrap}"
+           ".pair figure,.pair>section{flex:1 1 520px;margin:0;min-width:0}figcaption{font-size:.9em;color:#555}\n"
+           ".note{color:#555;font-size:.92em}.big{font-size:1.25em;font-weight:bold}\n"
+           "</style>\n</head>\n<body>\n" +
+           body + "</body>\n</html>\n";
+}
+
+}  // namespace cli::html
