@@ -118,7 +118,7 @@ Figure curve_plot(const CurveAxis& axis, const std::vector<CurvePanel>& panels, 
         script << "unset arrow\nunset object\nunset logscale\n"
                << "set xlabel 'isovalue' offset 0,0.3\nset ylabel '" << c.ylabel << "'\nset y2label '" << axis.count_label
                << "'\nset y2tics\nset ytics nomirror\nset y2range [0:*]\nset autoscale xfix\nset grid\n"
-               << "set key below horizontal maxrows 2 spacing 1.2\n"
+               << "set key below horizontal maxrows 2 spacing 1.2\nset lmargin 11\nset rmargin 12\n"
                << "set title " << std::quoted(panels.size() > 1 ? std::string() : title) << " noenhanced\n";
         if (c.log_scale) {
             script << "set logscale y\nset yrange [" << (std::isnan(c.range_lo) ? std::string("*") : number(c.range_lo))
