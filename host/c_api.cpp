@@ -13,6 +13,7 @@
 #include <string>
 
 #include "clfractal/fd.hpp"
+#include "clfractal/fd4.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
@@ -354,6 +355,15 @@ clf_status clf_local_dimension(clf_context* ctx, const clf_volume* volume, doubl
         require(ctx && volume && out, "clf_local_dimension: context, volume or out is NULL");
         Volume ld = local_fractal_dimension(*ctx->ctx, volume->volume, iso, window);
         std::memcpy(out, ld.data(), ld.size_bytes());
+    });
+}
+
+clf_status clf_fd4_compute(clf_context* ctx, const clf_volume* volume, double q, clf_fd4* out) {
+    return guarded([&] {
+        require(ctx && volume && out, "clf_fd4_compute: context, volume or out is NULL");
+        require(std::isfinite(q) && q >= 0, "clf_fd4_compute: q must be 0 (the default) or a finite number > 0");
+        const Fd4Result r = fractal_dimension_4d(*ctx->ctx, volume->volume, q);
+        *out = clf_fd4{r.q, r.vmin, r.i4, r.i4_sub, r.d4};
     });
 }
 

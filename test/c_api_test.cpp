@@ -11,6 +11,7 @@
 #include "clfractal/clfractal.h"
 #include "clfractal/fd.hpp"
 #include "clfractal/local.hpp"
+#include "reference/fd4_reference.hpp"
 #include "reference/span_reference.hpp"
 #include "test_util.hpp"
 
@@ -358,6 +359,51 @@ TEST_CASE("every C entry point checks handles, enums and ranges; clf_last_error 
     clf_curve_destroy(curve);
     clf_volume_destroy(cv);
     CHECK(std::string(clf_last_error()).empty());
+}
+
+TEST_CASE("D4 through the C ABI equals the definition count for count, every type; bad q is refused") {
+    CContext cc;
+    const ValueType types[] = {ValueType::uint8, ValueType::int8,  ValueType::uint16,  ValueType::int16,
+                               ValueType::int32, ValueType::uint32, ValueType::float32, ValueType::float64};
+    std::uint32_t seed = 40;
+    for (ValueType t : types) {
+        for (const Dims& d : {Dims{9, 7, 5}, Dims{2, 2, 2}, Dims{17, 3, 11}}) {
+            CAPTURE(value_type_name(t));
+            CAPTURE(d.nx);
+            const Volume v = testutil::random_volume(d, t, 0, 90, ++seed);
+            clf_volume* cv = nullptr;
+            REQUIRE(clf_volume_create(v.data(), d.nx, d.ny, d.nz, c_type(t), &cv) == CLF_OK);
+            for (double q : {0.0, 3.0, 0.75}) {
+                CAPTURE(q);
+                clf_fd4 r{};
+                REQUIRE(clf_fd4_compute(cc.c, cv, q, &r) == CLF_OK);
+                CHECK(std::string(clf_last_error()).empty());
+                const double want_q = q ? q : ref::default_q(v);
+                const ref::Fd4 want = ref::fd4(v, want_q);
+                CHECK(r.q == want_q);
+                CHECK(r.i4_l0 == want.i4);
+                CHECK(r.i4_l1 == want.i4_sub);
+                CHECK(same_double(r.d4, want.d4));
+            }
+            clf_volume_destroy(cv);
+        }
+    }
+    const Volume v = testutil::random_volume(Dims{5, 5, 5}, ValueType::uint8, 0, 200, 3);
+    clf_volume* cv = nullptr;
+    REQUIRE(clf_volume_create(v.data(), 5, 5, 5, CLF_UINT8, &cv) == CLF_OK);
+    clf_fd4 r{};
+    for (double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+        CAPTURE(bad);
+        CHECK(clf_fd4_compute(cc.c, cv, bad, &r) == CLF_ERROR_INPUT);
+        CHECK(std::string(clf_last_error()).find("q") != std::string::npos);
+    }
+    CHECK(clf_fd4_compute(cc.c, cv, 1e-300, &r) == CLF_ERROR_INPUT);  // the bins would overflow
+    CHECK(!std::string(clf_last_error()).empty());
+    CHECK(clf_fd4_compute(nullptr, cv, 0, &r) == CLF_ERROR_INPUT);
+    CHECK(clf_fd4_compute(cc.c, nullptr, 0, &r) == CLF_ERROR_INPUT);
+    CHECK(clf_fd4_compute(cc.c, cv, 0, nullptr) == CLF_ERROR_INPUT);
+    CHECK(std::string(clf_last_error()).find("NULL") != std::string::npos);
+    clf_volume_destroy(cv);
 }
 
 }  // TEST_SUITE

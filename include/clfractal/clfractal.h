@@ -167,6 +167,21 @@ clf_status clf_stream_curve(const clf_stream* stream, int kind, clf_curve** out)
  * thesis' choice) into `out` (nx * ny * nz floats, NaN where undefined). */
 clf_status clf_local_dimension(clf_context* ctx, const clf_volume* volume, double iso, int window, float* out);
 
+/* ---- 4D fractal dimension (thesis 6.4): one number per volume, no isovalue ---- */
+
+typedef struct clf_fd4 {
+    double q;       /* bin width at level 0 (G' uses 2q) */
+    double vmin;    /* bin origin: the smallest value of the volume */
+    uint64_t i4_l0; /* I4(G, q) */
+    uint64_t i4_l1; /* I4(G', 2q) */
+    double d4;      /* log2(i4_l0 / i4_l1); NaN where either is 0 */
+} clf_fd4;
+
+/* D4 of `volume` with bin width `q` (0: the default, 1 for integer data and
+ * (vmax - vmin) / 256 for float data). A q that is not finite, negative, or so small that
+ * the bins overflow is CLF_ERROR_INPUT. */
+clf_status clf_fd4_compute(clf_context* ctx, const clf_volume* volume, double q, clf_fd4* out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -33,7 +33,7 @@ from . import _clfractal
 __version__ = "0.1.0"
 
 __all__ = [
-    "VALUE_TYPES", "FdCurve", "fd_curve", "local_fd", "components", "median", "gaussian",
+    "VALUE_TYPES", "FdCurve", "fd_curve", "local_fd", "fd4", "components", "median", "gaussian",
     "bilateral", "targeted_filter", "smooth", "mesh", "noise_dimension", "read_volume",
     "devices", "device_description",
 ]
@@ -195,6 +195,20 @@ def local_fd(volume, iso: float, window: int = 8, device: str | None = None) -> 
     """
     a, type_name = _volume(volume)
     return _array(_clfractal.local_fd(a, type_name, float(iso), int(window), device))
+
+
+def fd4(volume, q: float = 0.0, device: str | None = None) -> dict:
+    """The 4D fractal dimension of the graph of the volume (thesis 6.4): one number, no isovalue.
+
+    A cube with span ``[a, b]`` meets ``floor((b - vmin)/q) - floor((a - vmin)/q) + 1`` bins of
+    width ``q`` (``vmin`` the smallest value); ``I4(G, q)`` sums them over the cubes of the grid,
+    ``I4(G', 2q)`` over those of level 1 with bins twice as wide, and ``D4 = log2(I4(G, q) /
+    I4(G', 2q))`` (NaN where either is 0): 3 for a smooth field, towards 4 for noise. ``q = 0``:
+    1 for integer data, ``(vmax - vmin) / 256`` for float data. Returns ``{"q", "vmin",
+    "i4_l0", "i4_l1", "d4"}``, the keys of ``clfractal fd4 --json``.
+    """
+    a, type_name = _volume(volume)
+    return dict(_clfractal.fd4(a, type_name, float(q), device))
 
 
 def components(volume, connectivity: str = "cube", isovalues=None, bins: int = 256,

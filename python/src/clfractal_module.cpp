@@ -28,6 +28,7 @@
 #include "clfractal/components.hpp"
 #include "clfractal/device.hpp"
 #include "clfractal/fd.hpp"
+#include "clfractal/fd4.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
@@ -257,6 +258,16 @@ nb::tuple local_fd_call(const InArray& a, const std::string& type, double iso, i
     return volume_out(on_device(device, [&](Context& ctx) { return local_fractal_dimension(ctx, v, iso, window); }));
 }
 
+nb::dict fd4_call(const InArray& a, const std::string& type, double q, const std::optional<std::string>& device) {
+    Volume v = to_volume(a, type);
+    const Fd4Result r = on_device(device, [&](Context& ctx) { return fractal_dimension_4d(ctx, v, q); });
+    return make_dict({{"q", nb::cast(r.q)},
+                      {"vmin", nb::cast(r.vmin)},
+                      {"i4_l0", nb::cast(r.i4)},
+                      {"i4_l1", nb::cast(r.i4_sub)},
+                      {"d4", nb::cast(r.d4)}});
+}
+
 nb::tuple components_call(const InArray& a, const std::string& type, const std::string& connectivity,
                           const std::optional<std::vector<double>>& isovalues, std::size_t bins,
                           const std::optional<std::string>& device) {
@@ -398,6 +409,7 @@ NB_MODULE(_clfractal, m) {
     m.def("fd_curve", &fd_curve_call, "volume"_a, "type"_a, "kind"_a, "levels"_a, "isovalues"_a.none(), "bins"_a,
           "min_count"_a, "device"_a.none());
     m.def("local_fd", &local_fd_call, "volume"_a, "type"_a, "iso"_a, "window"_a, "device"_a.none());
+    m.def("fd4", &fd4_call, "volume"_a, "type"_a, "q"_a, "device"_a.none());
     m.def("components", &components_call, "volume"_a, "type"_a, "connectivity"_a, "isovalues"_a.none(), "bins"_a,
           "device"_a.none());
     m.def("filter", &filter_call, "volume"_a, "type"_a, "method"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a,

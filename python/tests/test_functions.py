@@ -1,5 +1,7 @@
 """Every function of the package against independent NumPy/SciPy references (references.py)
 and against the C++ results of the command-line tool on the same data."""
+import json
+
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -115,6 +117,40 @@ def test_components_match_labelling(volume, connectivity, cli, tmp_path):
     np.testing.assert_array_equal(some, counts[1::5])
     with pytest.raises(ValueError, match="connectivity|freudenthal"):
         clfractal.components(volume, connectivity="face")
+
+
+# ------------------------------------------------------------------ fd4
+
+def fd4_reference(v, q):
+    """I4 and D4 from the definition: the bins every cube's span meets, at levels 0 and 1."""
+    vmin = float(v.min())
+
+    def i4(w, width):
+        lo, hi = ref.cube_spans(w.astype(np.float64))
+        return int(np.sum(np.floor((hi - vmin) / width) - np.floor((lo - vmin) / width) + 1))
+
+    i0, i1 = i4(v, q), i4(ref.level(v, 1), 2 * q)
+    return i0, i1, (np.log2(i0 / i1) if i0 and i1 else float("nan"))
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int16, np.float32, np.float64])
+def test_fd4_matches_definition_and_cli(dtype, cli, tmp_path):
+    v = noisy_sphere((13, 10, 17), dtype, seed=7)
+    for q in (0.0, 2.5):
+        r = clfractal.fd4(v, q=q)
+        want_q = q or (1.0 if np.issubdtype(v.dtype, np.integer) else (float(v.max()) - float(v.min())) / 256)
+        assert r["q"] == want_q and r["vmin"] == float(v.min())
+        i0, i1, d4 = fd4_reference(v, r["q"])
+        assert (r["i4_l0"], r["i4_l1"]) == (i0, i1)
+        assert r["d4"] == pytest.approx(d4, rel=1e-12)
+        assert 2.5 < r["d4"] < 4.0
+    out = tmp_path / "fd4.json"
+    cli("fd4", write_raw(tmp_path, "v", v), "--json", out)
+    j = json.loads(out.read_text())
+    r = clfractal.fd4(v)
+    assert (j["i4_l0"], j["i4_l1"], j["q"]) == (r["i4_l0"], r["i4_l1"], r["q"])
+    with pytest.raises(ValueError, match="q"):
+        clfractal.fd4(v, q=-1.0)
 
 
 # ------------------------------------------------------------------ local_fd
