@@ -34,6 +34,12 @@ PY
 nifti="$data/formats/avg152T1_RL_nifti.nii.gz"
 if [ -f "$nifti" ]; then report mri "$nifti"; else echo "skip: $nifti not found"; fi
 
+# Degenerate grids (no cube; one value everywhere): a page that says so, still checked.
+printf '\x00\x10' > "$work/line_2x1x1_uint8.raw"
+head -c 210 /dev/zero | tr '\0' '\003' > "$work/const_7x6x5_uint8.raw"
+report line "$work/line_2x1x1_uint8.raw"
+report const "$work/const_7x6x5_uint8.raw"
+
 # Bad input: one error line naming the file, exit 2, no output left behind.
 expect 2 "clfractal: error: .*no-such.nrrd" -- "$cli" -q report "$work/no-such.nrrd" -o "$work/bad.html"
 [ ! -e "$work/bad.html" ] && pass || fail "bad input left $work/bad.html"

@@ -146,7 +146,9 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
     }
     s_answer << "<p>Noise: ";
     if (j["noise"]["amplitude"].is_null())
-        s_answer << "n/a (no well-populated isovalue has an edge dimension in the trusted range " << number(j, "/noise/trusted_edge_fd/0", 3)
+        s_answer << number(j, "/noise/amplitude")
+                 << " (no well-populated isovalue has an edge dimension in the trusted range "
+                 << number(j, "/noise/trusted_edge_fd/0", 3)
           << " .. " << number(j, "/noise/trusted_edge_fd/1", 3) << ")";
     else
         s_answer << "&plusmn;" << number(j, "/noise/amplitude", 4) << " grey values (uniform), r = noise / gradient "
@@ -284,7 +286,7 @@ int run_report(const ReportArgs& a) {
     for (const CleanBand& b : bands) j["recommended"].push_back(point(b.representative));
     // The noisiest well-populated isovalue: the largest D(s) among the isovalues whose
     // surface passes the clean bands' size floor.
-    const std::uint64_t largest = *std::max_element(f.counts[0].begin(), f.counts[0].end());
+    const std::uint64_t largest = iso.size() ? *std::max_element(f.counts[0].begin(), f.counts[0].end()) : 0;
     const double floor_count = std::max(1.0, a.clean_share * double(largest));
     std::size_t noisiest = iso.size();
     for (std::size_t k = 0; k < iso.size(); ++k)
@@ -317,7 +319,8 @@ int run_report(const ReportArgs& a) {
     std::cout << "volume      " << a.volume << "  " << dims_string(d) << " " << value_type_name(v.type()) << "\n";
     print_bands(std::cout, f, bands, a.clean_fd, a.clean_share);
     print_noise(std::cout, noise);
-    std::cout << std::setprecision(4) << "D4          " << fd_string(r4.d4).substr(0, 6) << "\n"
+    std::cout << std::setprecision(4) << "D4          " << (std::isnan(r4.d4) ? "n/a" : fd_string(r4.d4).substr(0, 6))
+              << "\n"
               << "wrote       " << a.output << " (" << page.size() / 1024 << " KiB, self-contained)"
               << (a.json_path.empty() ? "" : " and " + a.json_path) << "\n"
               << "time        " << j["seconds"].get<double>() << " s\n";

@@ -120,15 +120,17 @@ Figure curve_plot(const CurveAxis& axis, const std::vector<CurvePanel>& panels, 
                << "'\nset y2tics\nset ytics nomirror\nset y2range [0:*]\nset autoscale xfix\nset grid\n"
                << "set key below horizontal maxrows 2 spacing 1.2\nset lmargin 11\nset rmargin 12\n"
                << "set title " << std::quoted(panels.size() > 1 ? std::string() : title) << " noenhanced\n";
+        const bool empty = !(lo[p] <= hi[p]);  // nothing to draw: a fixed range (gnuplot cannot autoscale)
         if (c.log_scale) {
             script << "set logscale y\nset yrange [" << (std::isnan(c.range_lo) ? std::string("*") : number(c.range_lo))
-                   << ":*]\n";
+                   << (empty ? ":10]\n" : ":*]\n");
         } else if (!std::isnan(c.range_lo)) {
             const double a = std::min(c.range_lo, lo[p]), b = std::max(c.range_hi, hi[p]);
             script << "set yrange [" << number(a - 0.05) << ":" << number(b + 0.05) << "]\n";
         } else {
-            script << "set yrange [*:*]\n";
+            script << (empty ? "set yrange [0:1]\n" : "set yrange [*:*]\n");
         }
+        if (std::all_of(axis.count.begin(), axis.count.end(), [](std::uint64_t c) { return c == 0; })) script << "set y2range [0:1]\n";
         for (const Guide& g : c.guides)
             script << "set arrow from graph 0, first " << g.value << " to graph 1, first " << g.value
                    << " nohead dt 2 lc rgb '" << g.colour << "' lw 1.5 front\n";
