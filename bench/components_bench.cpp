@@ -19,6 +19,7 @@
 #include <iomanip>
 #include <iostream>
 
+#include "bench_harness.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/synthetic.hpp"
 
@@ -46,17 +47,18 @@ Volume uint16_case(std::size_t n) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"component curve: two union-find sweeps vs per-isovalue labelling"};
+    BenchCli cli{"component curve: two union-find sweeps vs per-isovalue labelling", 1};
+    CLI::App& app = cli.app;
+    const int& repeats = cli.repeats;
     std::vector<std::size_t> sizes, sizes16;
-    int samples = 8, repeats = 1;
+    int samples = 8;
     std::string connectivity = "cube", json_path;
-    app.add_option("--size", sizes, "uint8 noisy-sphere N^3 (repeatable; default 128 256 512)");
-    app.add_option("--uint16-size", sizes16, "uint16 N^3 (repeatable; default 256)");
-    app.add_option("--bfs-isovalues", samples, "isovalues timed with labelling (default 8)");
-    app.add_option("--connectivity", connectivity, "cube (default) or freudenthal");
-    app.add_option("--repeats", repeats, "best of R sweeps (default 1)");
+    app.add_option("--size", sizes, "uint8 noisy-sphere N^3 (repeatable; none of both: 128 256 512)");
+    app.add_option("--uint16-size", sizes16, "uint16 N^3 (repeatable; none of both: 256)");
+    app.add_option("--bfs-isovalues", samples, "isovalues timed with labelling");
+    app.add_option("--connectivity", connectivity, "cube or freudenthal");
     app.add_option("--json", json_path, "also write the figures as JSON");
-    CLI11_PARSE(app, argc, argv);
+    if (const int rc = cli.parse(argc, argv); rc >= 0) return rc;
     if (sizes.empty() && sizes16.empty()) sizes = {128, 256, 512}, sizes16 = {256};
     const Connectivity mode = parse_connectivity(connectivity);
     Context& ctx = Context::shared();
@@ -118,7 +120,8 @@ int main(int argc, char** argv) {
                  " {f >= s} per isovalue, timed on "
               << samples << " isovalues and extrapolated to all of them; ratio > 1: the sweep is faster)\n";
     if (!json_path.empty()) {
-        nlohmann::json j{{"device", ctx.description()}, {"connectivity", connectivity_name(mode)}, {"cases", rows}};
+        nlohmann::json j = bench_header(ctx, repeats);
+        j.update({{"connectivity", connectivity_name(mode)}, {"cases", rows}});
         std::ofstream(json_path) << j.dump(1) << "\n";
     }
     return all_equal ? 0 : 1;

@@ -17,7 +17,7 @@
 #include <fstream>
 #include <iostream>
 
-#include "clfractal/bench.hpp"
+#include "bench_harness.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/synthetic.hpp"
@@ -41,27 +41,28 @@ json volume_json(const Volume& v, const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"filter throughput: median, Gaussian, fractal-targeted median"};
+    BenchCli cli{"filter throughput: median, Gaussian, fractal-targeted median", 3};
+    CLI::App& app = cli.app;
+    const int& repeats = cli.repeats;
     std::size_t size = 256;
     double sigma = 1, iso = 128, threshold = 2.5;
-    int repeats = 3, window = 8;
+    int window = 8;
     std::vector<std::string> volumes;
     std::string out;
-    app.add_option("--size", size, "N of the N^3 synthetic cases (default 256)");
-    app.add_option("--sigma", sigma, "Gaussian sigma (default 1)");
-    app.add_option("--iso", iso, "isovalue of the targeted filter (default 128; float case: the same)");
-    app.add_option("--threshold", threshold, "LD threshold h of the targeted filter (default 2.5)");
-    app.add_option("--window", window, "LD window (default 8)");
-    app.add_option("--repeats", repeats, "best of this many runs after a warm-up (default 3)");
+    app.add_option("--size", size, "N of the N^3 synthetic cases");
+    app.add_option("--sigma", sigma, "Gaussian sigma");
+    app.add_option("--iso", iso, "isovalue of the targeted filter (float case: the same)");
+    app.add_option("--threshold", threshold, "LD threshold h of the targeted filter");
+    app.add_option("--window", window, "LD window");
     app.add_option("--volume", volumes, "a real volume: median timed and written (repeatable)");
     app.add_option("--out", out, "directory for inputs and outputs (raw)");
-    CLI11_PARSE(app, argc, argv);
+    if (const int rc = cli.parse(argc, argv); rc >= 0) return rc;
 
     try {
         Context& ctx = Context::shared();
-        json report{{"device", ctx.description()}, {"repeats", repeats}, {"sigma", sigma},
-                    {"gaussian_radius", FilterSpec::gaussian(sigma).radius()}, {"iso", iso},
-                    {"threshold", threshold}, {"window", window}};
+        json report = bench_header(ctx, repeats);
+        report.update({{"sigma", sigma}, {"gaussian_radius", FilterSpec::gaussian(sigma).radius()}, {"iso", iso},
+                       {"threshold", threshold}, {"window", window}});
         const double compile0 = ctx.compile_seconds();
         if (!out.empty()) std::filesystem::create_directories(out);
         json rows = json::array();

@@ -17,7 +17,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "clfractal/bench.hpp"
+#include "bench_harness.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/sat.hpp"
 #include "clfractal/synthetic.hpp"
@@ -42,23 +42,21 @@ double max_difference(const Volume& a, const Volume& b) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"local fractal dimension throughput: device vs OpenMP"};
+    BenchCli cli{"local fractal dimension throughput: device vs OpenMP", 3};
+    CLI::App& app = cli.app;
+    const int& repeats = cli.repeats;
     std::vector<std::size_t> sizes{256};
-    int window = 8, repeats = 3;
+    int window = 8;
     std::string out;
-    app.add_option("--size", sizes, "N of the N^3 cases (repeatable; default 256)");
-    app.add_option("--window", window, "window k (default 8)");
-    app.add_option("--repeats", repeats, "best of this many runs after a warm-up (default 3)");
+    app.add_option("--size", sizes, "N of the N^3 cases (repeatable)");
+    app.add_option("--window", window, "window k");
     app.add_option("--out", out, "directory for the case volumes and device fields (NRRD)");
-    CLI11_PARSE(app, argc, argv);
+    if (const int rc = cli.parse(argc, argv); rc >= 0) return rc;
 
     try {
         Context& ctx = Context::shared();
-        nlohmann::json report{{"device", ctx.description()},
-                              {"openmp_threads", omp_get_max_threads()},
-                              {"window", window},
-                              {"repeats", repeats},
-                              {"copy_gb_per_s", measure_copy_bandwidth(ctx)}};
+        nlohmann::json report = bench_header(ctx, repeats);
+        report.update({{"window", window}, {"copy_gb_per_s", measure_copy_bandwidth(ctx)}});
         const double compile0 = ctx.compile_seconds();
         nlohmann::json rows = nlohmann::json::array();
         nlohmann::json scans = nlohmann::json::array();

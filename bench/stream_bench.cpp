@@ -21,6 +21,7 @@
 #include <iostream>
 #include <vector>
 
+#include "bench_harness.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
 
@@ -58,16 +59,17 @@ double since(clock_type::time_point t) { return std::chrono::duration<double>(cl
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"slice streaming vs in-core span counting"};
+    BenchCli cli{"slice streaming vs in-core span counting", 1};
+    CLI::App& app = cli.app;
+    const int& repeats = cli.repeats;
     std::size_t n = 512;
-    int levels = 2, repeats = 1;
+    int levels = 2;
     std::string mode = "both", write;
-    app.add_option("--size", n, "N of the generated N^3 uint8 volume (default 512)");
-    app.add_option("--levels", levels, "pyramid levels (default 2)");
+    app.add_option("--size", n, "N of the generated N^3 uint8 volume");
+    app.add_option("--levels", levels, "pyramid levels");
     app.add_option("--mode", mode, "both | stream | incore")->check(CLI::IsMember({"both", "stream", "incore"}));
-    app.add_option("--repeats", repeats, "best of this many runs of each phase (default 1)");
     app.add_option("--write", write, "write the volume to this raw file instead of counting");
-    CLI11_PARSE(app, argc, argv);
+    if (const int rc = cli.parse(argc, argv); rc >= 0) return rc;
     if (n < 2) {
         std::cerr << "--size must be at least 2\n";
         return 2;

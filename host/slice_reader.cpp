@@ -130,6 +130,7 @@ struct SliceReader::Impl {
                              std::to_string(expected) + " bytes (" + dims_string(dims) + " " + value_type_name(file_type) +
                              "), found " + std::to_string(found));
         swap = raw.big_endian != host_big_endian;
+        spacing = raw.spacing;
         data_path = spec;
         method = "mmap";
     }

@@ -223,6 +223,7 @@ Volume read_raw(const std::string& path, const RawOptions& opt) {
                          std::to_string(found));
 
     Volume v(*dims, *type, path);
+    v.spacing = opt.spacing;
     std::ifstream in(path, std::ios::binary);
     in.read(static_cast<char*>(v.data()), static_cast<std::streamsize>(expected));
     if (!in || static_cast<std::uintmax_t>(in.gcount()) != expected)

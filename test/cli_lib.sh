@@ -15,3 +15,8 @@ expect() {
   if ! grep -qE -- "$pattern" <<<"$out"; then fail "'$*' output does not match '$pattern': $out"; return; fi
   pass
 }
+
+# enter_workdir DIR: a fresh, empty DIR as the working directory.
+enter_workdir() {
+  rm -rf "$1" && mkdir -p "$1" && cd "$1" || exit 1
+}

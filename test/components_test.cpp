@@ -306,11 +306,8 @@ TEST_CASE("Pearson correlation against a plain two-pass computation") {
 TEST_SUITE("realdata") {
 
 TEST_CASE("components: sweep equals the labelling identity at every isovalue on small real volumes") {
-    const std::string dir = testutil::shared_data();
-    if (dir.empty()) {
-        MESSAGE("shared data not found: skipped");
-        return;
-    }
+    const std::string dir = testutil::shared_data_or_skip("real-volume component checks");
+    if (dir.empty()) return;
     // The small volumes, fully (BFS per isovalue is the expensive side); the large ones
     // are checked by `clfractal components --verify` (README).
     for (const char* name : {"bucky_32x32x32_uint8.raw", "m4_totaldensity_31x22x25_float32.raw",

@@ -62,11 +62,7 @@ void check_equal(const Volume& got, const Volume& want) {
     CHECK(bad == 0);
 }
 
-struct Case {
-    Dims d;
-    ValueType t;
-    long lo, hi;
-};
+using testutil::Case;
 
 const ValueType types[] = {ValueType::uint8, ValueType::uint16, ValueType::int16, ValueType::float32};
 
@@ -339,19 +335,12 @@ TEST_SUITE("realdata") {
 // The real volumes up to 6 M vertices (all but engine, bonsai and the teapot: their
 // reference medians take seconds), every type present there.
 TEST_CASE("median equals the reference exactly on the real volumes") {
-    const std::string dir = testutil::shared_data();
-    if (dir.empty()) {
-        MESSAGE("../shared/data is absent: real-volume median checks skipped");
-        return;
-    }
-    std::ifstream manifest(dir + "/MANIFEST.tsv");
-    std::string line;
-    std::getline(manifest, line);
+    const auto volumes = testutil::real_volumes("real-volume median checks");
+    if (volumes.empty()) return;
     int checked = 0;
-    while (std::getline(manifest, line)) {
-        const std::string file = line.substr(0, line.find('\t'));
-        if (file.empty()) continue;
-        Volume v = read_volume(dir + "/" + file);
+    for (const testutil::RealVolume& real : volumes) {
+        const std::string& file = real.file();
+        Volume v = read_volume(real.path);
         if (v.vertices() > 6000000) continue;
         CAPTURE(file);
         check_equal(median_filter(ctx(), v), reference::median_filter(v));

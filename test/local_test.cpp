@@ -49,11 +49,7 @@ std::size_t check_field(const Volume& ld, const std::vector<double>& want) {
     return defined;
 }
 
-struct Case {
-    Dims d;
-    ValueType t;
-    long lo, hi;  // random integers in [lo, hi]; float data holds them / 2
-};
+using testutil::Case;
 
 // 1-vertex and 2-vertex axes, odd and even sizes, all four types, narrow value ranges so
 // that most windows see intersected cubes.
@@ -339,11 +335,8 @@ TEST_CASE("summary: defined vertices, shares above 2.2 and 2.5, mean") {
 }
 
 TEST_CASE("real volumes: brute force on small ones, summed-area reference on larger ones") {
-    const std::string dir = testutil::shared_data();
-    if (dir.empty()) {
-        MESSAGE("../shared/data is absent: real-volume LD checks skipped");
-        return;
-    }
+    const std::string dir = testutil::shared_data_or_skip("real-volume LD checks");
+    if (dir.empty()) return;
     struct Real {
         const char* file;
         double iso[2];

@@ -85,12 +85,7 @@ std::string temp_path(const std::string& name) {
 TEST_SUITE("mesh") {
 
 TEST_CASE("one vertex per intersected grid edge: the count is E(s) from count_spans") {
-    struct Case {
-        Dims d;
-        ValueType t;
-        long lo, hi;
-    };
-    const Case cases[] = {
+    const testutil::Case cases[] = {
         {{2, 2, 2}, ValueType::uint8, 0, 5},      {{9, 8, 7}, ValueType::uint8, 0, 20},
         {{5, 11, 3}, ValueType::uint16, 990, 1020}, {{7, 6, 9}, ValueType::int16, -15, 15},
         {{8, 9, 6}, ValueType::float32, -20, 20}, {{13, 2, 5}, ValueType::int16, -3, 3},
@@ -98,7 +93,7 @@ TEST_CASE("one vertex per intersected grid edge: the count is E(s) from count_sp
         {{5, 6, 7}, ValueType::uint32, 4294967270, 4294967295}, {{8, 6, 7}, ValueType::float64, -20, 20},
     };
     std::uint32_t seed = 3;
-    for (const Case& c : cases) {
+    for (const testutil::Case& c : cases) {
         Volume v = testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++);
         v.spacing = {0.5, 2.0, 1.25};
         CAPTURE(value_type_name(c.t));

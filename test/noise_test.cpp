@@ -322,11 +322,8 @@ TEST_CASE("The thesis' experiment at N = 64 matches Theorem 1 within 0.05") {
 TEST_SUITE("noise") {
 
 TEST_CASE("Boston Teapot at isovalue 65 (thesis Fig. 3.7): gamma about 25, formula up to r = 2") {
-    const std::string dir = testutil::shared_data();
-    if (dir.empty()) {
-        MESSAGE("skipped: no shared data (CLFRACTAL_SHARED_DATA/MANIFEST.tsv absent)");
-        return;
-    }
+    const std::string dir = testutil::shared_data_or_skip("the teapot noise check");
+    if (dir.empty()) return;
     const std::string path = dir + "/boston_teapot_256x256x178_uint8.raw";
     if (!std::filesystem::exists(path)) {
         MESSAGE("skipped: " << path << " absent");

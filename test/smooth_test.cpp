@@ -89,11 +89,7 @@ void check_against_reference(const Volume& v, double iso, double h, int window, 
     check_guarantees(v, r, ld, iso, h);
 }
 
-struct Case {
-    Dims d;
-    ValueType t;
-    long lo, hi;  // random integers in [lo, hi]; float data holds them / 2
-};
+using testutil::Case;
 
 // 1- and 2-vertex axes, primes, all four types; narrow ranges so that most edges are
 // intersected and LD is high.
@@ -282,19 +278,12 @@ TEST_SUITE("smooth_realdata") {
 // range) and thresholds (2.2 plain, 2.5 plain, 2.5 gaussian): the guarantees, and equality with
 // the reference on the small ones. Volumes over 4 M vertices: the first isovalue, two runs.
 TEST_CASE("real volumes: the guarantees at a few isovalues and thresholds") {
-    const std::string dir = testutil::shared_data();
-    if (dir.empty()) {
-        MESSAGE("../shared/data is absent: real-volume smooth checks skipped");
-        return;
-    }
-    std::ifstream manifest(dir + "/MANIFEST.tsv");
-    std::string line;
-    std::getline(manifest, line);  // header
+    const auto reals = testutil::real_volumes("real-volume smooth checks");
+    if (reals.empty()) return;
     int volumes = 0, runs = 0;
-    while (std::getline(manifest, line)) {
-        const std::string file = line.substr(0, line.find('\t'));
-        if (file.empty()) continue;
-        const Volume v = read_volume(dir + "/" + file);
+    for (const testutil::RealVolume& real : reals) {
+        const std::string& file = real.file();
+        const Volume v = read_volume(real.path);
         const ValueRange range = value_range(v);
         const bool small = v.vertices() <= 300000, large = v.vertices() > 4000000;
         std::vector<double> isovalues;
@@ -334,11 +323,8 @@ TEST_CASE("real volumes: the guarantees at a few isovalues and thresholds") {
 // The figures of the README: intersected cubes and components (BFS) before and after, on two
 // noisy real volumes.
 TEST_CASE("real volumes: intersected cubes and components before and after") {
-    const std::string dir = testutil::shared_data();
-    if (dir.empty()) {
-        MESSAGE("../shared/data is absent: real-volume smooth figures skipped");
-        return;
-    }
+    const std::string dir = testutil::shared_data_or_skip("real-volume smooth figures");
+    if (dir.empty()) return;
     struct Real {
         const char* file;
         double iso;

@@ -27,11 +27,7 @@ void check_against_reference(const Volume& v, const IsovalueSet& iso, const Span
     }
 }
 
-struct Case {
-    Dims d;
-    ValueType t;
-    long lo, hi;
-};
+using testutil::Case;
 
 const Case cases[] = {
     {{2, 2, 2}, ValueType::uint8, 0, 255},     {{1, 1, 1}, ValueType::uint8, 0, 255},
@@ -369,19 +365,12 @@ TEST_CASE("isovalue sets: parsing and validation") {
 TEST_SUITE("realdata") {
 
 TEST_CASE("device counts equal the reference on every volume in shared/data") {
-    const std::string dir = testutil::shared_data();
-    if (dir.empty()) {
-        MESSAGE("../shared/data is absent: real-volume checks skipped");
-        return;
-    }
-    std::ifstream manifest(dir + "/MANIFEST.tsv");
-    std::string line;
-    std::getline(manifest, line);  // header
+    const auto volumes = testutil::real_volumes("real-volume checks");
+    if (volumes.empty()) return;
     int checked = 0;
-    while (std::getline(manifest, line)) {
-        std::string file = line.substr(0, line.find('\t'));
-        if (file.empty()) continue;
-        Volume v = read_volume(dir + "/" + file);
+    for (const testutil::RealVolume& real : volumes) {
+        const std::string& file = real.file();
+        Volume v = read_volume(real.path);
         IsovalueSet iso = IsovalueSet::for_volume(v);
         SpanResult r = count_spans(ctx(), v, iso, SpanOptions{{SpanKind::cubes, SpanKind::edges}, 2, 0});
         CAPTURE(file);

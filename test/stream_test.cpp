@@ -47,11 +47,7 @@ bool same_field(const Volume& a, const Volume& b) {
     return true;
 }
 
-struct Case {
-    Dims d;
-    ValueType t;
-    long lo, hi;
-};
+using testutil::Case;
 
 const Case cases[] = {
     // More slices than a batch (65 slices at 1-4 levels), so that full batches are counted.
@@ -491,11 +487,8 @@ TEST_CASE("a file streamed into SpanStream gives the counts of the file read who
 }
 
 TEST_CASE("real volumes streamed from disk give the whole-volume counts") {
-    const std::string dir = testutil::shared_data();
-    if (dir.empty()) {
-        MESSAGE("../shared/data is absent: real-volume streaming checks skipped");
-        return;
-    }
+    const std::string dir = testutil::shared_data_or_skip("real-volume streaming checks");
+    if (dir.empty()) return;
     int checked = 0;
     for (const char* file : {"engine_256x256x128_uint8.raw", "hydrogen_3d_orbital_64x64x64_float32.raw",
                              "lobster_301x324x56_uint8.raw"}) {

@@ -1,9 +1,15 @@
 // Helpers shared by the test suites.
 #pragma once
+#include <doctest/doctest.h>
+
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <random>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "clfractal/device.hpp"
 #include "clfractal/volume.hpp"
@@ -29,6 +35,14 @@ inline clfractal::Volume random_volume(clfractal::Dims d, clfractal::ValueType t
     return v;
 }
 
+/// A row of a table of random test volumes: dims, value type and the range [lo, hi] of the
+/// random integers (float data holds them / 2: random_volume).
+struct Case {
+    clfractal::Dims d;
+    clfractal::ValueType t;
+    long lo, hi;
+};
+
 /// Restores the shared context's tuning when it goes out of scope.
 struct TuningGuard {
     clfractal::Tuning saved = ctx().tuning;
@@ -41,6 +55,48 @@ inline std::string shared_data() {
     if (std::filesystem::exists(std::string(CLFRACTAL_SHARED_DATA) + "/MANIFEST.tsv")) return CLFRACTAL_SHARED_DATA;
 #endif
     return "";
+}
+
+/// The shared data directory, or "" after a test message that `what` is skipped.
+inline std::string shared_data_or_skip(const std::string& what) {
+    const std::string dir = shared_data();
+    if (dir.empty()) MESSAGE("../shared/data is absent: " << what << " skipped");
+    return dir;
+}
+
+/// One volume of the shared data's MANIFEST.tsv: its path and its row by column name
+/// (file, name, dims, dtype, category, ...).
+struct RealVolume {
+    std::string path;
+    std::map<std::string, std::string> columns;
+    const std::string& file() const { return columns.at("file"); }
+};
+
+/// The volumes of MANIFEST.tsv in its order, or none after a test message that `what` is
+/// skipped when the shared data is absent.
+inline std::vector<RealVolume> real_volumes(const std::string& what) {
+    const std::string dir = shared_data_or_skip(what);
+    std::vector<RealVolume> out;
+    if (dir.empty()) return out;
+    const auto split = [](const std::string& text) {
+        std::vector<std::string> cells;
+        std::stringstream ss(text);
+        for (std::string cell; std::getline(ss, cell, '\t');) cells.push_back(cell);
+        return cells;
+    };
+    std::ifstream manifest(dir + "/MANIFEST.tsv");
+    std::string line;
+    std::getline(manifest, line);
+    const std::vector<std::string> header = split(line);
+    while (std::getline(manifest, line)) {
+        const std::vector<std::string> row = split(line);
+        RealVolume v;
+        for (std::size_t c = 0; c < header.size() && c < row.size(); ++c) v.columns[header[c]] = row[c];
+        if (v.columns["file"].empty()) continue;
+        v.path = dir + "/" + v.columns["file"];
+        out.push_back(v);
+    }
+    return out;
 }
 
 }  // namespace testutil

@@ -19,6 +19,7 @@
 #include "clfractal/synthetic.hpp"
 #include "clfractal/volume.hpp"
 #include "clfractal/volume_io.hpp"
+#include "test_util.hpp"
 
 namespace fs = std::filesystem;
 using namespace clfractal;
@@ -756,45 +757,26 @@ TEST_CASE("uniform_noise: the documented formula, deterministic, uniform on [-1,
 }
 
 TEST_CASE("shared real data: names, sizes and dims of MANIFEST.tsv") {
-    const fs::path dir = CLFRACTAL_SHARED_DATA;
-    if (!fs::exists(dir / "MANIFEST.tsv")) {
-        MESSAGE("skipped: no real data at " << dir.string());
-        return;
-    }
-    std::ifstream manifest(dir / "MANIFEST.tsv");
-    std::string line;
-    REQUIRE(std::getline(manifest, line));
-    const auto split = [](const std::string& text) {
-        std::vector<std::string> cells;
-        std::stringstream ss(text);
-        for (std::string cell; std::getline(ss, cell, '\t');) cells.push_back(cell);
-        return cells;
-    };
-    const std::vector<std::string> columns = split(line);
-    const auto column = [&](const std::string& name) {
-        const auto it = std::find(columns.begin(), columns.end(), name);
-        REQUIRE(it != columns.end());
-        return static_cast<std::size_t>(it - columns.begin());
-    };
-    const std::size_t file_col = column("file"), dims_col = column("dims"), type_col = column("dtype");
+    const auto volumes = testutil::real_volumes("the MANIFEST.tsv checks");
+    if (volumes.empty()) return;
     int checked = 0;
-    while (std::getline(manifest, line)) {
-        const std::vector<std::string> row = split(line);
-        if (row.size() <= std::max({file_col, dims_col, type_col})) continue;
-        const std::string path = (dir / row[file_col]).string();
+    for (const testutil::RealVolume& real : volumes) {
+        const std::string& path = real.path;
         CAPTURE(path);
+        REQUIRE(real.columns.count("dims"));
+        REQUIRE(real.columns.count("dtype"));
         Dims d;
         ValueType t;
         REQUIRE(parse_raw_name(path, d, t));
-        CHECK(dims_string(d) == row[dims_col]);
-        CHECK(value_type_name(t) == row[type_col]);
+        CHECK(dims_string(d) == real.columns.at("dims"));
+        CHECK(value_type_name(t) == real.columns.at("dtype"));
         CHECK(fs::file_size(path) == d.vertices() * value_size(t));
         const Volume v = read_volume(path);
         CHECK(v.dims() == d);
         CHECK(v.type() == t);
         ++checked;
     }
-    MESSAGE("read " << checked << " real volumes from " << dir.string());
+    MESSAGE("read " << checked << " real volumes from " << testutil::shared_data());
     CHECK(checked > 0);
 }
 

@@ -3,6 +3,7 @@
 // header, raw or gzip encoding, either endianness), NIfTI-1/2 (nifticlib), DICOM series
 // (GDCM), TIFF (libtiff), MetaImage, and the synthetic:NAME[:N] specs.
 #pragma once
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@ struct RawOptions {
     std::optional<Dims> dims;        ///< --dims X,Y,Z (otherwise from the file name)
     std::optional<ValueType> type;   ///< --type T (otherwise from the file name)
     bool big_endian = false;         ///< --endian big
+    std::array<double, 3> spacing{1.0, 1.0, 1.0};  ///< --spacing SX,SY,SZ (raw files only)
     std::string series;              ///< --series UID: the DICOM series of a directory to read
     bool scaled = false;             ///< --scaled: apply NIfTI scl_slope/scl_inter
     /// --as T: convert the values to T on read, whatever the format (convert_values: may

@@ -1,6 +1,7 @@
 // Shared pieces of the command-line tool (see cli.hpp).
 #include "cli.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -137,35 +138,108 @@ void warn_isovalue_outside(const Volume& v, double iso) {
 }
 
 void RawArgs::add(CLI::App* app) {
-    app->add_option("--dims", dims, "raw file dimensions X,Y,Z");
-    app->add_option("--type", type, "raw file value type: " + value_type_names());
+    app->add_option("--dims", dims, "raw file dimensions X,Y,Z or XxYxZ (default: from a NAME_XxYxZ_TYPE.raw name)");
+    app->add_option("--type", type, "raw file value type: " + value_type_names() + " (default: from the name)");
     app->add_option("--endian", endian, "raw file byte order")->check(CLI::IsMember({"little", "big"}));
+    app->add_option("--spacing", spacing, "raw file vertex spacing SX,SY,SZ (meshes and reports use it)")
+        ->default_str("1,1,1");
     app->add_option("--series", series, "DICOM: the series (SeriesInstanceUID) of a directory to read");
     app->add_flag("--scaled", scaled, "NIfTI: apply scl_slope/scl_inter to the stored values");
     app->add_option("--as", as, "convert the values to this type on read, from any format (" + value_type_names() +
                                     "); may round (float64 -> float32 keeps 24 bits) and saturates to the type's range");
 }
 
+Dims parse_dims(const std::string& option, const std::string& text) {
+    char c1 = 0, c2 = 0;
+    std::istringstream in(text);
+    long long x = 0, y = 0, z = 0;
+    if (!(in >> x >> c1 >> y >> c2 >> z) || c1 != c2 || (c1 != ',' && c1 != 'x') || !(in >> std::ws).eof() ||
+        x < 1 || y < 1 || z < 1)
+        throw InputError(option + " '" + text + "': expected three positive integers X,Y,Z");
+    const Dims d{std::size_t(x), std::size_t(y), std::size_t(z)};
+    check_dims(d, option + " " + text);
+    return d;
+}
+
 RawOptions RawArgs::options() const {
     RawOptions o;
-    if (!dims.empty()) {
-        Dims d;
-        char c1 = 0, c2 = 0;
-        std::istringstream in(dims);
-        long long x = 0, y = 0, z = 0;
-        if (!(in >> x >> c1 >> y >> c2 >> z) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof() || x < 1 || y < 1 ||
-            z < 1)
-            throw InputError("--dims '" + dims + "': expected three positive integers X,Y,Z");
-        d = Dims{std::size_t(x), std::size_t(y), std::size_t(z)};
-        check_dims(d, "--dims " + dims);
-        o.dims = d;
-    }
+    if (!dims.empty()) o.dims = parse_dims("--dims", dims);
     if (!type.empty()) o.type = parse_value_type(type);
     o.big_endian = endian == "big";
+    if (!spacing.empty()) {
+        const std::vector<double> s = parse_list("--spacing", spacing);
+        if (s.size() != 3 || spacing.find(':') != std::string::npos)
+            throw InputError("--spacing " + spacing + ": expected three numbers SX,SY,SZ");
+        for (int a = 0; a < 3; ++a) {
+            if (!(s[a] > 0)) throw InputError("--spacing " + spacing + ": spacings must be > 0");
+            o.spacing[a] = s[a];
+        }
+    }
     o.series = series;
     o.scaled = scaled;
     if (!as.empty()) o.as = parse_value_type(as);
     return o;
+}
+
+CLI::Option* add_volume_argument(CLI::App* app, std::string& volume) {
+    return app->add_option("VOLUME", volume, "a volume file (raw, NRRD, NIfTI, DICOM, TIFF, MetaImage) or synthetic:NAME[:N]")
+        ->required();
+}
+
+std::vector<double> parse_list(const std::string& option, const std::string& spec) {
+    const auto number = [&](const std::string& s) {
+        std::size_t used = 0;
+        double x = 0;
+        try {
+            x = std::stod(s, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used != s.size() || s.empty() || !std::isfinite(x))
+            throw InputError(option + " " + spec + ": '" + s + "' is not a number");
+        return x;
+    };
+    std::vector<double> out;
+    if (spec.find(':') != std::string::npos) {
+        std::vector<std::string> parts;
+        std::stringstream ss(spec);
+        for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+        if (parts.size() != 3) throw InputError(option + " " + spec + ": a range is A:B:STEP");
+        const double a = number(parts[0]), b = number(parts[1]), step = number(parts[2]);
+        if (!(step > 0) || b < a) throw InputError(option + " " + spec + ": needs STEP > 0 and A <= B");
+        if ((b - a) / step > 100000) throw InputError(option + " " + spec + ": more than 100000 values");
+        for (long k = 0; a + k * step <= b + 1e-9 * step; ++k) out.push_back(a + k * step);
+    } else {
+        std::stringstream ss(spec);
+        for (std::string p; std::getline(ss, p, ',');) out.push_back(number(p));
+    }
+    if (out.empty()) throw InputError(option + ": the list is empty");
+    return out;
+}
+
+IsovalueSet parse_isovalues(const std::string& spec, ValueType type) {
+    if (spec.find(':') != std::string::npos) return IsovalueSet::parse_range(spec, type);
+    std::vector<double> v = parse_list("--isovalues", spec);
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    if (is_integer(type) && !is_wide(type)) {
+        // Every integer of a range is counted at once: a list of consecutive integers.
+        for (std::size_t j = 0; j < v.size(); ++j)
+            if (v[j] != std::floor(v[j]) || v[j] != v[0] + double(j))
+                throw InputError("--isovalues '" + spec + "': " + value_type_name(type) +
+                                 " data takes consecutive integers (or A:B:1)");
+        return IsovalueSet::integers(std::int64_t(v.front()), std::int64_t(v.back()));
+    }
+    if (type != ValueType::float32) return IsovalueSet::doubles(v);
+    std::vector<float> f(v.begin(), v.end());
+    f.erase(std::unique(f.begin(), f.end()), f.end());
+    return IsovalueSet::floats(f);
+}
+
+CLI::Option* add_isovalues_option(CLI::App* app, std::string& spec) {
+    return app->add_option("--isovalues", spec,
+                           "isovalues A:B:STEP or A,B,... (8/16-bit integer data: A:B:1 or consecutive integers; "
+                           "default: every integer of the range, or --bins uniform ones)");
 }
 
 std::string iso_string(const IsovalueSet& iso, std::size_t j) { return iso.text(j); }

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,13 +54,32 @@ CLI::Option* add_q_option(CLI::App* app, double& q);
 /// cube's span [a, b] lies inside [vmin, vmax], so s <= vmin or s > vmax intersects none.
 void warn_isovalue_outside(const clfractal::Volume& v, double iso);
 
-/// Options that say how to read a headerless raw file, and --as (any file).
+/// Options that say how to read a headerless raw file, and --as (any file): defined once,
+/// added to every command that reads a volume.
 struct RawArgs {
-    std::string dims, type, endian = "little", series, as;
+    std::string dims, type, endian = "little", series, as, spacing;
     bool scaled = false;
     void add(CLI::App* app);
     clfractal::RawOptions options() const;
 };
+
+/// The VOLUME argument of the commands that read one volume.
+CLI::Option* add_volume_argument(CLI::App* app, std::string& volume);
+
+/// --dims X,Y,Z or XxYxZ: three positive integers (`option` names them in errors).
+clfractal::Dims parse_dims(const std::string& option, const std::string& text);
+
+/// "A,B,C" or "A:B:STEP" (A, A+STEP, ... <= B, with a little slack for rounding), as
+/// doubles; `option` names the list in errors.
+std::vector<double> parse_list(const std::string& option, const std::string& spec);
+
+/// --isovalues for a volume of type `type`: A:B:STEP (IsovalueSet::parse_range) or a comma
+/// list A,B,... (8/16-bit integer data: consecutive integers, as every integer of a range is
+/// counted at once).
+clfractal::IsovalueSet parse_isovalues(const std::string& spec, clfractal::ValueType type);
+
+/// --isovalues for the commands that take several: A:B:STEP or A,B,...
+CLI::Option* add_isovalues_option(CLI::App* app, std::string& spec);
 
 /// An isovalue written so that it reads back to the same integer, float32 (9 significant
 /// digits) or float64 (17).
@@ -79,12 +99,40 @@ nlohmann::json fd_json(double d);
 /// [,components].
 std::string fd_csv(const clfractal::FdCurve& f, const std::vector<std::int64_t>* components = nullptr);
 
-/// A subcommand: its CLI11 app and what runs when it is chosen.
+/// A subcommand, the one way to register one: its name, its one-line help, and `attach`,
+/// which adds its options to its CLI11 app and returns what runs when it is chosen.
 struct Command {
-    CLI::App* app;
-    std::function<int()> run;
+    std::string name, help;
+    std::function<std::function<int()>(CLI::App&)> attach;
 };
-using Commands = std::vector<Command>;
+
+/// A Command whose options `setup(CLI::App*, Args&)` adds into an Args, and that runs
+/// `run(args)` (an exit status) once the command line is parsed.
+template <class Args, class Setup, class Run>
+Command command(std::string name, std::string help, Setup setup, Run run) {
+    return {std::move(name), std::move(help), [setup, run](CLI::App& app) {
+                auto args = std::make_shared<Args>();
+                setup(&app, *args);
+                return std::function<int()>([args, run] { return run(*args); });
+            }};
+}
+
+// The subcommands, one file each (cmd_*.cpp), in the order of --help.
+Command devices_command();
+Command info_command();
+Command fd_command();
+Command local_command();
+Command gen_command();
+Command mesh_command();
+Command bench_command();
+Command smooth_command();
+Command noise_command();
+Command filter_command();
+Command components_command();
+Command survey_command();
+Command fd4_command();
+Command local4_command();
+Command report_command();
 
 /// The span counts of one kind of a volume file read slice by slice (fd --stream), with
 /// the isovalues given (A:B:STEP), or the default set from a first pass over the file.
@@ -100,16 +148,4 @@ StreamedSpans stream_spans(const std::string& volume, const clfractal::RawOption
 int cmd_local_stream(const std::string& volume, const clfractal::RawOptions& raw, double iso, int window,
                      const std::string& output);
 
-// Subcommands defined in their own files (cmd_*.cpp). Each adds itself to `app` and
-// appends what to run; its options live in heap state owned by the closure.
-void add_smooth_command(CLI::App& app, Commands& commands);
-void add_filter_command(CLI::App& app, Commands& commands);
-void add_components_command(CLI::App& app, Commands& commands);
-void add_survey_command(CLI::App& app, Commands& commands);
-/// fd4 and local4 (cmd_fd4.cpp).
-void add_fd4_commands(CLI::App& app, Commands& commands);
-void add_report_command(CLI::App& app, Commands& commands);
-
 }  // namespace cli
-
-void add_noise_command(CLI::App& app, cli::Commands& commands);

@@ -31,7 +31,7 @@ int run_components(const ComponentsArgs& a) {
     const Connectivity mode = parse_connectivity(a.connectivity);
     if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
-    IsovalueSet iso = !a.isovalues.empty() ? IsovalueSet::parse_range(a.isovalues, v.type())
+    IsovalueSet iso = !a.isovalues.empty() ? parse_isovalues(a.isovalues, v.type())
                                            : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
     Context& ctx = Context::shared();
     progress("components of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " for " +
@@ -109,21 +109,23 @@ int run_components(const ComponentsArgs& a) {
     return bad ? 1 : 0;
 }
 
+void setup_components(CLI::App* c, ComponentsArgs& a) {
+    add_volume_argument(c, a.volume);
+    c->add_option("--connectivity", a.connectivity,
+                  "cube: {f<s} 6- and {f>=s} 26-connected (marching cubes); freudenthal: both 14-connected");
+    add_isovalues_option(c, a.isovalues);
+    c->add_option("--bins", a.bins, "number of uniform isovalues for float data (0: 256)");
+    c->add_option("--csv", a.csv, "write isovalue,components");
+    c->add_option("--plot", a.plot, "draw the curve (log scale) to a PNG with gnuplot");
+    c->add_flag("--verify", a.verify, "check every isovalue against per-isovalue labelling (slow); exit 1 on a mismatch");
+    a.raw.add(c);
+}
+
 }  // namespace
 
-void add_components_command(CLI::App& app, Commands& commands) {
-    auto a = std::make_shared<ComponentsArgs>();
-    auto* c = app.add_subcommand("components", "number of isosurface components for every isovalue");
-    c->add_option("VOLUME", a->volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
-    c->add_option("--connectivity", a->connectivity,
-                  "cube: {f<s} 6- and {f>=s} 26-connected (marching cubes, default); freudenthal: both 14-connected");
-    c->add_option("--isovalues", a->isovalues, "isovalues A:B:STEP (float data; integer data: A:B:1)");
-    c->add_option("--bins", a->bins, "number of uniform isovalues for float data (default 256)");
-    c->add_option("--csv", a->csv, "write isovalue,components");
-    c->add_option("--plot", a->plot, "draw the curve (log scale) to a PNG with gnuplot");
-    c->add_flag("--verify", a->verify, "check every isovalue against per-isovalue labelling (slow); exit 1 on a mismatch");
-    a->raw.add(c);
-    commands.push_back({c, [a] { return run_components(*a); }});
+Command components_command() {
+    return command<ComponentsArgs>("components", "number of isosurface components for every isovalue", setup_components,
+                                   run_components);
 }
 
 }  // namespace cli

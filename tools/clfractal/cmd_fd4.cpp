@@ -106,23 +106,26 @@ CLI::Option* add_q_option(CLI::App* app, double& q) {
             "Q > 0"));
 }
 
-void add_fd4_commands(CLI::App& app, Commands& commands) {
-    auto a = std::make_shared<Fd4Args>();
-    CLI::App* c = app.add_subcommand("fd4", "4D fractal dimension D4 of the graph of f (one number, no isovalue)");
-    c->add_option("VOLUME", a->volume, "a volume file or synthetic:NAME[:N]")->required();
-    add_q_option(c, a->q);
-    c->add_option("--json", a->json, "write volume, dims, type, q, i4_l0, i4_l1, d4 as JSON");
-    a->raw.add(c);
-    commands.push_back({c, [a] { return run_fd4(*a); }});
+Command fd4_command() {
+    const auto setup = [](CLI::App* c, Fd4Args& a) {
+        add_volume_argument(c, a.volume);
+        add_q_option(c, a.q);
+        c->add_option("--json", a.json, "write volume, dims, type, q, i4_l0, i4_l1, d4 as JSON");
+        a.raw.add(c);
+    };
+    return command<Fd4Args>("fd4", "4D fractal dimension D4 of the graph of f (one number, no isovalue)", setup, run_fd4);
+}
 
-    auto b = std::make_shared<Fd4Args>();
-    CLI::App* l = app.add_subcommand("local4", "local 4D fractal dimension field LD4 (no isovalue), as NRRD/NIfTI");
-    l->add_option("VOLUME", b->volume, "a volume file or synthetic:NAME[:N]")->required();
-    add_q_option(l, b->q);
-    add_window_option(l, b->window, "window k");
-    l->add_option("-o,--output", b->output, "output .nrrd, .nii or .nii.gz (float32)")->required();
-    b->raw.add(l);
-    commands.push_back({l, [b] { return run_local4(*b); }});
+Command local4_command() {
+    const auto setup = [](CLI::App* l, Fd4Args& b) {
+        add_volume_argument(l, b.volume);
+        add_q_option(l, b.q);
+        add_window_option(l, b.window, "window k");
+        l->add_option("-o,--output", b.output, "output .nrrd, .nii or .nii.gz (float32)")->required();
+        b.raw.add(l);
+    };
+    return command<Fd4Args>("local4", "local 4D fractal dimension field LD4 (no isovalue), as NRRD/NIfTI", setup,
+                            run_local4);
 }
 
 }  // namespace cli

@@ -25,6 +25,7 @@ struct FilterArgs {
     double gaussian = 0, iso = NAN, threshold = NAN, q = 0;
     int window = 8;
     cli::RawArgs raw;
+    CLI::App* app = nullptr;  // for which options were given
 };
 
 FilterSpec parse_spec(const FilterArgs& a, CLI::App* app) {
@@ -217,32 +218,35 @@ int run_filter(FilterArgs a, CLI::App* app) {
     return 0;
 }
 
+void setup_filter(CLI::App* c, FilterArgs& a) {
+    a.app = c;
+    cli::add_volume_argument(c, a.volume);
+    c->add_flag("--median", a.median, "3x3x3 median");
+    c->add_option("--gaussian", a.gaussian, "separable Gaussian with this sigma (radius ceil(3 sigma))");
+    c->add_option("--bilateral", a.bilateral, "bilateral filter SIGMA_S,SIGMA_R (radius ceil(2 sigma_s))");
+    c->add_flag("--fractal", a.fractal, "filter only vertices with LD > H (needs --iso, --threshold)");
+    c->add_flag("--fractal4", a.fractal4,
+                "filter only vertices whose local 4D dimension LD4 > H4 (needs --threshold; no isovalue)");
+    cli::add_q_option(c, a.q);
+    c->add_flag("--ld-guided", a.ld_guided,
+                "bilateral with the range scale sigma_r * min(LD - 2, 1) (thesis 6.3; needs --iso)");
+    cli::add_iso_option(c, a.iso, "isovalue S of the LD field, needed by --fractal and --ld-guided; also reports cubes and FD at S before/after");
+    c->add_option("--threshold", a.threshold, "LD threshold H of --fractal (LD4 threshold H4 of --fractal4), needed by both");
+    cli::add_window_option(c, a.window);
+    c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
+    c->add_flag("--stream", a.stream,
+                "with --fractal: read, filter and write slice by slice (memory for a few slices; radius <= k/2)");
+    a.raw.add(c);
+}
+
 }  // namespace
 
 namespace cli {
 
-void add_filter_command(CLI::App& app, Commands& commands) {
-    auto a = std::make_shared<FilterArgs>();
-    CLI::App* c = app.add_subcommand(
-        "filter", "median, Gaussian or bilateral filter, everywhere or where the local fractal dimension is high");
-    c->add_option("VOLUME", a->volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
-    c->add_flag("--median", a->median, "3x3x3 median");
-    c->add_option("--gaussian", a->gaussian, "separable Gaussian with this sigma (radius ceil(3 sigma))");
-    c->add_option("--bilateral", a->bilateral, "bilateral filter SIGMA_S,SIGMA_R (radius ceil(2 sigma_s))");
-    c->add_flag("--fractal", a->fractal, "filter only vertices with LD > H (needs --iso, --threshold)");
-    c->add_flag("--fractal4", a->fractal4,
-                "filter only vertices whose local 4D dimension LD4 > H4 (needs --threshold; no isovalue)");
-    add_q_option(c, a->q);
-    c->add_flag("--ld-guided", a->ld_guided,
-                "bilateral with the range scale sigma_r * min(LD - 2, 1) (thesis 6.3; needs --iso)");
-    add_iso_option(c, a->iso, "isovalue S of the LD field; also reports cubes and FD at S before/after");
-    c->add_option("--threshold", a->threshold, "LD threshold H of --fractal (LD4 threshold H4 of --fractal4)");
-    add_window_option(c, a->window);
-    c->add_option("-o,--output", a->output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
-    c->add_flag("--stream", a->stream,
-                "with --fractal: read, filter and write slice by slice (memory for a few slices; radius <= k/2)");
-    a->raw.add(c);
-    commands.push_back({c, [a, c] { return run_filter(*a, c); }});
+Command filter_command() {
+    return command<FilterArgs>(
+        "filter", "median, Gaussian or bilateral filter, everywhere or where the local fractal dimension is high",
+        setup_filter, [](const FilterArgs& a) { return run_filter(a, a.app); });
 }
 
 }  // namespace cli

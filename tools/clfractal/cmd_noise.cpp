@@ -27,38 +27,6 @@ struct NoiseArgs {
     cli::RawArgs raw;
 };
 
-// "A,B,C" or "A:B:STEP" (A, A+STEP, ... <= B, with a little slack for rounding).
-std::vector<double> parse_list(const std::string& option, const std::string& spec) {
-    const auto number = [&](const std::string& s) {
-        std::size_t used = 0;
-        double x = 0;
-        try {
-            x = std::stod(s, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used != s.size() || s.empty() || !std::isfinite(x))
-            throw InputError(option + " " + spec + ": '" + s + "' is not a number");
-        return x;
-    };
-    std::vector<double> out;
-    if (spec.find(':') != std::string::npos) {
-        std::vector<std::string> parts;
-        std::stringstream ss(spec);
-        for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
-        if (parts.size() != 3) throw InputError(option + " " + spec + ": a range is A:B:STEP");
-        const double a = number(parts[0]), b = number(parts[1]), step = number(parts[2]);
-        if (!(step > 0) || b < a) throw InputError(option + " " + spec + ": needs STEP > 0 and A <= B");
-        if ((b - a) / step > 100000) throw InputError(option + " " + spec + ": more than 100000 values");
-        for (long k = 0; a + k * step <= b + 1e-9 * step; ++k) out.push_back(a + k * step);
-    } else {
-        std::stringstream ss(spec);
-        for (std::string p; std::getline(ss, p, ',');) out.push_back(number(p));
-    }
-    if (out.empty()) throw InputError(option + ": the list is empty");
-    return out;
-}
-
 std::string fixed(double x, int digits) {
     if (std::isnan(x)) return "n/a";
     std::ostringstream s;
@@ -132,13 +100,13 @@ int run_noise(const NoiseArgs& a) {
     }
     if (!a.isovalues.empty()) {
         iso.clear();
-        for (double s : parse_list("--isovalues", a.isovalues)) iso.push_back(float(s));
+        for (double s : cli::parse_list("--isovalues", a.isovalues)) iso.push_back(float(s));
     }
     std::sort(iso.begin(), iso.end());
     iso.erase(std::unique(iso.begin(), iso.end()), iso.end());
     std::vector<double> amplitudes;
     if (!a.mu.empty()) {
-        amplitudes = parse_list("--mu", a.mu);
+        amplitudes = cli::parse_list("--mu", a.mu);
         for (double m : amplitudes)
             if (m < 0) throw InputError("--mu " + a.mu + ": amplitudes must be >= 0");
     } else {
@@ -215,25 +183,27 @@ int run_noise(const NoiseArgs& a) {
     return 0;
 }
 
+void setup_noise(CLI::App* c, NoiseArgs& a) {
+    c->add_option("--size", a.size, "N of the synthetic N^3 grid");
+    c->add_option("--points", a.points, "P random points of the 'points' shape");
+    c->add_option("--shape", a.shape, "points (distance to P points) or circle (tori)")
+        ->check(CLI::IsMember({"points", "circle"}));
+    c->add_option("--mu", a.mu, "noise amplitudes A,B,... or A:B:STEP (default 0:4:0.25 times gamma)");
+    c->add_option("--isovalues", a.isovalues, "isovalues A,B,... or A:B:STEP (default: 10,12,...,20 (points) or 8,10,...,16 (circle) times N/128; with --volume: S)");
+    c->add_option("--noise", a.noise, "uniform [-mu, mu] or gaussian (mu = standard deviation)");
+    c->add_option("--seed", a.seed, "seed of the noise and the points");
+    c->add_option("--volume", a.volume, "add noise to this volume instead (Figs. 3.6/3.7)");
+    cli::add_iso_option(c, a.iso, "with --volume: the isovalue S");
+    c->add_option("--gamma", a.gamma, "with --volume: the gradient gamma (default: estimated from the edge spans near S)");
+    c->add_option("--box-samples", a.box_samples, "Monte Carlo samples of the box model");
+    c->add_option("--json", a.json_path, "write the points as JSON");
+    c->add_option("--plot", a.plot, "draw measured vs formula to a PNG with gnuplot");
+    a.raw.add(c);
+}
+
 }  // namespace
 
-void add_noise_command(CLI::App& app, cli::Commands& commands) {
-    auto a = std::make_shared<NoiseArgs>();
-    auto* c = app.add_subcommand("noise", "measured edge/box dimension vs the noise formula (thesis Fig. 3.5)");
-    c->add_option("--size", a->size, "N of the synthetic N^3 grid (default 128)");
-    c->add_option("--points", a->points, "P random points of the 'points' shape (default 10)");
-    c->add_option("--shape", a->shape, "points (distance to P points, default) or circle (tori)")
-        ->check(CLI::IsMember({"points", "circle"}));
-    c->add_option("--mu", a->mu, "noise amplitudes A,B,... or A:B:STEP (default 0:4:0.25 times gamma)");
-    c->add_option("--isovalues", a->isovalues, "isovalues A,B,... or A:B:STEP (default: 10,12,...,20 (points) or 8,10,...,16 (circle) times N/128; with --volume: S)");
-    c->add_option("--noise", a->noise, "uniform [-mu, mu] (default) or gaussian (mu = standard deviation)");
-    c->add_option("--seed", a->seed, "seed of the noise and the points (default 1)");
-    c->add_option("--volume", a->volume, "add noise to this volume instead (Figs. 3.6/3.7)");
-    cli::add_iso_option(c, a->iso, "with --volume: the isovalue S");
-    c->add_option("--gamma", a->gamma, "with --volume: the gradient gamma (default: estimated from the edge spans near S)");
-    c->add_option("--box-samples", a->box_samples, "Monte Carlo samples of the box model (default 2^20)");
-    c->add_option("--json", a->json_path, "write the points as JSON");
-    c->add_option("--plot", a->plot, "draw measured vs formula to a PNG with gnuplot");
-    a->raw.add(c);
-    commands.push_back({c, [a] { return run_noise(*a); }});
+cli::Command cli::noise_command() {
+    return command<NoiseArgs>("noise", "measured edge/box dimension vs the noise formula (thesis Fig. 3.5)", setup_noise,
+                              run_noise);
 }

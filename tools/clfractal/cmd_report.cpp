@@ -329,19 +329,20 @@ int run_report(const ReportArgs& a) {
 
 }  // namespace
 
-void add_report_command(CLI::App& app, Commands& commands) {
-    auto a = std::make_shared<ReportArgs>();
-    CLI::App* c = app.add_subcommand("report", "one self-contained HTML page: curves, clean bands, noise, D4, pictures");
-    c->add_option("VOLUME", a->volume, "a volume file or synthetic:NAME[:N]")->required();
-    c->add_option("-o,--output", a->output, "the HTML page to write")->required();
-    c->add_option("--json", a->json_path, "write the same numbers as JSON");
-    c->add_option("--bins", a->bins, "number of uniform isovalues for float data (default 256)");
-    c->add_option("--clean-fd", a->clean_fd, "clean bands: D(s) at most this")->capture_default_str();
-    c->add_option("--clean-share", a->clean_share, "clean bands: I(s) at least this share of the largest")
-        ->capture_default_str();
-    add_window_option(c, a->window, "LD window k of the pictures");
-    a->raw.add(c);
-    commands.push_back({c, [a] { return run_report(*a); }});
+void setup_report(CLI::App* c, ReportArgs& a) {
+    add_volume_argument(c, a.volume);
+    c->add_option("-o,--output", a.output, "the HTML page to write")->required();
+    c->add_option("--json", a.json_path, "write the same numbers as JSON");
+    c->add_option("--bins", a.bins, "number of uniform isovalues for float data (0: 256)");
+    c->add_option("--clean-fd", a.clean_fd, "clean bands: D(s) at most this");
+    c->add_option("--clean-share", a.clean_share, "clean bands: I(s) at least this share of the largest");
+    add_window_option(c, a.window, "LD window k of the pictures");
+    a.raw.add(c);
+}
+
+Command report_command() {
+    return command<ReportArgs>("report", "one self-contained HTML page: curves, clean bands, noise, D4, pictures",
+                               setup_report, run_report);
 }
 
 }  // namespace cli

@@ -73,24 +73,26 @@ int run_smooth(SmoothArgs a) {
     return 0;
 }
 
+void setup_smooth(CLI::App* c, SmoothArgs& a) {
+    add_volume_argument(c, a.volume);
+    add_iso_option(c, a.iso, "isovalue S (edges with a < S <= b are intersected)")->required();
+    c->add_option("--threshold", a.threshold, "h: an intersected edge is high fractal when LD > h at an end")
+        ->required();
+    add_window_option(c, a.window);
+    c->add_option("--variant", a.variant, "plain (f(v) := f(u)) or gaussian (neighbours lowered too)")
+        ->check(CLI::IsMember({"plain", "gaussian"}));
+    c->add_option("--tau", a.tau, "width of the gaussian variant's lowering, in grid steps");
+    c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz (same type as the input)")->required();
+    c->add_option("--mesh", a.mesh, "also write the smoothed isosurface as PLY, coloured by the input's LD");
+    c->add_option("--preview", a.preview, "render the smoothed isosurface to a PNG");
+    a.raw.add(c);
+}
+
 }  // namespace
 
-void add_smooth_command(CLI::App& app, Commands& commands) {
-    auto a = std::make_shared<SmoothArgs>();
-    auto* c = app.add_subcommand("smooth", "move the isosurface out of high-fractal regions (thesis Algorithm 2)");
-    c->add_option("VOLUME", a->volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
-    add_iso_option(c, a->iso, "isovalue S (edges with a < S <= b are intersected)")->required();
-    c->add_option("--threshold", a->threshold, "h: an intersected edge is high fractal when LD > h at an end")
-        ->required();
-    add_window_option(c, a->window);
-    c->add_option("--variant", a->variant, "plain (f(v) := f(u)) or gaussian (neighbours lowered too)")
-        ->check(CLI::IsMember({"plain", "gaussian"}));
-    c->add_option("--tau", a->tau, "width of the gaussian variant's lowering, in grid steps (default 1)");
-    c->add_option("-o,--output", a->output, "output .nrrd, .nii or .nii.gz (same type as the input)")->required();
-    c->add_option("--mesh", a->mesh, "also write the smoothed isosurface as PLY, coloured by the input's LD");
-    c->add_option("--preview", a->preview, "render the smoothed isosurface to a PNG");
-    a->raw.add(c);
-    commands.push_back({c, [a] { return run_smooth(*a); }});
+Command smooth_command() {
+    return command<SmoothArgs>("smooth", "move the isosurface out of high-fractal regions (thesis Algorithm 2)",
+                               setup_smooth, run_smooth);
 }
 
 }  // namespace cli

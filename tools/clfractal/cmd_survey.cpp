@@ -316,19 +316,21 @@ int run_survey(const SurveyArgs& a) {
     return 0;
 }
 
-}  // namespace
-
-void add_survey_command(CLI::App& app, Commands& commands) {
-    auto a = std::make_shared<SurveyArgs>();
-    auto* c = app.add_subcommand("survey", "thesis Table 2.1 over a manifest or a directory of volumes");
-    c->add_option("INPUT", a->input,
+void setup_survey(CLI::App* c, SurveyArgs& a) {
+    c->add_option("INPUT", a.input,
                   "MANIFEST.tsv (columns file, name, dims, dtype, category) or a directory of NAME_XxYxZ_TYPE.raw / "
                   "NRRD files")
         ->required();
-    c->add_option("--markdown", a->markdown, "write the per-volume and per-category tables as Markdown");
-    c->add_option("--csv", a->csv, "write one row per volume");
-    c->add_option("--histogram", a->histogram, "draw the histogram of per-volume average FD (Fig. 2.2) to a PNG");
-    commands.push_back({c, [a] { return run_survey(*a); }});
+    c->add_option("--markdown", a.markdown, "write the per-volume and per-category tables as Markdown");
+    c->add_option("--csv", a.csv, "write one row per volume");
+    c->add_option("--histogram", a.histogram, "draw the histogram of per-volume average FD (Fig. 2.2) to a PNG");
+}
+
+}  // namespace
+
+Command survey_command() {
+    return command<SurveyArgs>("survey", "thesis Table 2.1 over a manifest or a directory of volumes", setup_survey,
+                               run_survey);
 }
 
 }  // namespace cli

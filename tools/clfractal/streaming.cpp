@@ -29,7 +29,7 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
     // curves to the value range afterwards (the count at s does not depend on the set).
     const bool crop = isovalues.empty() && reader.type() == ValueType::uint8;
     if (!isovalues.empty()) {
-        iso = IsovalueSet::parse_range(isovalues, reader.type());
+        iso = parse_isovalues(isovalues, reader.type());
     } else if (crop) {
         iso = IsovalueSet::integers(0, 255);
     } else {

@@ -4,7 +4,7 @@
 // and the int64 histograms are summed on rank 0 with MPI_Reduce: the curve equals the
 // single-process `clfractal fd` exactly.
 //
-//   mpirun -np P clfractal-mpi VOLUME [--edge] [--levels L] [--isovalues A:B:S | --bins K] [--csv F] [--json F]
+//   mpirun -np P clfractal-mpi VOLUME [--edge] [--levels L] [--isovalues A:B:S|A,B,... | --bins K] [--csv F] [--json F]
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
@@ -37,25 +37,14 @@ struct Args {
     cli::RawArgs raw;
 };
 
-int run(const Args& a, int rank, int size) {
-    // Each rank opens the file and reads only the slices of its own z-part (raw and NRRD
-    // raw data through memory maps; gzip data is decompressed up to the part).
-    SliceReader reader(a.volume, a.raw.options());
+// The isovalue set needs the global value range: each rank takes its part's (one pass
+// over its slices, a batch at a time), reduced with MPI_Allreduce.
+IsovalueSet global_isovalues(const Args& a, SliceReader& reader, std::size_t z_begin, std::size_t z_end) {
     const Dims dims = reader.dims();
     const ValueType type = reader.type();
-    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
-    if (a.bins && is_integer(type) && !is_wide(type))
-        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
-    const auto parts = split_slices(dims.nz, a.levels, std::size_t(size));
-    const bool has_part = std::size_t(rank) < parts.size();
-    const std::size_t z_begin = has_part ? parts[rank].first : 0, z_end = has_part ? parts[rank].second : 0;
-
-    // The isovalue set needs the global value range: each rank takes its part's (one pass
-    // over its slices, a batch at a time), reduced with MPI_Allreduce.
     double lo = INFINITY, hi = -INFINITY;
     const std::size_t batch = std::max<std::size_t>(1, (std::size_t(64) << 20) / reader.slice_bytes());
-    std::vector<unsigned char> buf;
-    if (has_part) {
+    if (z_begin < z_end) {
         reader.seek(z_begin);
         for (std::size_t z = z_begin; z < z_end;) {
             const std::size_t n = std::min(batch, z_end - z);
@@ -69,47 +58,43 @@ int run(const Args& a, int rank, int size) {
     }
     double local[2] = {-lo, hi}, global[2];
     MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-    IsovalueSet iso;
-    if (!a.isovalues.empty()) iso = IsovalueSet::parse_range(a.isovalues, type);
-    else iso = IsovalueSet::for_range(type, -global[0], global[1], a.bins ? a.bins : 256);
+    if (!a.isovalues.empty()) return cli::parse_isovalues(a.isovalues, type);
+    return IsovalueSet::for_range(type, -global[0], global[1], a.bins ? a.bins : 256);
+}
 
-    const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
-    Context& ctx = Context::shared();
-    std::vector<std::uint64_t> counts(std::size_t(a.levels) * iso.size(), 0);
-    SpanResult spans;
-    double seconds = 0;
-    if (has_part) {
-        SpanOptions opt{{kind}, a.levels, 0};
-        opt.z_begin = z_begin;
-        opt.z_end = z_end;
-        SpanCounter counter(ctx, iso, type, dims, opt);
-        const std::size_t depth = counter.slab_slices();
-        buf.resize(depth * reader.slice_bytes());
-        // Slabs share their last slice with the next one: read it once, keep it in front.
-        reader.seek(z_begin);
-        std::size_t z0 = z_begin, have = 0;
-        while (true) {
-            const std::size_t nzs = std::min(depth, z_end - z0);
-            reader.read(buf.data() + have * reader.slice_bytes(), nzs - have);
-            counter.add_slab(buf.data(), z0, nzs);
-            if (z0 + nzs == z_end) break;
-            std::memmove(buf.data(), buf.data() + (nzs - 1) * reader.slice_bytes(), reader.slice_bytes());
-            have = 1;
-            z0 += nzs - 1;
-        }
-        spans = counter.finish();
-        seconds = spans.seconds;
-        for (int l = 0; l < a.levels; ++l)
-            std::copy(spans.curves[0].counts[l].begin(), spans.curves[0].counts[l].end(),
-                      counts.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()));
+// Counts this rank's z-part into `counts` (level-major); returns the counting seconds.
+double count_part(const Args& a, SliceReader& reader, const IsovalueSet& iso, SpanKind kind, std::size_t z_begin,
+                  std::size_t z_end, std::vector<std::uint64_t>& counts) {
+    SpanOptions opt{{kind}, a.levels, 0};
+    opt.z_begin = z_begin;
+    opt.z_end = z_end;
+    SpanCounter counter(Context::shared(), iso, reader.type(), reader.dims(), opt);
+    const std::size_t depth = counter.slab_slices();
+    std::vector<unsigned char> buf(depth * reader.slice_bytes());
+    // Slabs share their last slice with the next one: read it once, keep it in front.
+    reader.seek(z_begin);
+    std::size_t z0 = z_begin, have = 0;
+    while (true) {
+        const std::size_t nzs = std::min(depth, z_end - z0);
+        reader.read(buf.data() + have * reader.slice_bytes(), nzs - have);
+        counter.add_slab(buf.data(), z0, nzs);
+        if (z0 + nzs == z_end) break;
+        std::memmove(buf.data(), buf.data() + (nzs - 1) * reader.slice_bytes(), reader.slice_bytes());
+        have = 1;
+        z0 += nzs - 1;
     }
-    std::vector<std::uint64_t> total(counts.size());
-    MPI_Reduce(counts.data(), total.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
-    double slowest = 0;
-    MPI_Reduce(&seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
-    if (rank != 0) return 0;
+    const SpanResult spans = counter.finish();
+    for (int l = 0; l < a.levels; ++l)
+        std::copy(spans.curves[0].counts[l].begin(), spans.curves[0].counts[l].end(),
+                  counts.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()));
+    return spans.seconds;
+}
 
-    // Rank 0 forms the curve from the summed counts.
+// Rank 0 forms the curve from the summed counts and reports it.
+void report(const Args& a, const Dims& dims, ValueType type, const IsovalueSet& iso, SpanKind kind,
+            const std::vector<std::uint64_t>& total, double slowest, int size,
+            const std::vector<std::pair<std::size_t, std::size_t>>& parts) {
+    Context& ctx = Context::shared();
     SpanResult sum;
     sum.isovalues = iso;
     SpanCurves c;
@@ -146,6 +131,30 @@ int run(const Args& a, int rank, int size) {
         j["seconds_compute_slowest_rank"] = slowest;
         write_file_atomic(a.json_path, j.dump(1) + "\n");
     }
+}
+
+int run(const Args& a, int rank, int size) {
+    // Each rank opens the file and reads only the slices of its own z-part (raw and NRRD
+    // raw data through memory maps; gzip data is decompressed up to the part).
+    SliceReader reader(a.volume, a.raw.options());
+    const Dims dims = reader.dims();
+    const ValueType type = reader.type();
+    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
+    if (a.bins && is_integer(type) && !is_wide(type))
+        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    const auto parts = split_slices(dims.nz, a.levels, std::size_t(size));
+    const bool has_part = std::size_t(rank) < parts.size();
+    const std::size_t z_begin = has_part ? parts[rank].first : 0, z_end = has_part ? parts[rank].second : 0;
+    const IsovalueSet iso = global_isovalues(a, reader, z_begin, z_end);
+
+    const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
+    std::vector<std::uint64_t> counts(std::size_t(a.levels) * iso.size(), 0);
+    const double seconds = has_part ? count_part(a, reader, iso, kind, z_begin, z_end, counts) : 0;
+    std::vector<std::uint64_t> total(counts.size());
+    MPI_Reduce(counts.data(), total.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    double slowest = 0;
+    MPI_Reduce(&seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    if (rank == 0) report(a, dims, type, iso, kind, total, slowest, size, parts);
     return 0;
 }
 
@@ -160,11 +169,12 @@ int main(int argc, char** argv) {
 
     CLI::App app{"clfractal-mpi: the fractal dimension curve of a volume, z-parts counted by MPI ranks"};
     Args a;
-    app.add_option("VOLUME", a.volume, "a .nrrd/.nhdr/.raw file or synthetic:NAME[:N]")->required();
+    app.option_defaults()->always_capture_default();
+    cli::add_volume_argument(&app, a.volume);
     app.add_flag("--edge", a.edge, "edge span dimension (eq. 3.1) instead of box (eq. 2.5)");
     app.add_option("--levels", a.levels, "pyramid levels (2 = eq. 2.5)");
-    app.add_option("--isovalues", a.isovalues, "isovalues A:B:STEP");
-    app.add_option("--bins", a.bins, "number of uniform isovalues for float data (default 256)");
+    cli::add_isovalues_option(&app, a.isovalues);
+    app.add_option("--bins", a.bins, "number of uniform isovalues for float data (0: 256)");
     app.add_option("--csv", a.csv, "write isovalue,count,count_sub,fd (as clfractal fd --csv)");
     app.add_option("--json", a.json_path, "write the summary as JSON");
     a.raw.add(&app);

@@ -1,10 +1,11 @@
-#include "clfractal/bench.hpp"
+#include "bench_harness.hpp"
 
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 
 #include "clfractal/synthetic.hpp"
 
@@ -97,6 +98,27 @@ BenchReport run_span_bench(Context& ctx, std::vector<BenchCase>& cases, int repe
         rep.rows.push_back(row);
     }
     return rep;
+}
+
+BenchCli::BenchCli(const std::string& what, int default_repeats) : app(what), repeats(default_repeats) {
+    app.option_defaults()->always_capture_default();
+    app.add_option("--repeats", repeats, "best of this many runs after a warm-up");
+}
+
+int BenchCli::parse(int argc, char** argv) {
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << app.get_name() << ": error: " << e.what() << "\n";
+        return 2;
+    }
+    return -1;
+}
+
+nlohmann::json bench_header(Context& ctx, int repeats) {
+    return {{"device", ctx.description()}, {"openmp_threads", omp_get_max_threads()}, {"repeats", repeats}};
 }
 
 }  // namespace clfractal

@@ -1,7 +1,12 @@
-// Benchmarks (DESIGN §5): span-curve throughput on the device against the device's own
-// copy bandwidth and against the OpenMP baseline, in the same run. Compilation is timed
-// apart; every figure is the best of `repeats` runs after a warm-up.
+// The benchmark harness (DESIGN §5), for the benchmark drivers in bench/ and `clfractal
+// bench`, outside the installed API: span-curve throughput on the device against the
+// device's own copy bandwidth and against the OpenMP baseline, in the same run, and the
+// command line and JSON header every driver shares. Compilation is timed apart; every
+// figure is the best of `repeats` runs after a warm-up.
 #pragma once
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <functional>
@@ -63,5 +68,19 @@ BenchReport run_span_bench(Context& ctx, std::vector<BenchCase>& cases, int repe
 
 /// Copy bandwidth of the device in GB/s (bytes read + written per second), best of 5.
 double measure_copy_bandwidth(Context& ctx, std::size_t bytes = std::size_t(128) << 20);
+
+/// The command line of a benchmark driver: every default shown in --help, and --repeats R
+/// (the best of R runs after a warm-up). The driver adds its own options to `app`.
+struct BenchCli {
+    CLI::App app;
+    int repeats;
+    BenchCli(const std::string& what, int default_repeats);
+    /// Parses argv: -1 to go on, else the exit status (0 after --help, 2 and one line on
+    /// stderr for a bad option).
+    int parse(int argc, char** argv);
+};
+
+/// The fields every benchmark's JSON report starts with: device, OpenMP threads, repeats.
+nlohmann::json bench_header(Context& ctx, int repeats);
 
 }  // namespace clfractal

@@ -1,0 +1,217 @@
+// clfractal fd: the fractal dimension curve for every isovalue, its summary, clean bands,
+// noise level and component correlation; CSV, JSON and a plot.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "clfractal/advice.hpp"
+#include "clfractal/components.hpp"
+#include "clfractal/fd.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/volume_io.hpp"
+#include "cli.hpp"
+#include "output.hpp"
+#include "plots.hpp"
+
+using namespace clfractal;
+
+namespace cli {
+
+namespace {
+
+using json = nlohmann::json;
+
+struct FdArgs {
+    std::string volume, csv, json_path, plot, isovalues;
+    bool edge = false, components = false, noise_level = false;
+    double clean_fd = 2.2, clean_share = 0.01;
+    int levels = 2;
+    std::size_t bins = 0;
+    std::uint64_t min_count = 0;
+    std::size_t slab = 0;
+    bool stream = false;
+    RawArgs raw;
+};
+
+// What fd computes before it reports: the curve, its summary and the optional extras.
+struct FdRun {
+    Dims dims;
+    ValueType type;
+    IsovalueSet iso;
+    SpanResult spans;
+    std::string stream_method;
+    FdCurve f;
+    FdSummary s;
+    ComponentCurve comp;
+    ComponentCorrelation corr;
+    std::vector<CleanBand> bands;
+    NoiseEstimate noise;
+};
+
+FdRun count_fd(const FdArgs& a) {
+    if (a.stream) {
+        if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
+        if (a.slab) throw InputError("--slab: not with --stream (the stream counts a few slices at a time)");
+        if (a.components) throw InputError("--components: not with --stream (the sweep needs the whole volume)");
+    }
+    FdRun r;
+    const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
+    StreamedSpans streamed = a.stream ? stream_spans(a.volume, a.raw.options(), a.isovalues, a.bins, a.levels, kind)
+                                      : StreamedSpans{};
+    r.stream_method = streamed.method;
+    Volume v = a.stream ? Volume() : read_volume(a.volume, a.raw.options());
+    r.dims = a.stream ? streamed.dims : v.dims();
+    r.type = a.stream ? streamed.type : v.type();
+    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
+    if (a.bins && is_integer(r.type) && !is_wide(r.type))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    r.iso = a.stream ? streamed.spans.isovalues
+            : !a.isovalues.empty() ? parse_isovalues(a.isovalues, r.type)
+                                   : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
+    Context& ctx = Context::shared();
+    if (!a.stream)
+        progress("counting " + std::to_string(r.iso.size()) + " isovalues of " + dims_string(r.dims) + " " +
+                 value_type_name(r.type) + " on " + ctx.description());
+    SpanOptions opt{{kind}, a.levels, a.slab};
+    if (a.components && kind != SpanKind::edges) opt.kinds.push_back(SpanKind::edges);  // E(s) for the correlation
+    r.spans = a.stream ? std::move(streamed.spans) : count_spans(ctx, v, r.iso, opt);
+    r.f = fd_curve(ctx, r.spans, kind);
+    r.s = summarize(r.f.fd, r.f.counts[0], r.f.counts[1], a.min_count);
+    // --components: the component curve (cube connectivity) and its correlation with D.
+    if (a.components) {
+        r.comp = count_components(ctx, v, r.iso, Connectivity::cube);
+        r.corr = correlate_components(ctx, r.f.fd, r.spans.get(SpanKind::edges).counts[0], r.comp.components, v.dims());
+    }
+
+    r.bands = clean_bands(r.f, BandOptions{a.clean_fd, a.clean_share});
+    if (a.noise_level) {
+        if (a.stream) throw InputError("--noise-level: not with --stream (it needs the whole volume)");
+        r.noise = estimate_noise(ctx, v, r.iso, a.clean_share);
+    }
+    return r;
+}
+
+void print_fd(const FdArgs& a, const FdRun& r) {
+    const FdSummary& s = r.s;
+    const IsovalueSet& iso = r.iso;
+    Context& ctx = Context::shared();
+    const char* kind_name = a.edge ? "edge" : "box";
+    std::cout << std::fixed << std::setprecision(4);
+    std::cout << "volume      " << a.volume << "  " << dims_string(r.dims) << " " << value_type_name(r.type) << "\n"
+              << "device      " << ctx.description() << "\n"
+              << "dimension   fractal " << kind_name << " span dimension, levels 0.." << a.levels - 1 << "\n"
+              << "isovalues   " << iso.size() << " (" << iso_string(iso, 0) << " .. "
+              << iso_string(iso, iso.size() - 1) << "), defined at " << s.defined << "\n";
+    if (s.defined) {
+        std::cout << "mean FD     " << s.mean << "  std " << s.std << "  count-weighted mean " << s.weighted_mean
+                  << "\n"
+                  << "growth      I ~ N^" << s.kappa << "\n";
+        print_bands(std::cout, r.f, r.bands, a.clean_fd, a.clean_share);
+    } else {
+        std::cout << "mean FD     n/a (no isovalue intersects both grids)\n";
+    }
+    if (a.noise_level) print_noise(std::cout, r.noise);
+    if (a.components)
+        std::cout << "components  corr(D, components) " << fd_string(r.corr.components).substr(0, 6)
+                  << "  corr(D, components / E) " << fd_string(r.corr.components_per_area).substr(0, 6) << " over "
+                  << r.corr.used << " isovalues\n";
+    std::cout << std::defaultfloat << std::setprecision(4) << "time        " << r.spans.seconds << " s counting ("
+              << (a.stream ? "streamed, " + r.stream_method + ", " : "") << r.spans.slabs << " slab"
+              << (r.spans.slabs > 1 ? "s" : "") << "), kernels compiled in "
+              << ctx.compile_seconds() << " s\n";
+}
+
+json fd_json_report(const FdArgs& a, const FdRun& r) {
+    const FdSummary& s = r.s;
+    const IsovalueSet& iso = r.iso;
+    const FdCurve& f = r.f;
+    Context& ctx = Context::shared();
+    json j;
+    j["volume"] = a.volume;
+    j["dims"] = {r.dims.nx, r.dims.ny, r.dims.nz};
+    j["type"] = value_type_name(r.type);
+    j["kind"] = a.edge ? "edge" : "box";
+    j["levels"] = a.levels;
+    j["min_count"] = a.min_count;
+    j["isovalues_total"] = iso.size();
+    j["isovalues_defined"] = s.defined;
+    j["mean_fd"] = fd_json(s.mean);
+    j["std_fd"] = fd_json(s.std);
+    j["weighted_mean_fd"] = fd_json(s.weighted_mean);
+    j["kappa"] = fd_json(s.kappa);
+    j["device"] = ctx.description();
+    j["seconds_compute"] = r.spans.seconds;
+    j["seconds_compile"] = ctx.compile_seconds();
+    j["slabs"] = r.spans.slabs;
+    j["clean_bands"] = bands_json(f, r.bands);
+    if (a.noise_level) j["noise"] = noise_json(r.noise);
+    if (a.components) {
+        j["corr_components"] = fd_json(r.corr.components);
+        j["corr_components_per_area"] = fd_json(r.corr.components_per_area);
+        j["corr_isovalues"] = r.corr.used;
+    }
+    json curve = json::array();
+    for (std::size_t k = 0; k < iso.size(); ++k) {
+        json row;
+        row["isovalue"] = iso.value(k);
+        json counts = json::array();
+        for (int l = 0; l < a.levels; ++l) counts.push_back(f.counts[l][k]);
+        row["counts"] = counts;
+        row["fd"] = fd_json(f.fd[k]);
+        if (a.levels > 2) row["fd_fit"] = fd_json(f.fd_fit[k]);
+        if (a.components) row["components"] = r.comp.components[k];
+        curve.push_back(row);
+    }
+    j["curve"] = curve;
+    return j;
+}
+
+int cmd_fd(const FdArgs& a) {
+    const FdRun r = count_fd(a);
+    print_fd(a, r);
+    if (!a.csv.empty()) {
+        write_file_atomic(a.csv, fd_csv(r.f, a.components ? &r.comp.components : nullptr));
+    }
+    if (!a.json_path.empty()) write_file_atomic(a.json_path, fd_json_report(a, r).dump(1) + "\n");
+    if (!a.plot.empty() && a.components)
+        write_components_plot(r.f, r.bands, r.comp.components, true,
+                              std::filesystem::path(a.volume).filename().string() + ": FD and isosurface components",
+                              a.plot);
+    else if (!a.plot.empty())
+        write_fd_plot(r.f, r.bands, a.min_count,
+                      std::filesystem::path(a.volume).filename().string() + ": mean FD " + fd_string(r.s.mean).substr(0, 5),
+                      a.plot);
+    return 0;
+}
+
+void setup_fd(CLI::App* fd, FdArgs& fa) {
+    add_volume_argument(fd, fa.volume);
+    fd->add_flag("--edge", fa.edge, "edge span dimension (eq. 3.1) instead of box (eq. 2.5)");
+    fd->add_option("--levels", fa.levels, "pyramid levels for the least-squares estimate (2 = eq. 2.5)");
+    add_isovalues_option(fd, fa.isovalues);
+    fd->add_option("--bins", fa.bins, "number of uniform isovalues for float data (0: 256)");
+    fd->add_option("--min-count", fa.min_count, "summary only where the subsampled count is >= M");
+    fd->add_option("--csv", fa.csv, "write isovalue,count,count_sub,fd");
+    fd->add_option("--json", fa.json_path, "write the summary and curve as JSON");
+    fd->add_option("--plot", fa.plot, "draw the curve to a PNG with gnuplot");
+    fd->add_flag("--components", fa.components,
+                 "add the isosurface component count (cube connectivity) and its correlation with D");
+    fd->add_option("--slab", fa.slab, "process z-slabs of at most this many slices (0: from device memory)");
+    fd->add_flag("--stream", fa.stream, "read the file slice by slice (memory: a few slices; same numbers)");
+    fd->add_option("--clean-fd", fa.clean_fd, "clean bands: D(s) at most this");
+    fd->add_option("--clean-share", fa.clean_share, "clean bands: I(s) at least this share of the largest");
+    fd->add_flag("--noise-level", fa.noise_level,
+                 "estimate the noise in grey values from the edge dimension (Theorem 1 inverted)");
+    fa.raw.add(fd);
+}
+
+}  // namespace
+
+Command fd_command() { return command<FdArgs>("fd", "fractal dimension curve for every isovalue", setup_fd, cmd_fd); }
+
+}  // namespace cli
