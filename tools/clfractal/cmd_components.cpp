@@ -26,6 +26,49 @@ struct ComponentsArgs {
     RawArgs raw;
 };
 
+// --verify: every isovalue against per-isovalue labelling; returns how many differ.
+int verify_components(const Volume& v, const IsovalueSet& iso, Connectivity mode, const ComponentCurve& c) {
+    int bad = 0;
+    // Every isovalue against per-isovalue labelling of A and C (O(N) per isovalue). Where
+    // no vertex value lies in [s_{j-1}, s_j), A and C are the very sets of isovalue j - 1:
+    // the labelling would repeat itself, so the curve must simply repeat its value.
+    std::vector<char> changes(iso.size(), 0);
+    visit(v, [&](const auto* p) {
+        for (std::size_t i = 0; i < v.vertices(); ++i) {
+            const double x = double(p[i]);
+            std::size_t j = 0;
+            if (iso.integer()) {
+                const double b = x - double(iso.first()) + 1;  // first isovalue > x
+                if (b < 0 || b >= double(iso.size())) continue;
+                j = std::size_t(b);
+            } else {
+                const auto& f = iso.list();  // exact in double for every list type
+                j = std::size_t(std::upper_bound(f.begin(), f.end(), x) - f.begin());
+                if (j >= f.size()) continue;
+            }
+            changes[j] = 1;
+        }
+    });
+    changes[0] = 1;
+    std::size_t labelled = 0;
+    std::int64_t want = 0;
+    for (std::size_t j = 0; j < iso.size(); ++j) {
+        if (changes[j]) {
+            want = count_components_by_labelling(v, iso.value(j), mode);
+            ++labelled;
+        }
+        if (want != c.components[j]) {
+            if (bad < 10)
+                std::cerr << "clfractal: mismatch at isovalue " << iso_string(iso, j) << ": sweep "
+                          << c.components[j] << ", labelling " << want << "\n";
+            ++bad;
+        }
+    }
+    std::cout << "verify        " << (bad ? std::to_string(bad) + " isovalues DIFFER from" : "every isovalue equals")
+              << " per-isovalue labelling (" << labelled << " distinct sets labelled)\n";
+    return bad;
+}
+
 int run_components(const ComponentsArgs& a) {
     Volume v = read_volume(a.volume, a.raw.options());
     const Connectivity mode = parse_connectivity(a.connectivity);
@@ -51,46 +94,7 @@ int run_components(const ComponentsArgs& a) {
               << "most          " << c.components[peak] << " components at isovalue " << iso_string(iso, peak) << "\n"
               << std::setprecision(4) << "time          " << c.seconds << " s ("
               << double(v.vertices()) / c.seconds / 1e6 << " Mvoxel/s)\n";
-    int bad = 0;
-    if (a.verify) {
-        // Every isovalue against per-isovalue labelling of A and C (O(N) per isovalue). Where
-        // no vertex value lies in [s_{j-1}, s_j), A and C are the very sets of isovalue j - 1:
-        // the labelling would repeat itself, so the curve must simply repeat its value.
-        std::vector<char> changes(iso.size(), 0);
-        visit(v, [&](const auto* p) {
-            for (std::size_t i = 0; i < v.vertices(); ++i) {
-                const double x = double(p[i]);
-                std::size_t j = 0;
-                if (iso.integer()) {
-                    const double b = x - double(iso.first()) + 1;  // first isovalue > x
-                    if (b < 0 || b >= double(iso.size())) continue;
-                    j = std::size_t(b);
-                } else {
-                    const auto& f = iso.list();  // exact in double for every list type
-                    j = std::size_t(std::upper_bound(f.begin(), f.end(), x) - f.begin());
-                    if (j >= f.size()) continue;
-                }
-                changes[j] = 1;
-            }
-        });
-        changes[0] = 1;
-        std::size_t labelled = 0;
-        std::int64_t want = 0;
-        for (std::size_t j = 0; j < iso.size(); ++j) {
-            if (changes[j]) {
-                want = count_components_by_labelling(v, iso.value(j), mode);
-                ++labelled;
-            }
-            if (want != c.components[j]) {
-                if (bad < 10)
-                    std::cerr << "clfractal: mismatch at isovalue " << iso_string(iso, j) << ": sweep "
-                              << c.components[j] << ", labelling " << want << "\n";
-                ++bad;
-            }
-        }
-        std::cout << "verify        " << (bad ? std::to_string(bad) + " isovalues DIFFER from" : "every isovalue equals")
-                  << " per-isovalue labelling (" << labelled << " distinct sets labelled)\n";
-    }
+    const int bad = a.verify ? verify_components(v, iso, mode, c) : 0;
     if (!a.csv.empty()) {
         std::ostringstream out;
         out << "isovalue,components\n";

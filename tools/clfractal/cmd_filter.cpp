@@ -122,8 +122,8 @@ int run_filter_stream(const FilterArgs& a, const FilterSpec& spec) {
     return 0;
 }
 
-int run_filter(FilterArgs a, CLI::App* app) {
-    const FilterSpec spec = parse_spec(a, app);
+// The combinations of options that make no sense, before any file is read.
+void check_filter_options(const FilterArgs& a, const FilterSpec& spec, CLI::App* app) {
     if (int(a.fractal) + int(a.fractal4) + int(a.ld_guided) > 1)
         throw InputError("filter: --fractal, --fractal4 and --ld-guided exclude each other");
     if (a.fractal4 && std::isnan(a.threshold)) throw InputError("--fractal4 needs --threshold H4");
@@ -139,15 +139,10 @@ int run_filter(FilterArgs a, CLI::App* app) {
     if (a.stream && !a.fractal) throw InputError("--stream: only with --fractal (the targeted filter streams)");
     if (a.stream && cli::is_auto_isovalue(a.iso))
         throw InputError("--iso auto: not with --stream (it needs the whole curve first)");
-    if (a.stream) return run_filter_stream(a, spec);
+}
 
-    Volume v = read_volume(a.volume, a.raw.options());
-    if (!std::isnan(a.iso)) a.iso = cli::checked_isovalue(v, a.iso);
-    Context& ctx = Context::shared();
-    const bool at_iso = !std::isnan(a.iso);
-    AtIso before, after;
-    if (at_iso) before = measure(ctx, v, a.iso);
-
+// The filter in words: what, and where (the mask), for the report and the progress line.
+std::string describe_filter(const FilterArgs& a, const FilterSpec& spec, const Volume& v) {
     std::string how = spec.describe();
     if (a.fractal) {
         std::ostringstream s;
@@ -164,6 +159,45 @@ int run_filter(FilterArgs a, CLI::App* app) {
         s << ", LD-guided range (isovalue " << a.iso << ", window " << a.window << ")";
         how += s.str();
     }
+    return how;
+}
+
+// The vertices a masked filter selected.
+void print_selected(const FilterArgs& a, const TargetedResult& tr) {
+    if (a.fractal)
+        std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share << "%) with LD > "
+                  << a.threshold << "\n";
+    if (a.fractal4)
+        std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share << "%) with LD4 > "
+                  << a.threshold << "\n";
+    if (a.ld_guided)
+        std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share
+                  << "%) with LD > 2 (the others keep their values)\n";
+}
+
+// Cubes, FD and components at the isovalue, before and after.
+void print_at_iso(Context& ctx, double iso, const Volume& v, const Volume& out, const AtIso& before, const AtIso& after) {
+    std::cout << "isovalue    " << iso << "     before      after\n"
+              << "  cubes     " << std::setw(12) << before.cubes << " " << std::setw(10) << after.cubes << "\n"
+              << "  FD        " << std::setw(12) << fd_text(before.fd) << " " << std::setw(10)
+              << fd_text(after.fd) << "\n";
+    std::cout << "  components" << std::setw(12) << count_components_at(ctx, v, iso) << " " << std::setw(10)
+              << count_components_at(ctx, out, iso) << "\n";
+}
+
+int run_filter(FilterArgs a, CLI::App* app) {
+    const FilterSpec spec = parse_spec(a, app);
+    check_filter_options(a, spec, app);
+    if (a.stream) return run_filter_stream(a, spec);
+
+    Volume v = read_volume(a.volume, a.raw.options());
+    if (!std::isnan(a.iso)) a.iso = cli::checked_isovalue(v, a.iso);
+    Context& ctx = Context::shared();
+    const bool at_iso = !std::isnan(a.iso);
+    AtIso before, after;
+    if (at_iso) before = measure(ctx, v, a.iso);
+
+    const std::string how = describe_filter(a, spec, v);
     cli::progress(how + " of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description());
 
     using clock = std::chrono::steady_clock;
@@ -193,24 +227,9 @@ int run_filter(FilterArgs a, CLI::App* app) {
               << "filter      " << how << "\n"
               << "device      " << ctx.description() << "\n";
     std::cout << std::fixed << std::setprecision(2);
-    if (a.fractal)
-        std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share << "%) with LD > "
-                  << a.threshold << "\n";
-    if (a.fractal4)
-        std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share << "%) with LD4 > "
-                  << a.threshold << "\n";
-    if (a.ld_guided)
-        std::cout << "selected    " << tr.selected << " vertices (" << 100 * tr.selected_share
-                  << "%) with LD > 2 (the others keep their values)\n";
+    print_selected(a, tr);
     std::cout << "changed     " << changed << " vertices (" << 100 * double(changed) / n << "%)\n";
-    if (at_iso) {
-        std::cout << "isovalue    " << a.iso << "     before      after\n"
-                  << "  cubes     " << std::setw(12) << before.cubes << " " << std::setw(10) << after.cubes << "\n"
-                  << "  FD        " << std::setw(12) << fd_text(before.fd) << " " << std::setw(10)
-                  << fd_text(after.fd) << "\n";
-        std::cout << "  components" << std::setw(12) << count_components_at(ctx, v, a.iso) << " " << std::setw(10)
-                  << count_components_at(ctx, out, a.iso) << "\n";
-    }
+    if (at_iso) print_at_iso(ctx, a.iso, v, out, before, after);
     std::cout << std::defaultfloat << std::setprecision(4) << "time        " << seconds << " s";
     if (masked) std::cout << " (LD field " << tr.ld_seconds << " s, masked filter " << tr.filter_seconds << " s)";
     std::cout << ", kernels compiled in " << ctx.compile_seconds() << " s\n"

@@ -63,8 +63,8 @@ void write_plot(const std::vector<NoisePoint>& pts, NoiseKind kind, const std::s
     plot_png(s.str(), data.str(), path);
 }
 
-int run_noise(const NoiseArgs& a) {
-    const NoiseKind kind = parse_noise_kind(a.noise);
+// The combinations of options that make no sense, before any work.
+void check_noise_options(const NoiseArgs& a) {
     const bool real = !a.volume.empty();
     if (!real && !std::isnan(a.iso)) throw InputError("--iso: only with --volume");
     if (!real && !std::isnan(a.gamma)) throw InputError("--gamma: only with --volume (synthetic data has gamma 1)");
@@ -74,64 +74,72 @@ int run_noise(const NoiseArgs& a) {
     if (!std::isnan(a.gamma) && !(a.gamma > 0 && std::isfinite(a.gamma)))
         throw InputError("--gamma: must be a finite number > 0");
     if (a.box_samples < 1) throw InputError("--box-samples: must be at least 1");
+}
 
+// The clean volume, its gradient gamma, the isovalues and the noise amplitudes.
+struct NoiseInput {
     Volume clean;
     double gamma = 1;
     bool estimated = false;
     std::string data_name;
     std::vector<float> iso;
+    std::vector<double> amplitudes;
+};
+
+NoiseInput noise_input(const NoiseArgs& a) {
+    const bool real = !a.volume.empty();
+    NoiseInput in;
     if (real) {
         if (!std::isfinite(a.iso) && !cli::is_auto_isovalue(a.iso)) throw InputError("--iso: must be a finite number");
-        clean = read_volume(a.volume, a.raw.options());
+        in.clean = read_volume(a.volume, a.raw.options());
         if (cli::is_auto_isovalue(a.iso)) throw InputError("--iso auto: not with noise --volume; give --iso S");
-        cli::warn_isovalue_outside(clean, a.iso);
-        gamma = a.gamma;
-        if (std::isnan(gamma)) {
-            gamma = estimate_gamma(clean, a.iso);
-            estimated = true;
+        cli::warn_isovalue_outside(in.clean, a.iso);
+        in.gamma = a.gamma;
+        if (std::isnan(in.gamma)) {
+            in.gamma = estimate_gamma(in.clean, a.iso);
+            in.estimated = true;
         }
-        data_name = a.volume;
-        iso = {float(a.iso)};
+        in.data_name = a.volume;
+        in.iso = {float(a.iso)};
     } else {
-        clean = noise_experiment_volume(a.shape, a.size, a.points, a.seed);
-        data_name = a.shape == "points" ? "distance to " + std::to_string(a.points) + " random points, N = " + std::to_string(a.size)
-                                        : "distance to a circle of radius N/4 (tori), N = " + std::to_string(a.size);
-        iso = default_noise_isovalues(a.shape, a.size);
+        in.clean = noise_experiment_volume(a.shape, a.size, a.points, a.seed);
+        in.data_name = a.shape == "points" ? "distance to " + std::to_string(a.points) + " random points, N = " + std::to_string(a.size)
+                                           : "distance to a circle of radius N/4 (tori), N = " + std::to_string(a.size);
+        in.iso = default_noise_isovalues(a.shape, a.size);
     }
     if (!a.isovalues.empty()) {
-        iso.clear();
-        for (double s : cli::parse_list("--isovalues", a.isovalues)) iso.push_back(float(s));
+        in.iso.clear();
+        for (double s : cli::parse_list("--isovalues", a.isovalues)) in.iso.push_back(float(s));
     }
-    std::sort(iso.begin(), iso.end());
-    iso.erase(std::unique(iso.begin(), iso.end()), iso.end());
-    std::vector<double> amplitudes;
+    std::sort(in.iso.begin(), in.iso.end());
+    in.iso.erase(std::unique(in.iso.begin(), in.iso.end()), in.iso.end());
     if (!a.mu.empty()) {
-        amplitudes = cli::parse_list("--mu", a.mu);
-        for (double m : amplitudes)
+        in.amplitudes = cli::parse_list("--mu", a.mu);
+        for (double m : in.amplitudes)
             if (m < 0) throw InputError("--mu " + a.mu + ": amplitudes must be >= 0");
     } else {
-        for (int k = 0; k <= 16; ++k) amplitudes.push_back(gamma * 0.25 * k);  // r = 0, 0.25, ..., 4
+        for (int k = 0; k <= 16; ++k) in.amplitudes.push_back(in.gamma * 0.25 * k);  // r = 0, 0.25, ..., 4
     }
+    return in;
+}
 
-    Context& ctx = Context::shared();
-    cli::progress(std::string(noise_kind_name(kind)) + " noise, " + std::to_string(amplitudes.size()) +
-                  " amplitudes, on " + ctx.description());
-    const std::vector<NoisePoint> pts =
-        noise_experiment(ctx, clean, iso, amplitudes, kind, gamma, a.seed, a.box_samples,
-                         [](const std::string& s) { cli::progress(s); });
-
+void print_noise_header(const NoiseArgs& a, const NoiseInput& in, NoiseKind kind, Context& ctx) {
     std::ostringstream isos;
-    for (std::size_t j = 0; j < iso.size(); ++j) isos << (j ? " " : "") << iso[j];
-    std::cout << "data        " << data_name << " (" << dims_string(clean.dims()) << " "
-              << value_type_name(clean.type()) << ")\n"
+    for (std::size_t j = 0; j < in.iso.size(); ++j) isos << (j ? " " : "") << in.iso[j];
+    std::cout << "data        " << in.data_name << " (" << dims_string(in.clean.dims()) << " "
+              << value_type_name(in.clean.type()) << ")\n"
               << "noise       " << noise_kind_name(kind) << (kind == NoiseKind::uniform ? " [-mu, mu]" : ", standard deviation mu")
               << ", seed " << a.seed << ", added in float32\n"
               << "isovalues   " << isos.str() << " (dimensions averaged over them)\n"
-              << "gamma       " << gamma << (estimated ? "  (estimated: 2 x mean span of the edges whose minimum lies within gamma of the isovalue)" : "") << "\n"
+              << "gamma       " << in.gamma << (in.estimated ? "  (estimated: 2 x mean span of the edges whose minimum lies within gamma of the isovalue)" : "") << "\n"
               << "device      " << ctx.description() << "\n"
               << "formula     " << (kind == NoiseKind::uniform ? "Theorem 1 (eqs. 3.2-3.4)" : "edge model with Gaussian noise, numerical integration")
               << "; box model: 8-vertex cube, Monte Carlo (" << a.box_samples << " samples)\n\n"
               << "      mu       r   edge FD   formula     diff    box FD  box model     diff\n";
+}
+
+// The table of measured against modelled dimensions; returns the largest differences.
+std::pair<double, double> print_noise_table(const std::vector<NoisePoint>& pts) {
     double worst = 0, worst_box = 0;
     for (const NoisePoint& p : pts) {
         const double diff = p.measured_edge_fd - p.formula, diff_box = p.measured_box_fd - p.model_box;
@@ -144,40 +152,60 @@ int run_noise(const NoiseArgs& a) {
     }
     std::cout << "\nmax |edge FD - formula| " << fixed(worst, 4) << "\nmax |box FD - box model| " << fixed(worst_box, 4)
               << "\n";
+    return {worst, worst_box};
+}
 
-    if (!a.json_path.empty()) {
-        json rows = json::array();
-        for (const NoisePoint& p : pts) {
-            json per = json::array();
-            for (std::size_t j = 0; j < iso.size(); ++j)
-                per.push_back({{"isovalue", iso[j]}, {"edge_fd", cli::fd_json(p.edge_fd[j])}, {"box_fd", cli::fd_json(p.box_fd[j])}});
-            rows.push_back({{"mu", p.amplitude},
-                            {"r", p.r},
-                            {"measured_edge_fd", cli::fd_json(p.measured_edge_fd)},
-                            {"measured_box_fd", cli::fd_json(p.measured_box_fd)},
-                            {"formula", p.formula},
-                            {"model_box_fd", p.model_box},
-                            {"isovalues", per}});
-        }
-        json j{{"points", rows},
-               {"data", data_name},
-               {"dims", {clean.dims().nx, clean.dims().ny, clean.dims().nz}},
-               {"noise", noise_kind_name(kind)},
-               {"seed", a.seed},
-               {"gamma", gamma},
-               {"gamma_estimated", estimated},
-               {"isovalues", iso},
-               {"box_samples", a.box_samples},
-               {"max_abs_edge_error", worst},
-               {"max_abs_box_error", worst_box},
-               {"device", ctx.description()}};
-        write_file_atomic(a.json_path, j.dump(1) + "\n");
+json noise_report_json(const NoiseArgs& a, const NoiseInput& in, NoiseKind kind, const std::vector<NoisePoint>& pts,
+                       double worst, double worst_box, Context& ctx) {
+    json rows = json::array();
+    for (const NoisePoint& p : pts) {
+        json per = json::array();
+        for (std::size_t j = 0; j < in.iso.size(); ++j)
+            per.push_back({{"isovalue", in.iso[j]}, {"edge_fd", cli::fd_json(p.edge_fd[j])}, {"box_fd", cli::fd_json(p.box_fd[j])}});
+        rows.push_back({{"mu", p.amplitude},
+                        {"r", p.r},
+                        {"measured_edge_fd", cli::fd_json(p.measured_edge_fd)},
+                        {"measured_box_fd", cli::fd_json(p.measured_box_fd)},
+                        {"formula", p.formula},
+                        {"model_box_fd", p.model_box},
+                        {"isovalues", per}});
     }
+    json j{{"points", rows},
+           {"data", in.data_name},
+           {"dims", {in.clean.dims().nx, in.clean.dims().ny, in.clean.dims().nz}},
+           {"noise", noise_kind_name(kind)},
+           {"seed", a.seed},
+           {"gamma", in.gamma},
+           {"gamma_estimated", in.estimated},
+           {"isovalues", in.iso},
+           {"box_samples", a.box_samples},
+           {"max_abs_edge_error", worst},
+           {"max_abs_box_error", worst_box},
+           {"device", ctx.description()}};
+    return j;
+}
+
+int run_noise(const NoiseArgs& a) {
+    const NoiseKind kind = parse_noise_kind(a.noise);
+    check_noise_options(a);
+    const bool real = !a.volume.empty();
+    const NoiseInput in = noise_input(a);
+
+    Context& ctx = Context::shared();
+    cli::progress(std::string(noise_kind_name(kind)) + " noise, " + std::to_string(in.amplitudes.size()) +
+                  " amplitudes, on " + ctx.description());
+    const std::vector<NoisePoint> pts =
+        noise_experiment(ctx, in.clean, in.iso, in.amplitudes, kind, in.gamma, a.seed, a.box_samples,
+                         [](const std::string& s) { cli::progress(s); });
+    print_noise_header(a, in, kind, ctx);
+    const auto [worst, worst_box] = print_noise_table(pts);
+    if (!a.json_path.empty())
+        write_file_atomic(a.json_path, noise_report_json(a, in, kind, pts, worst, worst_box, ctx).dump(1) + "\n");
     if (!a.plot.empty())
         write_plot(pts, kind,
                    (real ? std::filesystem::path(a.volume).filename().string() + " at isovalue " + fixed(a.iso, 2) +
-                               ", gamma " + fixed(gamma, 2)
-                         : data_name) +
+                               ", gamma " + fixed(in.gamma, 2)
+                         : in.data_name) +
                        ", " + noise_kind_name(kind) + " noise",
                    a.plot);
     return 0;

@@ -228,17 +228,8 @@ void write_histogram(const std::vector<Row>& rows, const std::string& path) {
     plot_png(script.str(), data.str(), path);
 }
 
-int run_survey(const SurveyArgs& a) {
-    const std::vector<Entry> entries = read_input(a.input);
-    Context& ctx = Context::shared();
-    progress("survey of " + std::to_string(entries.size()) + " volumes on " + ctx.description());
-    std::vector<Row> rows;
-    for (std::size_t i = 0; i < entries.size(); ++i) {
-        rows.push_back(survey_one(ctx, entries[i]));
-        const Row& r = rows.back();
-        progress("[" + std::to_string(i + 1) + "/" + std::to_string(entries.size()) + "] " + r.name + " " + r.dims + " " +
-                 r.type + ": FD " + num(r.mean, 3) + ", corr " + num(r.corr, 2) + ", corr/E " + num(r.corr_area, 2) + " (" + num(r.seconds, 1) + " s)");
-    }
+// "all", then each category (medical, measured, synthetic first) that has a row.
+std::vector<Summary> category_summaries(const std::vector<Row>& rows) {
     std::vector<std::string> categories;
     for (const char* c : {"medical", "measured", "synthetic"}) categories.push_back(c);
     for (const Row& r : rows)
@@ -254,8 +245,11 @@ int run_survey(const SurveyArgs& a) {
             if (r.category == c) in.push_back(&r);
         if (!in.empty()) sums.push_back(summarize_rows(c, in));
     }
+    return sums;
+}
 
-    // Per volume and per category, as text on stdout and as Markdown.
+// The per-volume and per-category tables as Markdown.
+std::string survey_markdown(const std::vector<Row>& rows, const std::vector<Summary>& sums) {
     std::ostringstream md;
     md << "| data set | category | dims | type | FD avg | FD std | FD sub avg | avg abs(full - sub) | corr D~comp "
           "| corr D~comp/E | isovalues used |\n"
@@ -275,7 +269,36 @@ int run_survey(const SurveyArgs& a) {
            << num(s.corr) << " | "
            << num(s.corr_std) << " | " << num(s.corr_area) << " | " << num(s.corr_area_std) << " | "
            << num(s.kappa) << " |\n";
+    return md.str();
+}
 
+// One CSV row per volume.
+std::string survey_csv(const std::vector<Row>& rows) {
+    std::ostringstream out;
+    out << "name,category,dims,type,isovalues,defined,fd_mean,fd_std,fd_sub_mean,full_sub_abs,corr_components,"
+           "corr_components_per_area,corr_isovalues,seconds\n";
+    for (const Row& r : rows)
+        out << r.name << "," << r.category << "," << r.dims << "," << r.type << "," << r.isovalues << ","
+            << r.defined << "," << fd_string(r.mean) << "," << fd_string(r.std) << "," << fd_string(r.mean_sub)
+            << "," << fd_string(r.full_sub) << "," << fd_string(r.corr) << "," << fd_string(r.corr_area) << ","
+            << r.corr_used << "," << r.seconds << "\n";
+    return out.str();
+}
+
+int run_survey(const SurveyArgs& a) {
+    const std::vector<Entry> entries = read_input(a.input);
+    Context& ctx = Context::shared();
+    progress("survey of " + std::to_string(entries.size()) + " volumes on " + ctx.description());
+    std::vector<Row> rows;
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        rows.push_back(survey_one(ctx, entries[i]));
+        const Row& r = rows.back();
+        progress("[" + std::to_string(i + 1) + "/" + std::to_string(entries.size()) + "] " + r.name + " " + r.dims + " " +
+                 r.type + ": FD " + num(r.mean, 3) + ", corr " + num(r.corr, 2) + ", corr/E " + num(r.corr_area, 2) + " (" + num(r.seconds, 1) + " s)");
+    }
+    const std::vector<Summary> sums = category_summaries(rows);
+
+    // Per volume and per category, as text on stdout and as Markdown.
     std::cout << std::left << std::setw(22) << "data set" << std::setw(11) << "category" << std::setw(8) << "FD avg"
               << std::setw(8) << "FD std" << std::setw(8) << "sub avg" << std::setw(10) << "|full-sub|" << std::setw(8)
               << "corr" << std::setw(8) << "corr/E" << "\n";
@@ -300,18 +323,8 @@ int run_survey(const SurveyArgs& a) {
                  " components per intersected edge, over isovalues with E >= (two smallest dims product) / 4; data\n"
                  " sets with FD std < 0.05 are left out of the correlation averages, as in thesis §3.1)\n";
 
-    if (!a.markdown.empty()) write_file_atomic(a.markdown, md.str());
-    if (!a.csv.empty()) {
-        std::ostringstream out;
-        out << "name,category,dims,type,isovalues,defined,fd_mean,fd_std,fd_sub_mean,full_sub_abs,corr_components,"
-               "corr_components_per_area,corr_isovalues,seconds\n";
-        for (const Row& r : rows)
-            out << r.name << "," << r.category << "," << r.dims << "," << r.type << "," << r.isovalues << ","
-                << r.defined << "," << fd_string(r.mean) << "," << fd_string(r.std) << "," << fd_string(r.mean_sub)
-                << "," << fd_string(r.full_sub) << "," << fd_string(r.corr) << "," << fd_string(r.corr_area) << ","
-                << r.corr_used << "," << r.seconds << "\n";
-        write_file_atomic(a.csv, out.str());
-    }
+    if (!a.markdown.empty()) write_file_atomic(a.markdown, survey_markdown(rows, sums));
+    if (!a.csv.empty()) write_file_atomic(a.csv, survey_csv(rows));
     if (!a.histogram.empty()) write_histogram(rows, a.histogram);
     return 0;
 }
