@@ -144,3 +144,82 @@ __kernel void local_dimension_rows(__global const C* table, int nx, int ny, int 
         }
     }
 }
+
+// ---------------------------------------------------------------- LD on blocks of 2×2×2 vertices
+// (block_local_dimension in local.hpp.) With p = (k/2) mod 2, vertices 2m - p and 2m + 1 - p
+// of an axis have the same windows (c0 = floor((x - k/2) / 2) is the same for both), so LD is
+// constant on blocks of up to 2×2×2 vertices, block (x + p) / 2 along each axis; and W, cubes
+// [2 b0, 2 b1) of G, is the union of the 2×2×2 G-cubes inside the G' cubes [b0, b1). Both counts are therefore box sums on the
+// tables of G' (mx × my × mz, padded as above): I_W over the number of intersected G cubes
+// inside each G' cube, I_W' over the G' indicator. One read of the volume, tables and
+// queries at an eighth of the size, the same integers and the same log_ratio as
+// local_dimension_*.
+
+// One work-item per table entry: global size (mx, my, mz) exactly. Entry (X, Y, Z), all > 0,
+// holds G' cube c = (X - 1, Y - 1, Z - 1), whose 3×3×3 vertices in G start at 2c:
+// `counts` gets the intersected G cubes among its eight, `sub` 1 if c itself (corners 2c and
+// 2c + 2) is intersected.
+__kernel void block_indicators(__global const T* restrict vol, int nx, int ny, int nz, iso_t s,
+                               __global C* restrict counts, __global C* restrict sub) {
+    const size_t X = get_global_id(0), Y = get_global_id(1), Z = get_global_id(2);
+    const size_t mx = get_global_size(0), my = get_global_size(1);
+    const size_t out = (Z * my + Y) * mx + X;
+    if (!X || !Y || !Z) {
+        counts[out] = 0;
+        sub[out] = 0;
+        return;
+    }
+    const size_t row = (size_t)nx, slice = row * (size_t)ny;
+    __global const T* p = vol + 2 * (Z - 1) * slice + 2 * (Y - 1) * row + 2 * (X - 1);
+    // Min and max along x of the vertex pairs (i, i + 1) of the 9 x-rows (j, k).
+    T lo[3][3][2], hi[3][3][2];
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j) {
+            __global const T* r = p + k * slice + j * row;
+            const T a = r[0], b = r[1], c = r[2];
+            lo[k][j][0] = min(a, b);
+            hi[k][j][0] = max(a, b);
+            lo[k][j][1] = min(b, c);
+            hi[k][j][1] = max(b, c);
+        }
+    C n = 0;
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) {
+                const T a = min(min(lo[k][j][i], lo[k][j + 1][i]), min(lo[k + 1][j][i], lo[k + 1][j + 1][i]));
+                const T b = max(max(hi[k][j][i], hi[k][j + 1][i]), max(hi[k + 1][j][i], hi[k + 1][j + 1][i]));
+                n += intersected(a, b, s);
+            }
+    T a = p[0], b = p[0];
+    for (int k = 0; k < 3; k += 2)
+        for (int j = 0; j < 3; j += 2)
+            for (int i = 0; i < 3; i += 2) {
+                const T v = p[k * slice + j * row + i];
+                a = min(a, v);
+                b = max(b, v);
+            }
+    counts[out] = n;
+    sub[out] = intersected(a, b, s);
+}
+
+// One work-item per block: global size (hx, hy, hz) = ((nx + p + 1) / 2, ...) exactly.
+// `counts` and `sub` are the summed-area tables of block_indicators' outputs; `win` the
+// window tables of G as for local_dimension_*; `ld` gets the LD of the block's vertices, read
+// at its first vertex max(0, 2 X - p).
+__kernel void block_dimension(__global const C* counts, __global const C* sub, int mx, int my,
+                              __global const int4* win, int nx, int ny, int p, __global float* restrict ld) {
+    const int X = get_global_id(0), Y = get_global_id(1), Z = get_global_id(2);
+    const int4 wx = win[max(0, 2 * X - p)], wy = win[nx + max(0, 2 * Y - p)], wz = win[nx + ny + max(0, 2 * Z - p)];
+    const size_t row = (size_t)mx, slice = row * (size_t)my;
+    const C in_w = box(counts, row, slice, wx.s2, wx.s3, wy.s2, wy.s3, wz.s2, wz.s3);
+    const C in_sub = box(sub, row, slice, wx.s2, wx.s3, wy.s2, wy.s3, wz.s2, wz.s3);
+    ld[((size_t)Z * get_global_size(1) + Y) * get_global_size(0) + X] = log_ratio(in_w, in_sub);
+}
+
+// One work-item per vertex: global size (nx, ny, nz) exactly. The block field of
+// block_dimension (hx × hy blocks per block slice, phase p) spread over the blocks' vertices.
+__kernel void expand_blocks(__global const float* restrict blocks, int hx, int hy, int p, __global float* restrict ld) {
+    const size_t x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
+    ld[(z * get_global_size(1) + y) * get_global_size(0) + x] =
+        blocks[(((z + p) >> 1) * (size_t)hy + ((y + p) >> 1)) * (size_t)hx + ((x + p) >> 1)];
+}

@@ -2,6 +2,7 @@
 // local fractal dimension says there is noise (include/clfractal/filter.hpp).
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -14,13 +15,16 @@
 #include "clfractal/stream.hpp"
 #include "clfractal/span.hpp"
 #include "cli.hpp"
+#include "output.hpp"
+
+#include <nlohmann/json.hpp>
 
 using namespace clfractal;
 
 namespace {
 
 struct FilterArgs {
-    std::string volume, output, bilateral;
+    std::string volume, output, bilateral, json_path;
     bool median = false, fractal = false, fractal4 = false, ld_guided = false, stream = false;
     double gaussian = 0, iso = NAN, threshold = NAN, q = 0;
     int window = 8;
@@ -166,19 +170,40 @@ int run_filter(FilterArgs a, CLI::App* app) {
     cli::progress(how + " of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description());
 
     using clock = std::chrono::steady_clock;
-    const auto t0 = clock::now();
     Volume out;
     TargetedResult tr;
     const bool masked = a.fractal || a.fractal4 || a.ld_guided;
-    if (a.fractal4) {
-        const Volume ld4 = local_fractal_dimension_4d(ctx, v, a.q, a.window);
-        const double field_seconds = std::chrono::duration<double>(clock::now() - t0).count();
-        tr = targeted_filter(ctx, v, spec, ld4, a.threshold);
-        tr.ld_seconds = field_seconds;
-    } else if (a.fractal) tr = targeted_filter(ctx, v, spec, a.iso, a.threshold, a.window);
-    else if (a.ld_guided) tr = ld_bilateral_filter(ctx, v, spec.sigma_s, spec.sigma_r, a.iso, a.window);
-    else out = apply_filter(ctx, v, spec);
+    // The timed call, below and (with --json) first on a corner of at most 16^3 vertices, so
+    // that kernel compilation, which PoCL finishes at each kernel's first launch, stays out
+    // of seconds_compute.
+    auto run = [&](const Volume& in) {
+        if (a.fractal4) {
+            const auto t = clock::now();
+            const Volume ld4 = local_fractal_dimension_4d(ctx, in, a.q, a.window);
+            const double field_seconds = std::chrono::duration<double>(clock::now() - t).count();
+            tr = targeted_filter(ctx, in, spec, ld4, a.threshold);
+            tr.ld_seconds = field_seconds;
+        } else if (a.fractal) tr = targeted_filter(ctx, in, spec, a.iso, a.threshold, a.window);
+        else if (a.ld_guided) tr = ld_bilateral_filter(ctx, in, spec.sigma_s, spec.sigma_r, a.iso, a.window);
+        else out = apply_filter(ctx, in, spec);
+    };
+    if (!a.json_path.empty()) {
+        const Dims d = v.dims(), c{std::min<std::size_t>(d.nx, 16), std::min<std::size_t>(d.ny, 16),
+                                   std::min<std::size_t>(d.nz, 16)};
+        Volume corner(c, v.type());
+        const std::size_t vs = value_size(v.type());
+        for (std::size_t z = 0; z < c.nz; ++z)
+            for (std::size_t y = 0; y < c.ny; ++y)
+                std::memcpy(static_cast<unsigned char*>(corner.data()) + (z * c.ny + y) * c.nx * vs,
+                            static_cast<const unsigned char*>(v.data()) + v.index(0, y, z) * vs, c.nx * vs);
+        run(corner);
+    }
+    const double compiled_before = ctx.compile_seconds();
+    const auto t0 = clock::now();
+    run(v);
     const double seconds = std::chrono::duration<double>(clock::now() - t0).count();
+    // Compute only: the call's time less any kernel compiled during it (no file I/O is in it).
+    const double compiled = ctx.compile_seconds() - compiled_before;
     if (masked) out = std::move(tr.volume);
     if (at_iso) after = measure(ctx, out, a.iso);
     write_volume(out, a.output, &v);
@@ -214,6 +239,26 @@ int run_filter(FilterArgs a, CLI::App* app) {
     if (masked) std::cout << " (LD field " << tr.ld_seconds << " s, masked filter " << tr.filter_seconds << " s)";
     std::cout << ", kernels compiled in " << ctx.compile_seconds() << " s\n"
               << "wrote       " << a.output << " (" << value_type_name(out.type()) << ")\n";
+    if (!a.json_path.empty()) {
+        nlohmann::json j;
+        j["volume"] = a.volume;
+        j["dims"] = {v.dims().nx, v.dims().ny, v.dims().nz};
+        j["type"] = value_type_name(v.type());
+        j["filter"] = how;
+        j["device"] = ctx.description();
+        j["vertices"] = v.vertices();
+        j["selected"] = masked ? tr.selected : v.vertices();
+        j["changed"] = changed;
+        j["fraction_selected"] = masked ? tr.selected_share : 1.0;
+        j["fraction_changed"] = double(changed) / n;
+        j["seconds"] = seconds;
+        j["seconds_compile"] = compiled;
+        j["seconds_compute"] = std::max(0.0, seconds - compiled);
+        // The parts of a masked filter (each may hold some of the compilation).
+        j["seconds_ld"] = masked ? tr.ld_seconds : 0.0;
+        j["seconds_filter"] = masked ? tr.filter_seconds : seconds;
+        write_file_atomic(a.json_path, j.dump(2) + "\n");
+    }
     return 0;
 }
 
@@ -239,6 +284,9 @@ void add_filter_command(CLI::App& app, Commands& commands) {
     c->add_option("--threshold", a->threshold, "LD threshold H of --fractal (LD4 threshold H4 of --fractal4)");
     add_window_option(c, a->window);
     c->add_option("-o,--output", a->output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
+    c->add_option("--json", a->json_path,
+                  "write the times (seconds_compute: no file I/O, no compilation; seconds_ld, seconds_filter) and "
+                  "the fractions selected and changed as JSON");
     c->add_flag("--stream", a->stream,
                 "with --fractal: read, filter and write slice by slice (memory for a few slices; radius <= k/2)");
     a->raw.add(c);
