@@ -291,17 +291,26 @@ void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const D
     const Dims ds = level_dims(d, 1), hb = ld_block_dims(d, window);
     const std::string options =
         single_isovalue_options(type) + defines({{"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
-    cl::Kernel indicators = ctx.kernel("local", "block_indicators", options);
+    // Tuning::local_variant as for the full field: whole rows per work-item on CPUs.
+    const bool rows = ctx.tuning.local_variant == "rows";
+    cl::Kernel indicators = ctx.kernel("local", rows ? "block_indicators_rows" : "block_indicators", options);
     cl::Kernel query = ctx.kernel("local", "block_dimension", options);
     Buffer<C> counts(ctx, ds.vertices()), sub(ctx, ds.vertices());
-    indicators.setArg(0, values);
-    indicators.setArg(1, int(d.nx));
-    indicators.setArg(2, int(d.ny));
-    indicators.setArg(3, int(d.nz));
-    set_isovalue_arg(indicators, 4, type, iso);
-    indicators.setArg(5, counts.get());
-    indicators.setArg(6, sub.get());
-    ctx.launch(indicators, cl::NDRange(ds.nx, ds.ny, ds.nz));
+    int a = 0;
+    indicators.setArg(a++, values);
+    indicators.setArg(a++, int(d.nx));
+    indicators.setArg(a++, int(d.ny));
+    indicators.setArg(a++, int(d.nz));
+    set_isovalue_arg(indicators, a++, type, iso);
+    if (rows) {
+        indicators.setArg(a++, int(ds.nx));
+        indicators.setArg(a++, int(ds.ny));
+        indicators.setArg(a++, int(ds.nz));
+    }
+    indicators.setArg(a++, counts.get());
+    indicators.setArg(a++, sub.get());
+    if (rows) ctx.launch(indicators, cl::NDRange(row_items(ctx)), cl::NDRange(1));
+    else ctx.launch(indicators, cl::NDRange(ds.nx, ds.ny, ds.nz));
     summed_area_table(ctx, counts, ds);
     summed_area_table(ctx, sub, ds);
     std::vector<LocalWindow> windows;
@@ -319,8 +328,12 @@ void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const D
     query.setArg(5, int(d.nx));
     query.setArg(6, int(d.ny));
     query.setArg(7, ld_block_phase(window));
-    query.setArg(8, ld);
-    ctx.launch(query, cl::NDRange(hb.nx, hb.ny, hb.nz));
+    query.setArg(8, int(hb.nx));
+    query.setArg(9, int(hb.ny));
+    query.setArg(10, ld);
+    // A fixed work-group size: PoCL compiles a kernel once per work-group size.
+    const std::size_t wg = std::min<std::size_t>(16, ctx.max_work_group());
+    ctx.launch(query, cl::NDRange((hb.nx + wg - 1) / wg * wg, hb.ny, hb.nz), cl::NDRange(wg, 1, 1));
 }
 
 }  // namespace
