@@ -22,11 +22,12 @@
 //    share of the x-rows; per row the window bounds along y and z are computed once and
 //    the inner loops over x read contiguous rows (vectorised by the compiler).
 
+// (& rather than &&: both comparisons are cheap, a branch on noisy data is not.)
 inline C intersected(T a, T b, iso_t s) {
 #ifdef INTEGER_VALUES
-    return (long)a < s && s <= (long)b;
+    return (C)(((long)a < s) & (s <= (long)b));
 #else
-    return a < s && s <= b;
+    return (C)((a < s) & (s <= b));
 #endif
 }
 
