@@ -85,13 +85,16 @@ std::vector<double> spatial_weights(double sigma_s, int r) {
 // hold (int32, uint32, float64: is_wide), else in float (kernels/filter.cl acc_t).
 std::size_t accumulator_size(ValueType t) { return is_wide(t) ? sizeof(double) : sizeof(float); }
 
-enum class Mask { none, threshold, ld_guided };
+// threshold: a per-vertex field > h; blocks: the LD of blocks of 2×2×2 vertices > h
+// (block_local_dimension; median_rows only); ld_guided: the LD-guided bilateral filter.
+enum class Mask { none, threshold, blocks, ld_guided };
 
 // Compiles and launches the kernels of one filter on one slab.
 class Runner {
 public:
-    Runner(Context& ctx, ValueType type, const Dims& d, const FilterSpec& spec, Mask mask)
-        : ctx_(ctx), type_(type), d_(d), spec_(spec), mask_(mask) {
+    // `window`: the LD window of the block mask (Mask::blocks).
+    Runner(Context& ctx, ValueType type, const Dims& d, const FilterSpec& spec, Mask mask, int window = 8)
+        : ctx_(ctx), type_(type), d_(d), spec_(spec), mask_(mask), window_(window) {
         const std::string& variant = ctx.tuning.filter_variant;
         if (variant != "rows" && variant != "vertices" && variant != "tiled")
             throw std::logic_error("unknown filter variant '" + variant + "'");
@@ -107,6 +110,11 @@ public:
         if (is_wide(type) && spec.kind != FilterKind::median) options_ += " -DFP64";
         if (tiled_) options_ += " " + defines({{"TILE_X", std::to_string(tile_x)}, {"TILE_Y", std::to_string(tile_y)}});
         if (mask == Mask::threshold) options_ += " -DMASKED";
+        if (mask == Mask::blocks) {
+            if (spec.kind != FilterKind::median || !rows_)
+                throw std::logic_error("Runner: the block mask is for the median's rows kernel");
+            options_ += " -DBLOCK_MASKED";
+        }
         if (mask == Mask::ld_guided) options_ += " -DLD_GUIDED";
         const std::string suffix = rows_ ? "_rows" : "_vertices";
         if (spec.kind == FilterKind::median) {
@@ -137,6 +145,13 @@ public:
             if (mask_ == Mask::none) return;
             k.setArg(next, *ld);
             if (mask_ == Mask::threshold) k.setArg(next + 1, h);
+            if (mask_ == Mask::blocks) {
+                const Dims hb = ld_block_dims(d_, window_);
+                k.setArg(next + 1, int(hb.nx));
+                k.setArg(next + 2, int(hb.ny));
+                k.setArg(next + 3, ld_block_phase(window_));
+                k.setArg(next + 4, h);
+            }
         };
         auto go = [&](cl::Kernel& k) {
             if (first_launch(k)) ctx_.warm_up(k, global, local);
@@ -224,6 +239,7 @@ private:
     Dims d_;
     FilterSpec spec_;
     Mask mask_;
+    int window_;
     // Work-group of the tiled median: a 16 x 8 tile of one slice (with its 1-voxel border,
     // three slices of 18 x 10 values in local memory).
     static constexpr std::size_t tile_x = 16, tile_y = 8;
@@ -341,6 +357,27 @@ std::size_t count_selected(const float* ld, std::size_t n, float h) {
     return selected;
 }
 
+// The vertices of the blocks of a block LD field (ld_block_dims(d, window)) whose LD > h:
+// block B of an axis of n vertices holds vertices 2B - p and 2B + 1 - p inside [0, n).
+std::size_t count_selected_blocks(const float* ld, const Dims& d, int window, float h) {
+    const Dims hb = ld_block_dims(d, window);
+    const long long p = ld_block_phase(window);
+    auto width = [p](std::size_t b, std::size_t n) {
+        const long long lo = std::max(0LL, 2 * (long long)b - p), hi = std::min((long long)n, 2 * (long long)b - p + 2);
+        return std::size_t(hi - lo);
+    };
+    std::size_t selected = 0;
+#pragma omp parallel for reduction(+ : selected) schedule(static)
+    for (long long z = 0; z < (long long)hb.nz; ++z)
+        for (std::size_t y = 0; y < hb.ny; ++y) {
+            const float* row = ld + (std::size_t(z) * hb.ny + y) * hb.nx;
+            const std::size_t yz = width(y, d.ny) * width(std::size_t(z), d.nz);
+            for (std::size_t x = 0; x < hb.nx; ++x)
+                if (row[x] > h) selected += yz * width(x, d.nx);
+        }
+    return selected;
+}
+
 void finish_result(const Volume& v, TargetedResult& res) {
     res.changed = count_changed(v, res.volume);
     res.selected_share = double(res.selected) / double(v.vertices());
@@ -376,6 +413,24 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
         res.ld_seconds = seconds_since(t);
         t = clock::now();
         field_run(ctx, v, spec, mask, ld, hf, res);
+    } else if (mask == Mask::threshold && spec.kind == FilterKind::median && ctx.tuning.filter_variant == "rows") {
+        // The median on CPUs: LD on blocks of 2×2×2 vertices, read as such by the median
+        // kernel, which computes only the blocks of 16 columns that hold a selected vertex.
+        with_cl_errors_finished(ctx, [&] {
+            cl::Buffer values = host_buffer(ctx, v.data(), v.size_bytes(), CL_MEM_READ_ONLY, true);
+            Buffer<float> ld = block_local_dimension(ctx, values, v.type(), d, iso, window);
+            ctx.queue().finish();
+            res.ld_seconds = seconds_since(t);
+            t = clock::now();
+            Runner runner(ctx, v.type(), d, spec, Mask::blocks, window);
+            cl::Buffer o = host_buffer(ctx, res.volume.data(), v.size_bytes(), CL_MEM_WRITE_ONLY, false);
+            runner.run(values, int(d.nz), 0, int(d.nz), o, &ld.get(), hf);
+            fetch(ctx, o, res.volume.data(), v.size_bytes());
+            const float* p = static_cast<const float*>(
+                ctx.queue().enqueueMapBuffer(ld.get(), CL_TRUE, CL_MAP_READ, 0, ld.bytes()));
+            res.selected = count_selected_blocks(p, d, window, hf);
+            ctx.queue().enqueueUnmapMemObject(ld.get(), const_cast<float*>(p));
+        });
     } else {
         // One upload: the LD field and the filter read the same device values.
         with_cl_errors_finished(ctx, [&] {

@@ -258,8 +258,98 @@ Buffer<float> local_fractal_dimension(Context& ctx, const Buffer<unsigned char>&
     if (values.size() != dims.vertices() * value_size(type))
         throw std::logic_error("local_fractal_dimension: the buffer does not hold " + dims_string(dims) + " " +
                                value_type_name(type) + " values");
+    // The block field spread over the vertices: the same values as field_on_device at a
+    // fraction of the cost (whatever Tuning::local_variant, which must still be valid).
+    const std::string& variant = ctx.tuning.local_variant;
+    if (variant != "rows" && variant != "vertices")
+        throw std::logic_error("unknown local-dimension variant '" + variant + "'");
+    const Buffer<float> blocks = block_local_dimension(ctx, values.get(), type, dims, iso, window);
     Buffer<float> ld(ctx, dims.vertices());
-    field_on_device(ctx, values.get(), type, dims, iso, window, ld.get());
+    with_cl_errors([&] {
+        const Dims hb = ld_block_dims(dims, window);
+        cl::Kernel expand = ctx.kernel("local", "expand_blocks", single_isovalue_options(type) + defines({{"C", "uint"}}));
+        expand.setArg(0, blocks.get());
+        expand.setArg(1, int(hb.nx));
+        expand.setArg(2, int(hb.ny));
+        expand.setArg(3, ld_block_phase(window));
+        expand.setArg(4, ld.get());
+        ctx.launch(expand, cl::NDRange(dims.nx, dims.ny, dims.nz));
+    });
+    return ld;
+}
+
+Dims ld_block_dims(const Dims& d, int window) {
+    const std::size_t p = std::size_t(ld_block_phase(window));
+    return Dims{(d.nx + p + 1) / 2, (d.ny + p + 1) / 2, (d.nz + p + 1) / 2};
+}
+
+namespace {
+
+template <class C>
+void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso, int window,
+                 const cl::Buffer& ld) {
+    const Dims ds = level_dims(d, 1), hb = ld_block_dims(d, window);
+    const std::string options =
+        single_isovalue_options(type) + defines({{"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
+    // Tuning::local_variant as for the full field: whole rows per work-item on CPUs.
+    const bool rows = ctx.tuning.local_variant == "rows";
+    cl::Kernel indicators = ctx.kernel("local", rows ? "block_indicators_rows" : "block_indicators", options);
+    cl::Kernel query = ctx.kernel("local", "block_dimension", options);
+    Buffer<C> counts(ctx, ds.vertices()), sub(ctx, ds.vertices());
+    int a = 0;
+    indicators.setArg(a++, values);
+    indicators.setArg(a++, int(d.nx));
+    indicators.setArg(a++, int(d.ny));
+    indicators.setArg(a++, int(d.nz));
+    set_isovalue_arg(indicators, a++, type, iso);
+    if (rows) {
+        indicators.setArg(a++, int(ds.nx));
+        indicators.setArg(a++, int(ds.ny));
+        indicators.setArg(a++, int(ds.nz));
+    }
+    indicators.setArg(a++, counts.get());
+    indicators.setArg(a++, sub.get());
+    if (rows) ctx.launch(indicators, cl::NDRange(row_items(ctx)), cl::NDRange(1));
+    else ctx.launch(indicators, cl::NDRange(ds.nx, ds.ny, ds.nz));
+    summed_area_table(ctx, counts, ds);
+    summed_area_table(ctx, sub, ds);
+    std::vector<LocalWindow> windows;
+    for (std::size_t n : {d.nx, d.ny, d.nz}) {
+        const std::vector<LocalWindow> w = local_windows(n, window);
+        windows.insert(windows.end(), w.begin(), w.end());
+    }
+    Buffer<LocalWindow> window_table(ctx, windows.size(), CL_MEM_READ_ONLY);
+    window_table.write(ctx.queue(), windows.data(), windows.size());
+    query.setArg(0, counts.get());
+    query.setArg(1, sub.get());
+    query.setArg(2, int(ds.nx));
+    query.setArg(3, int(ds.ny));
+    query.setArg(4, window_table.get());
+    query.setArg(5, int(d.nx));
+    query.setArg(6, int(d.ny));
+    query.setArg(7, ld_block_phase(window));
+    query.setArg(8, int(hb.nx));
+    query.setArg(9, int(hb.ny));
+    query.setArg(10, ld);
+    // A fixed work-group size: PoCL compiles a kernel once per work-group size.
+    const std::size_t wg = std::min<std::size_t>(16, ctx.max_work_group());
+    ctx.launch(query, cl::NDRange((hb.nx + wg - 1) / wg * wg, hb.ny, hb.nz), cl::NDRange(wg, 1, 1));
+}
+
+}  // namespace
+
+Buffer<float> block_local_dimension(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso,
+                                    int window) {
+    check_local_arguments(iso, window);
+    check_dims(d, "volume");
+    local_windows(std::max({d.nx, d.ny, d.nz}), window);  // axis length check
+    Buffer<float> ld(ctx, ld_block_dims(d, window).vertices());
+    with_cl_errors([&] {
+        // The counts of a G' box are at most 8 times its G' cubes: 32 bits hold them while
+        // G has at most sat_max_32bit cubes, as for local_fractal_dimension.
+        if (d.cubes() > ctx.tuning.sat_max_32bit) block_field<cl_ulong>(ctx, values, type, d, iso, window, ld.get());
+        else block_field<cl_uint>(ctx, values, type, d, iso, window, ld.get());
+    });
     return ld;
 }
 

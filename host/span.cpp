@@ -198,6 +198,9 @@ struct SpanCounter::Impl {
         const std::size_t slice_bytes = dims.nx * dims.ny * value_size(type);
         std::size_t budget = ctx.tuning.slab_bytes ? ctx.tuning.slab_bytes
                                                    : std::min(ctx.max_alloc(), ctx.global_mem() / 4);
+        // Read in place (CPU devices), slabs cost no copy: small ones keep the buffers of the
+        // subsampled levels small (an eighth of the slab and less, not of the volume).
+        if (!ctx.tuning.slab_bytes && ctx.tuning.zero_copy) budget = std::min(budget, std::size_t(32) << 20);
         if (dims.nx > std::size_t(INT_MAX) || dims.ny > std::size_t(INT_MAX) || dims.nz > std::size_t(INT_MAX))
             throw InputError("volume: axes longer than 2^31 - 1 vertices are not supported");
         std::size_t fit = std::max<std::size_t>(1, budget / std::max<std::size_t>(1, slice_bytes));
@@ -236,7 +239,8 @@ struct SpanCounter::Impl {
                 count.push_back(ctx.kernel("span", name, options));
             }
             if (variant == "private") {
-                partial_rows = ctx.tuning.private_items ? ctx.tuning.private_items : 4 * ctx.compute_units();
+                // Two rows per work-item (kernels/span.cl).
+                partial_rows = 2 * (ctx.tuning.private_items ? ctx.tuning.private_items : 4 * ctx.compute_units());
                 wg = 1;
             } else {
                 std::size_t kmax = ctx.max_work_group();
@@ -302,7 +306,7 @@ struct SpanCounter::Impl {
         k.setArg(a++, partial.get());
         if (variant == "private") {
             partial.fill(ctx.queue(), 0);
-            run(k, cl::NDRange(partial_rows), cl::NDRange(1));
+            run(k, cl::NDRange(partial_rows / 2), cl::NDRange(1));
         } else {
             std::size_t work = cubes ? ld.cubes() : ld.vertices();
             std::size_t groups = std::min(partial_rows, (work + wg - 1) / wg);

@@ -64,11 +64,25 @@ struct SpanStream::Impl {
     }
 
     void push(const void* slice) {
-        if (n >= max_slices) throw InputError("stream: more than " + std::to_string(max_slices) + " slices");
-        check_slice(slice, type, nx, ny, n);
-        std::memcpy(buf.data() + fill * slice_bytes, slice, slice_bytes);
-        ++fill;
-        ++n;
+        std::size_t room = 0;
+        std::memcpy(next(room), slice, slice_bytes);
+        filled(1);
+    }
+
+    void* next(std::size_t& room) {
+        room = batch > 1 ? batch - fill : 1;
+        return buf.data() + fill * slice_bytes;
+    }
+
+    // The k slices at next() were written: check them, then add them.
+    void filled(std::size_t k) {
+        std::size_t room = 0;
+        next(room);
+        if (k == 0 || k > room) throw std::logic_error("SpanStream::push_filled: more slices than next_slices() made room for");
+        if (n + k > max_slices) throw InputError("stream: more than " + std::to_string(max_slices) + " slices");
+        for (std::size_t i = 0; i < k; ++i) check_slice(buf.data() + (fill + i) * slice_bytes, type, nx, ny, n + i);
+        fill += k;
+        n += k;
         if (fill == batch && batch > 1) {
             main->add_slab(buf.data(), base, batch);
             std::memcpy(buf.data(), buf.data() + (batch - 1) * slice_bytes, slice_bytes);
@@ -123,7 +137,12 @@ SpanStream::SpanStream(Context& ctx, std::size_t nx, std::size_t ny, ValueType t
                        std::vector<SpanKind> kinds)
     : impl_(std::make_unique<Impl>(ctx, nx, ny, type, std::move(iso), levels, std::move(kinds))) {}
 SpanStream::~SpanStream() = default;
-void SpanStream::push_slice(const void* slice) { impl_->push(slice); }
+void SpanStream::push_slice(const void* slice) {
+    if (!slice) throw std::logic_error("push_slice: null slice");
+    impl_->push(slice);
+}
+void* SpanStream::next_slices(std::size_t& room) { return impl_->next(room); }
+void SpanStream::push_filled(std::size_t n) { impl_->filled(n); }
 std::size_t SpanStream::slices() const { return impl_->n; }
 SpanResult SpanStream::counts() const { return impl_->counts(); }
 FdCurve SpanStream::curve(SpanKind kind) const { return fd_curve(impl_->ctx, counts(), kind); }

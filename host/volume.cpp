@@ -1,8 +1,13 @@
 // Volume, value types and dimension checks (DESIGN §1 "Grid").
 #include "clfractal/volume.hpp"
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <iterator>
 #include <limits>
 #include <new>
@@ -36,7 +41,73 @@ const TypeRow& row(ValueType t) {
     return type_rows[i];
 }
 
+constexpr std::size_t page = 4096;
+
+std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
+
 }  // namespace
+
+// ---------------------------------------------------------------- HostBytes
+
+HostBytes::HostBytes(std::size_t n) : n_(n) {
+    if (n == 0) return;
+    if (n < (std::size_t(1) << 20)) {
+        p_ = static_cast<unsigned char*>(std::aligned_alloc(page, round_up(n, page)));
+        if (!p_) throw std::bad_alloc();
+        std::memset(p_, 0, n);
+        return;
+    }
+    // (No MADV_HUGEPAGE: where the kernel defragments for madvised regions, faulting in
+    // huge pages stalls for seconds on a busy machine. No MAP_NORESERVE: the kernel's
+    // overcommit check then refuses absurd sizes up front, as malloc's would.)
+    const std::size_t len = round_up(n, page);
+    void* m = mmap(nullptr, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (m == MAP_FAILED) throw std::bad_alloc();
+    p_ = static_cast<unsigned char*>(m);
+    mapped_ = len;
+}
+
+HostBytes::HostBytes(const HostBytes& o) : HostBytes() {
+    if (o.n_ == 0) return;
+    // Every byte is overwritten: no point in having the kernel zero more than it must.
+    HostBytes copy(o.n_);
+    std::memcpy(copy.p_, o.p_, o.n_);
+    *this = std::move(copy);
+}
+
+HostBytes& HostBytes::operator=(const HostBytes& o) {
+    if (this != &o) *this = HostBytes(o);
+    return *this;
+}
+
+HostBytes::HostBytes(HostBytes&& o) noexcept
+    : p_(o.p_), n_(o.n_), mapped_(o.mapped_) {
+    o.p_ = nullptr;
+    o.n_ = o.mapped_ = 0;
+}
+
+HostBytes& HostBytes::operator=(HostBytes&& o) noexcept {
+    if (this != &o) {
+        release();
+        p_ = o.p_;
+        n_ = o.n_;
+        mapped_ = o.mapped_;
+        o.p_ = nullptr;
+        o.n_ = o.mapped_ = 0;
+    }
+    return *this;
+}
+
+HostBytes::~HostBytes() { release(); }
+
+void HostBytes::release() noexcept {
+    if (mapped_) munmap(p_, mapped_);
+    else std::free(p_);
+    p_ = nullptr;
+    n_ = mapped_ = 0;
+}
+
+// ---------------------------------------------------------------- value types
 
 std::size_t value_size(ValueType t) { return row(t).size; }
 const char* value_type_name(ValueType t) { return row(t).name; }
@@ -84,7 +155,7 @@ Volume::Volume(Dims dims, ValueType type, std::string name_)
     check_dims(dims, what);
     const std::size_t bytes = dims.vertices() * value_size(type);
     try {
-        bytes_.resize(bytes);
+        bytes_ = HostBytes(bytes);
     } catch (const std::bad_alloc&) {
         throw HostOutOfMemory(what + ": cannot allocate " + std::to_string(bytes) + " bytes for " +
                          dims_string(dims) + " " + value_type_name(type));
@@ -95,19 +166,140 @@ double Volume::value(std::size_t i) const {
     return visit(*this, [i](const auto* p) { return static_cast<double>(p[i]); });
 }
 
-ValueRange value_range(const Volume& v) {
-    const std::size_t n = v.vertices();
-    if (n == 0) return {};
-    return visit(v, [n](const auto* p) {
-        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-        T lo = p[0], hi = p[0];
-#pragma omp parallel for reduction(min : lo) reduction(max : hi) schedule(static)
-        for (std::size_t i = 0; i < n; ++i) {
-            lo = std::min(lo, p[i]);
-            hi = std::max(hi, p[i]);
+namespace {
+
+template <class T> ValueStats integer_stats(const T* p, std::size_t n) {
+    T lo = std::numeric_limits<T>::max(), hi = std::numeric_limits<T>::lowest();
+#pragma omp parallel for simd reduction(min : lo) reduction(max : hi) schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+        lo = p[i] < lo ? p[i] : lo;
+        hi = p[i] > hi ? p[i] : hi;
+    }
+    return ValueStats{double(lo), double(hi), 0, 0};
+}
+
+// Floats: NaN and Inf told by their exponent bits, so that the loop vectorises (with
+// std::isnan and std::min it does not); blocks keep the inner counters narrow.
+template <class T> ValueStats float_stats(const T* p, std::size_t n) {
+    using U = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
+    constexpr U exponent = sizeof(T) == 4 ? U(0x7f800000u) : U(0x7ff0000000000000ull);
+    constexpr U mantissa = sizeof(T) == 4 ? U(0x007fffffu) : U(0x000fffffffffffffull);
+    T lo = std::numeric_limits<T>::infinity(), hi = -std::numeric_limits<T>::infinity();
+    std::size_t nan = 0, inf = 0;
+    const std::size_t block = std::size_t(1) << 14, blocks = (n + block - 1) / block;
+#pragma omp parallel for reduction(min : lo) reduction(max : hi) reduction(+ : nan, inf) schedule(static)
+    for (std::size_t b = 0; b < blocks; ++b) {
+        const std::size_t i0 = b * block, i1 = std::min(n, i0 + block);
+        U block_nan = 0, block_inf = 0;
+        T l = lo, h = hi;
+#pragma omp simd reduction(min : l) reduction(max : h) reduction(+ : block_nan, block_inf)
+        for (std::size_t i = i0; i < i1; ++i) {
+            U u;
+            std::memcpy(&u, &p[i], sizeof u);
+            const bool special = (u & exponent) == exponent;
+            block_nan += special & ((u & mantissa) != 0);
+            block_inf += special & ((u & mantissa) == 0);
+            const T x = p[i];
+            l = special ? l : (x < l ? x : l);
+            h = special ? h : (x > h ? x : h);
         }
-        return ValueRange{static_cast<double>(lo), static_cast<double>(hi)};
+        nan += block_nan;
+        inf += block_inf;
+        lo = std::min(lo, l);
+        hi = std::max(hi, h);
+    }
+    if (nan + inf == n) return ValueStats{0, 0, nan, inf};
+    return ValueStats{double(lo), double(hi), nan, inf};
+}
+
+}  // namespace
+
+ValueStats value_stats(const void* data, ValueType t, std::size_t n) {
+    if (n == 0) return {};
+    return visit_type(t, [&](auto zero) {
+        using T = decltype(zero);
+        if constexpr (std::is_integral_v<T>) return integer_stats(static_cast<const T*>(data), n);
+        else return float_stats(static_cast<const T*>(data), n);
     });
+}
+
+namespace {
+
+// Adds `count` values x to the summary's sums and bins.
+struct Binning {
+    double lo, width;
+    int bins;
+    int bin(double x) const { return width > 0 ? std::min(int((x - lo) / width), bins - 1) : 0; }
+};
+
+}  // namespace
+
+ValueSummary summarize_values(const Volume& v, int bins) {
+    ValueSummary r;
+    r.histogram.assign(std::size_t(bins), 0);
+    const std::size_t n = v.vertices();
+    double sum = 0, sum2 = 0;
+    visit(v, [&](const auto* p) {
+        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
+        if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
+            // One pass: the count of every value, per thread, then everything from the counts.
+            constexpr std::size_t values = std::size_t(1) << (8 * sizeof(T));
+            using U = std::make_unsigned_t<T>;
+            std::vector<std::uint64_t> counts(values, 0);
+#pragma omp parallel
+            {
+                std::vector<std::uint64_t> mine(values, 0);
+#pragma omp for schedule(static) nowait
+                for (std::size_t i = 0; i < n; ++i) ++mine[U(p[i])];
+#pragma omp critical
+                for (std::size_t k = 0; k < values; ++k) counts[k] += mine[k];
+            }
+            auto value_of = [](std::size_t k) { return double(T(U(k))); };
+            bool any = false;
+            for (std::size_t k = 0; k < values; ++k) {
+                if (!counts[k]) continue;
+                const double x = value_of(k);
+                r.stats.min = any ? std::min(r.stats.min, x) : x;
+                r.stats.max = any ? std::max(r.stats.max, x) : x;
+                any = true;
+            }
+            const Binning b{r.stats.min, (r.stats.max - r.stats.min) / bins, bins};
+            for (std::size_t k = 0; k < values; ++k) {
+                if (!counts[k]) continue;
+                const double x = value_of(k), c = double(counts[k]);
+                sum += c * x;
+                sum2 += c * x * x;
+                r.histogram[std::size_t(b.bin(x))] += counts[k];
+            }
+        } else {
+            r.stats = value_stats(v);
+            const Binning b{r.stats.min, (r.stats.max - r.stats.min) / bins, bins};
+#pragma omp parallel reduction(+ : sum, sum2)
+            {
+                std::vector<std::size_t> mine(std::size_t(bins), 0);
+#pragma omp for schedule(static) nowait
+                for (std::size_t i = 0; i < n; ++i) {
+                    const double x = double(p[i]);
+                    if (!std::isfinite(x)) continue;
+                    sum += x;
+                    sum2 += x * x;
+                    ++mine[std::size_t(b.bin(x))];
+                }
+#pragma omp critical
+                for (int k = 0; k < bins; ++k) r.histogram[std::size_t(k)] += mine[std::size_t(k)];
+            }
+        }
+    });
+    r.finite = n - r.stats.nan - r.stats.inf;
+    const double f = double(r.finite);
+    r.mean = r.finite ? sum / f : 0;
+    r.sd = r.finite ? std::sqrt(std::max(0.0, sum2 / f - r.mean * r.mean)) : 0;
+    return r;
+}
+
+ValueRange value_range(const Volume& v) {
+    const ValueStats s = value_stats(v);
+    return ValueRange{s.min, s.max};
 }
 
 std::size_t first_non_finite(const void* data, ValueType t, std::size_t n) {

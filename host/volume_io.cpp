@@ -3,7 +3,9 @@
 #include "clfractal/output_file.hpp"
 #include "clfractal/volume_io.hpp"
 
+#include <fcntl.h>
 #include <teem/nrrd.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -180,6 +182,28 @@ Volume read_synthetic(const std::string& spec, std::size_t prefix_length) {
     return make_synthetic(rest.substr(0, colon), opt);
 }
 
+/// Reads exactly `bytes` bytes of `file` from `offset` into `dst` (pread: no buffering, no
+/// copy beyond the kernel's); a short file is an InputError naming `name`.
+void read_file_data(const std::string& file, std::uint64_t offset, void* dst, std::size_t bytes,
+                    const std::string& name) {
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw InputError(printable(name) + ": cannot open " + printable(file) + ": " + std::strerror(errno));
+    auto* out = static_cast<unsigned char*>(dst);
+    std::size_t done = 0;
+    std::string problem;
+    while (done < bytes) {
+        const ssize_t got = ::pread(fd, out + done, std::min<std::size_t>(bytes - done, std::size_t(1) << 30),
+                                    off_t(offset + done));
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) problem = std::strerror(errno);
+        else if (got == 0) problem = "truncated: " + std::to_string(done) + " of " + std::to_string(bytes) + " data bytes";
+        if (!problem.empty()) break;
+        done += std::size_t(got);
+    }
+    ::close(fd);
+    if (!problem.empty()) throw InputError(printable(name) + ": cannot read the data: " + problem);
+}
+
 }  // namespace
 
 bool parse_raw_name(const std::string& path, Dims& dims, ValueType& type) {
@@ -224,11 +248,7 @@ Volume read_raw(const std::string& path, const RawOptions& opt) {
 
     Volume v(*dims, *type, path);
     v.spacing = opt.spacing;
-    std::ifstream in(path, std::ios::binary);
-    in.read(static_cast<char*>(v.data()), static_cast<std::streamsize>(expected));
-    if (!in || static_cast<std::uintmax_t>(in.gcount()) != expected)
-        throw InputError(path + ": cannot read " + std::to_string(expected) + " bytes: " +
-                         std::strerror(errno));
+    read_file_data(path, 0, v.data(), std::size_t(expected), path);
 
     if (opt.big_endian != host_big_endian)
         visit(v, [n = v.vertices()](auto* p) { byte_swap(p, n); });
@@ -251,17 +271,19 @@ Volume read_nrrd(const std::string& path) {
     const Dims dims{header->axis[0].size, header->axis[1].size, header->axis[2].size};
     check_dims(dims, path);
 
-    // gzip data of one file is decompressed here, exactly the bytes the header claims (the
-    // same zlib reading as SliceReader); the rest through teem.
+    // Raw or gzip data of one file is read here straight into the volume, exactly the bytes
+    // the header claims (the same reading as SliceReader): one pass, no second host copy
+    // (teem would allocate, zero and fill its own buffer); the rest through teem.
     NrrdPtr nrrd(nrrdNew());
-    const bool own_gzip = checked.encoding == "gzip" && checked.data_files.size() == 1 && checked.line_skip == 0 &&
-                          checked.byte_skip == 0;
-    if (own_gzip) {
+    const bool one_file = checked.data_files.size() == 1 && checked.line_skip == 0 && checked.byte_skip == 0;
+    if (one_file && (checked.encoding == "gzip" || checked.encoding == "raw")) {
         Volume v(dims, type, path);
         const std::size_t value_bytes = checked.value_bytes;
         unsigned char* data = static_cast<unsigned char*>(v.data());
         const std::size_t bytes = v.vertices() * value_bytes;
-        read_gzip_data(checked.data_files[0], checked.data_offset, data, bytes, path);
+        const std::uint64_t offset = checked.attached ? checked.data_offset : 0;
+        if (checked.encoding == "gzip") read_gzip_data(checked.data_files[0], offset, data, bytes, path);
+        else read_file_data(checked.data_files[0], offset, data, bytes, path);
         if (value_bytes > 1 && checked.big_endian != host_big_endian)
             for (std::size_t i = 0; i < bytes; i += value_bytes) std::reverse(data + i, data + i + value_bytes);
         for (unsigned a = 0; a < 3; ++a) v.spacing[a] = axis_spacing(header.get(), a);
@@ -371,20 +393,12 @@ std::vector<std::string> describe_volume_file(const std::string& spec, const Raw
 NonFinite count_non_finite(const void* data, ValueType t, std::size_t n) {
     NonFinite r{0, 0, n};
     if (is_integer(t)) return r;
-    // A branch-free parallel pass for the common all-finite case; the first bad index is
-    // only searched for when there is one.
-    std::size_t nan = 0, inf = 0;
-    visit_type(t, [&](auto zero) {
-        const auto* p = static_cast<const decltype(zero)*>(data);
-#pragma omp parallel for reduction(+ : nan, inf) schedule(static)
-        for (std::size_t i = 0; i < n; ++i) {
-            nan += std::isnan(p[i]);
-            inf += std::isinf(p[i]);
-        }
-    });
-    r.nan = nan;
-    r.inf = inf;
-    if (nan + inf) r.first = first_non_finite(data, t, n);
+    // The vectorised pass for the common all-finite case; the first bad index is only
+    // searched for when there is one.
+    const ValueStats s = value_stats(data, t, n);
+    r.nan = s.nan;
+    r.inf = s.inf;
+    if (s.nan + s.inf) r.first = first_non_finite(data, t, n);
     return r;
 }
 

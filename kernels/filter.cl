@@ -99,6 +99,14 @@ inline int clamp_index(int i, int n) { return clamp(i, 0, n - 1); }
 #define MASK_ARGS
 #define SELECTED(i) true
 #endif
+#ifdef BLOCK_MASKED
+// median_rows only: the LD of blocks of 2×2×2 vertices (block_local_dimension, hx × hy ×
+// hz, x fastest, phase p); vertex (x, y, z) of the whole volume is selected when the LD of
+// block ((x + p) / 2, (y + p) / 2, (z + p) / 2) is > h. The slab is the whole volume.
+#define ROW_MASK_ARGS , __global const float* restrict ld, int hx, int hy, int p, float h
+#else
+#define ROW_MASK_ARGS MASK_ARGS
+#endif
 
 // ------------------------------------------------------------------ median
 
@@ -185,7 +193,7 @@ inline T median_scalar(__global const T* const* rows, int x, int nx) {
 // one. Masked: blocks of VEC columns without a selected vertex are copied, others computed and
 // merged.
 __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,
-                          __global T* restrict out MASK_ARGS) {
+                          __global T* restrict out ROW_MASK_ARGS) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t nrows = (size_t)ny * (size_t)nz_out;
     const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
@@ -196,12 +204,25 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
         __global const T* c = rows[4];  // the row itself
 #ifdef MASKED
         __global const float* m = ld + r * (size_t)nx;
+#elif defined(BLOCK_MASKED)
+        __global const float* mb = ld + ((size_t)((z + p) >> 1) * (size_t)hy + (size_t)((y + p) >> 1)) * (size_t)hx;
+        // A row whose blocks are all unselected is copied.
+        int row_selected = 0;
+        for (int b = 0; b < hx && !row_selected; ++b) row_selected = mb[b] > h;
+        if (!row_selected) {
+            int x = 0;
+            for (; x + VEC <= nx; x += VEC) VSTORE(VLOAD(0, c + x), 0, o + x);
+            for (; x < nx; ++x) o[x] = c[x];
+            continue;
+        }
 #endif
         int x = 0;
         for (; x < nx; ++x) {
             if (x >= 1 && x + VEC <= nx - 1) break;  // the vector loop takes over
 #ifdef MASKED
             o[x] = m[x] > h ? median_scalar(rows, x, nx) : c[x];
+#elif defined(BLOCK_MASKED)
+            o[x] = mb[(x + p) >> 1] > h ? median_scalar(rows, x, nx) : c[x];
 #else
             o[x] = median_scalar(rows, x, nx);
 #endif
@@ -214,6 +235,17 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
                 continue;
             }
             VSTORE(select(VLOAD(0, c + x), median_vec(rows, x), SEL_CAST(sel)), 0, o + x);
+#elif defined(BLOCK_MASKED)
+            // Columns x .. x + VEC - 1 lie in blocks (x + p) / 2 .. (x + VEC - 1 + p) / 2.
+            int chunk_selected = 0;
+            for (int b = (x + p) >> 1; b <= (x + VEC - 1 + p) >> 1; ++b) chunk_selected |= mb[b] > h;
+            if (!chunk_selected) {
+                VSTORE(VLOAD(0, c + x), 0, o + x);
+                continue;
+            }
+            T med[VEC];
+            VSTORE(median_vec(rows, x), 0, med);
+            for (int i = 0; i < VEC; ++i) o[x + i] = mb[(x + i + p) >> 1] > h ? med[i] : c[x + i];
 #else
             VSTORE(median_vec(rows, x), 0, o + x);
 #endif
@@ -221,6 +253,8 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
         for (; x < nx; ++x) {
 #ifdef MASKED
             o[x] = m[x] > h ? median_scalar(rows, x, nx) : c[x];
+#elif defined(BLOCK_MASKED)
+            o[x] = mb[(x + p) >> 1] > h ? median_scalar(rows, x, nx) : c[x];
 #else
             o[x] = median_scalar(rows, x, nx);
 #endif

@@ -22,11 +22,12 @@
 //    share of the x-rows; per row the window bounds along y and z are computed once and
 //    the inner loops over x read contiguous rows (vectorised by the compiler).
 
+// (& rather than &&: both comparisons are cheap, a branch on noisy data is not.)
 inline C intersected(T a, T b, iso_t s) {
 #ifdef INTEGER_VALUES
-    return (long)a < s && s <= (long)b;
+    return (C)(((long)a < s) & (s <= (long)b));
 #else
-    return a < s && s <= b;
+    return (C)((a < s) & (s <= b));
 #endif
 }
 
@@ -143,4 +144,139 @@ __kernel void local_dimension_rows(__global const C* table, int nx, int ny, int 
             out[x] = log_ratio(col[wx.s1] - col[wx.s0], col_sub[wx.s3] - col_sub[wx.s2]);
         }
     }
+}
+
+// ---------------------------------------------------------------- LD on blocks of 2×2×2 vertices
+// (block_local_dimension in local.hpp.) With p = (k/2) mod 2, vertices 2m - p and 2m + 1 - p
+// of an axis have the same windows (c0 = floor((x - k/2) / 2) is the same for both), so LD is
+// constant on blocks of up to 2×2×2 vertices, block (x + p) / 2 along each axis; and W, cubes
+// [2 b0, 2 b1) of G, is the union of the 2×2×2 G-cubes inside the G' cubes [b0, b1). Both counts are therefore box sums on the
+// tables of G' (mx × my × mz, padded as above): I_W over the number of intersected G cubes
+// inside each G' cube, I_W' over the G' indicator. One read of the volume, tables and
+// queries at an eighth of the size, the same integers and the same log_ratio as
+// local_dimension_*.
+
+// One work-item per table entry: global size (mx, my, mz) exactly. Entry (X, Y, Z), all > 0,
+// holds G' cube c = (X - 1, Y - 1, Z - 1), whose 3×3×3 vertices in G start at 2c:
+// `counts` gets the intersected G cubes among its eight, `sub` 1 if c itself (corners 2c and
+// 2c + 2) is intersected.
+__kernel void block_indicators(__global const T* restrict vol, int nx, int ny, int nz, iso_t s,
+                               __global C* restrict counts, __global C* restrict sub) {
+    const size_t X = get_global_id(0), Y = get_global_id(1), Z = get_global_id(2);
+    const size_t mx = get_global_size(0), my = get_global_size(1);
+    const size_t out = (Z * my + Y) * mx + X;
+    if (!X || !Y || !Z) {
+        counts[out] = 0;
+        sub[out] = 0;
+        return;
+    }
+    const size_t row = (size_t)nx, slice = row * (size_t)ny;
+    __global const T* p = vol + 2 * (Z - 1) * slice + 2 * (Y - 1) * row + 2 * (X - 1);
+    // Min and max along x of the vertex pairs (i, i + 1) of the 9 x-rows (j, k).
+    T lo[3][3][2], hi[3][3][2];
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j) {
+            __global const T* r = p + k * slice + j * row;
+            const T a = r[0], b = r[1], c = r[2];
+            lo[k][j][0] = min(a, b);
+            hi[k][j][0] = max(a, b);
+            lo[k][j][1] = min(b, c);
+            hi[k][j][1] = max(b, c);
+        }
+    C n = 0;
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) {
+                const T a = min(min(lo[k][j][i], lo[k][j + 1][i]), min(lo[k + 1][j][i], lo[k + 1][j + 1][i]));
+                const T b = max(max(hi[k][j][i], hi[k][j + 1][i]), max(hi[k + 1][j][i], hi[k + 1][j + 1][i]));
+                n += intersected(a, b, s);
+            }
+    T a = p[0], b = p[0];
+    for (int k = 0; k < 3; k += 2)
+        for (int j = 0; j < 3; j += 2)
+            for (int i = 0; i < 3; i += 2) {
+                const T v = p[k * slice + j * row + i];
+                a = min(a, v);
+                b = max(b, v);
+            }
+    counts[out] = n;
+    sub[out] = intersected(a, b, s);
+}
+
+// The same per row of table entries (Y, Z), rows shared out like cube_indicator_rows (CPUs),
+// BCHUNK vertex columns at a time: first, per column x, the min/max over the four vertex rows
+// of each cube row q = (j, k) in {0, 1}^2 (vertex rows j, j + 1 along y and k, k + 1 along
+// z) and over the four corner rows (0, 0), (2, 0), (0, 2), (2, 2) of the G' cubes (loops over
+// contiguous columns, which vectorise), then the counts per G' cube.
+#define BCHUNK 64
+__kernel void block_indicators_rows(__global const T* restrict vol, int nx, int ny, int nz, iso_t s, int mx, int my,
+                                    int mz, __global C* restrict counts, __global C* restrict sub) {
+    const size_t item = get_global_id(0), items = get_global_size(0);
+    const size_t rows = (size_t)my * (size_t)mz, row = (size_t)nx, slice = row * (size_t)ny;
+    const size_t r0 = rows * item / items, r1 = rows * (item + 1) / items;
+    T m[4][BCHUNK + 1], M[4][BCHUNK + 1], em[BCHUNK + 1], eM[BCHUNK + 1];
+    for (size_t r = r0; r < r1; ++r) {
+        const size_t Y = r % (size_t)my, Z = r / (size_t)my;
+        __global C* cn = counts + r * (size_t)mx;
+        __global C* sb = sub + r * (size_t)mx;
+        cn[0] = 0;
+        sb[0] = 0;
+        if (!Y || !Z) {
+            for (int X = 1; X < mx; ++X) cn[X] = sb[X] = 0;
+            continue;
+        }
+        __global const T* v[3][3];
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j) v[k][j] = vol + (2 * (Z - 1) + k) * slice + (2 * (Y - 1) + j) * row;
+        // G' cubes X0 .. X0 + BCHUNK/2 - 1 (1-based table entries) use vertex columns
+        // 2 (X0 - 1) .. 2 (X0 - 1) + BCHUNK.
+        for (int X0 = 1; X0 < mx; X0 += BCHUNK / 2) {
+            const int x0 = 2 * (X0 - 1), cubes = min(BCHUNK / 2, mx - X0), cols = 2 * cubes + 1;
+            for (int i = 0; i < cols; ++i) {
+                const int x = x0 + i;
+                for (int k = 0; k < 2; ++k)
+                    for (int j = 0; j < 2; ++j) {
+                        m[2 * k + j][i] = min(min(v[k][j][x], v[k][j + 1][x]), min(v[k + 1][j][x], v[k + 1][j + 1][x]));
+                        M[2 * k + j][i] = max(max(v[k][j][x], v[k][j + 1][x]), max(v[k + 1][j][x], v[k + 1][j + 1][x]));
+                    }
+                em[i] = min(min(v[0][0][x], v[0][2][x]), min(v[2][0][x], v[2][2][x]));
+                eM[i] = max(max(v[0][0][x], v[0][2][x]), max(v[2][0][x], v[2][2][x]));
+            }
+            for (int c = 0; c < cubes; ++c) {
+                const int i = 2 * c;
+                C n = 0;
+                for (int q = 0; q < 4; ++q) {
+                    n += intersected(min(m[q][i], m[q][i + 1]), max(M[q][i], M[q][i + 1]), s);
+                    n += intersected(min(m[q][i + 1], m[q][i + 2]), max(M[q][i + 1], M[q][i + 2]), s);
+                }
+                cn[X0 + c] = n;
+                sb[X0 + c] = intersected(min(em[i], em[i + 2]), max(eM[i], eM[i + 2]), s);
+            }
+        }
+    }
+}
+
+// One work-item per block of the hx × hy × hz blocks (hx = (nx + p + 1) / 2, ...); the global
+// size may be rounded up along x (items beyond hx return), so that every launch has the same
+// work-group size. `counts` and `sub` are the summed-area tables of block_indicators' outputs;
+// `win` the window tables of G as for local_dimension_*; `ld` gets the LD of the block's
+// vertices, read at its first vertex max(0, 2 X - p).
+__kernel void block_dimension(__global const C* counts, __global const C* sub, int mx, int my,
+                              __global const int4* win, int nx, int ny, int p, int hx, int hy,
+                              __global float* restrict ld) {
+    const int X = get_global_id(0), Y = get_global_id(1), Z = get_global_id(2);
+    if (X >= hx) return;
+    const int4 wx = win[max(0, 2 * X - p)], wy = win[nx + max(0, 2 * Y - p)], wz = win[nx + ny + max(0, 2 * Z - p)];
+    const size_t row = (size_t)mx, slice = row * (size_t)my;
+    const C in_w = box(counts, row, slice, wx.s2, wx.s3, wy.s2, wy.s3, wz.s2, wz.s3);
+    const C in_sub = box(sub, row, slice, wx.s2, wx.s3, wy.s2, wy.s3, wz.s2, wz.s3);
+    ld[((size_t)Z * (size_t)hy + Y) * (size_t)hx + X] = log_ratio(in_w, in_sub);
+}
+
+// One work-item per vertex: global size (nx, ny, nz) exactly. The block field of
+// block_dimension (hx × hy blocks per block slice, phase p) spread over the blocks' vertices.
+__kernel void expand_blocks(__global const float* restrict blocks, int hx, int hy, int p, __global float* restrict ld) {
+    const size_t x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
+    ld[(z * get_global_size(1) + y) * get_global_size(0) + x] =
+        blocks[(((z + p) >> 1) * (size_t)hy + ((y + p) >> 1)) * (size_t)hx + ((x + p) >> 1)];
 }

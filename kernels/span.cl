@@ -8,9 +8,11 @@
 // consecutive slices.
 //
 // Two variants, chosen per device (Tuning::span_variant):
-//  - *_private (CPUs): each work-item owns one histogram row of `partial` and walks
-//    whole x-rows with plain increments; cube min/max reuse the column min/max of the
-//    previous x. Run with local size 1 and a few work-items per core.
+//  - *_private (CPUs): work-item i owns the two histogram rows 2i and 2i + 1 of `partial`
+//    and walks whole x-rows with plain increments, even cubes into one row and odd cubes
+//    into the other (two independent chains of increments where neighbouring cubes hit the
+//    same bins; edges use the first row only); cube min/max reuse the column min/max of
+//    the previous x. Run with local size 1 and a few work-items per core.
 //  - *_atomic (GPUs): one work-item per cube in a grid-stride loop; the work-group
 //    accumulates with atomics in a local-memory histogram (`lh`, nbins * 4 bytes) and
 //    writes it to its row of `partial`; with -DGLOBAL_HIST (too many bins for local
@@ -54,7 +56,8 @@ __kernel void count_cubes_private(__global const T* restrict vol, int nx, int ny
                                   long vmin, __global const ISO_T* restrict iso, int niso,
                                   int nbins, __global int* restrict partial) {
     const size_t item = get_global_id(0), items = get_global_size(0);
-    __global int* h = partial + item * (size_t)nbins;
+    __global int* h = partial + 2 * item * (size_t)nbins;
+    __global int* h_odd = h + nbins;
     const size_t rows = (size_t)(ny - 1) * (size_t)(nzs - 1);
     const size_t r0 = rows * item / items, r1 = rows * (item + 1) / items;
     const size_t slice = (size_t)nx * ny;
@@ -77,11 +80,21 @@ __kernel void count_cubes_private(__global const T* restrict vol, int nx, int ny
                 lo[i] = first_isovalue_above(min(mn[i], mn[i + 1]), vmin, iso, niso);
                 hi[i] = first_isovalue_above(max(mx[i], mx[i + 1]), vmin, iso, niso);
             }
-            for (int i = 0; i < n; ++i)
+            int i = 0;
+            for (; i + 1 < n; i += 2) {
                 if (lo[i] != hi[i]) {
                     h[lo[i]] += 1;
                     h[hi[i]] -= 1;
                 }
+                if (lo[i + 1] != hi[i + 1]) {
+                    h_odd[lo[i + 1]] += 1;
+                    h_odd[hi[i + 1]] -= 1;
+                }
+            }
+            if (i < n && lo[i] != hi[i]) {
+                h[lo[i]] += 1;
+                h[hi[i]] -= 1;
+            }
         }
     }
 }
@@ -104,7 +117,7 @@ __kernel void count_edges_private(__global const T* restrict vol, int nx, int ny
                                   long vmin, __global const ISO_T* restrict iso, int niso,
                                   int nbins, __global int* restrict partial) {
     const size_t item = get_global_id(0), items = get_global_size(0);
-    __global int* h = partial + item * (size_t)nbins;
+    __global int* h = partial + 2 * item * (size_t)nbins;
     const size_t zrows = last_slab ? (size_t)nzs : (size_t)(nzs - 1);
     const size_t rows = (size_t)ny * zrows;
     const size_t r0 = rows * item / items, r1 = rows * (item + 1) / items;

@@ -351,3 +351,33 @@ TEST_CASE("median equals the reference exactly on the real volumes") {
 }
 
 }  // TEST_SUITE("realdata")
+
+TEST_SUITE("filter") {
+
+TEST_CASE("the targeted median (LD on blocks) equals the masked median with the full LD field") {
+    testutil::TuningGuard guard;
+    std::uint32_t seed = 700;
+    for (const char* variant : {"rows", "vertices"}) {
+        ctx().tuning.filter_variant = variant;
+        for (ValueType t : {ValueType::uint8, ValueType::float32, ValueType::int32})
+            for (const Dims& d : {Dims{37, 19, 13}, Dims{1, 17, 9}, Dims{18, 2, 3}, Dims{33, 33, 33}})
+                for (int window : {2, 6, 8})
+                    for (double h : {2.0, 2.45}) {
+                        CAPTURE(variant);
+                        CAPTURE(value_type_name(t));
+                        CAPTURE(dims_string(d));
+                        CAPTURE(window);
+                        CAPTURE(h);
+                        const Volume v = testutil::random_volume(d, t, 0, 10, seed++);
+                        const double iso = is_integer(t) ? 5 : 2.5;
+                        const Volume ld = local_fractal_dimension(ctx(), v, iso, window);
+                        const TargetedResult r = targeted_filter(ctx(), v, FilterSpec::median(), iso, h, window);
+                        CHECK(same_bytes(r.volume, masked_filter(ctx(), v, FilterSpec::median(), ld, h)));
+                        std::size_t selected = 0;
+                        for (std::size_t i = 0; i < v.vertices(); ++i) selected += double(ld.as<float>()[i]) > h;
+                        CHECK(r.selected == selected);
+                    }
+    }
+}
+
+}  // TEST_SUITE("filter")

@@ -364,3 +364,48 @@ TEST_CASE("real volumes: brute force on small ones, summed-area reference on lar
 }
 
 }  // TEST_SUITE("local")
+
+TEST_SUITE("local") {
+
+TEST_CASE("the LD field on 2x2x2 blocks holds the full field bit for bit: all types, awkward sizes, windows") {
+    testutil::TuningGuard guard;
+    std::uint32_t seed = 900;
+    for (const char* variant : {"rows", "vertices"}) {
+        ctx().tuning.local_variant = variant;
+        ctx().tuning.row_items = variant[0] == 'r' ? 5 : 0;  // 5: rows shared unevenly
+        const ValueType types[] = {ValueType::uint8, ValueType::int16, ValueType::float32, ValueType::float64,
+                                   ValueType::uint32};
+        for (ValueType t : types)
+            for (const Dims& d : {Dims{17, 13, 11}, Dims{1, 9, 8}, Dims{2, 2, 7}, Dims{24, 23, 5}, Dims{3, 31, 2}})
+                for (int window : {2, 4, 8, 10}) {
+                    CAPTURE(value_type_name(t));
+                    CAPTURE(dims_string(d));
+                    CAPTURE(window);
+                    const Volume v = testutil::random_volume(d, t, 0, 9, seed++);
+                    const double iso = is_integer(t) ? 5 : 2.5;
+                    const Volume full = local_fractal_dimension(ctx(), v, iso, window);
+                    const Dims hb = ld_block_dims(d, window);
+                    const std::size_t p = std::size_t(ld_block_phase(window));
+                    std::vector<float> blocks(hb.vertices());
+                    with_cl_errors([&] {
+                        Buffer<unsigned char> values(ctx(), v.size_bytes(), CL_MEM_READ_ONLY);
+                        values.write(ctx().queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
+                        const Buffer<float> b = block_local_dimension(ctx(), values.get(), t, d, iso, window);
+                        b.read(ctx().queue(), blocks.data(), blocks.size());
+                    });
+                    std::size_t bad = 0;
+                    const float* f = full.as<float>();
+                    for (std::size_t z = 0; z < d.nz; ++z)
+                        for (std::size_t y = 0; y < d.ny; ++y)
+                            for (std::size_t x = 0; x < d.nx; ++x) {
+                                const float a = f[v.index(x, y, z)];
+                                const float b = blocks[(((z + p) / 2) * hb.ny + (y + p) / 2) * hb.nx + (x + p) / 2];
+                                bad += std::memcmp(&a, &b, sizeof a) != 0;
+                            }
+                    CAPTURE(variant);
+                    CHECK(bad == 0);
+                }
+    }
+}
+
+}  // TEST_SUITE("local")

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -575,3 +576,44 @@ TEST_CASE("streamed targeted filter equals targeted_filter on the whole volume")
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("stream") {
+
+TEST_CASE("slices read into the stream's own buffer count as pushed slices") {
+    const Dims d{23, 17, 41};
+    const Volume v = testutil::random_volume(d, ValueType::uint16, 0, 40, 77);
+    const IsovalueSet iso = IsovalueSet::integers(0, 40);
+    SpanStream pushed(ctx(), d.nx, d.ny, ValueType::uint16, iso, 3), filled(ctx(), d.nx, d.ny, ValueType::uint16, iso, 3);
+    const std::size_t slice = d.nx * d.ny * 2;
+    const auto* bytes = static_cast<const unsigned char*>(v.data());
+    for (std::size_t z = 0; z < d.nz; ++z) pushed.push_slice(static_cast<const void*>(bytes + z * slice));
+    std::size_t chunks = 0;
+    for (std::size_t z = 0; z < d.nz;) {
+        std::size_t room = 0;
+        void* dst = filled.next_slices(room);
+        REQUIRE(room >= 1);
+        const std::size_t n = std::min({room, d.nz - z, std::size_t(3)});  // also partial fills
+        std::memcpy(dst, bytes + z * slice, n * slice);
+        filled.push_filled(n);
+        z += n;
+        ++chunks;
+    }
+    CHECK(filled.slices() == d.nz);
+    const SpanResult a = pushed.counts(), b = filled.counts();
+    for (std::size_t k = 0; k < a.curves.size(); ++k) CHECK(a.curves[k].counts == b.curves[k].counts);
+    std::size_t room = 0;
+    filled.next_slices(room);
+    CHECK_THROWS_AS(filled.push_filled(room + 1), std::logic_error);
+    CHECK_THROWS_AS(filled.push_filled(0), std::logic_error);
+
+    // A float slice with NaN is refused and not added.
+    SpanStream f(ctx(), 4, 3, ValueType::float32, IsovalueSet::floats({0.5f, 1.5f}), 2);
+    float* p = static_cast<float*>(f.next_slices(room));
+    REQUIRE(room >= 2);
+    std::fill(p, p + 24, 1.0f);
+    p[17] = std::numeric_limits<float>::quiet_NaN();
+    CHECK_THROWS_AS(f.push_filled(2), InputError);
+    CHECK(f.slices() == 0);
+}
+
+}  // TEST_SUITE("stream")

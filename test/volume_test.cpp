@@ -781,3 +781,80 @@ TEST_CASE("shared real data: names, sizes and dims of MANIFEST.tsv") {
 }
 
 }  // TEST_SUITE("volume")
+
+TEST_SUITE("volume") {
+
+TEST_CASE("host storage: page-aligned, zero, copies are deep") {
+    for (std::size_t n : {std::size_t(1), std::size_t(4095), std::size_t(1) << 20, (std::size_t(3) << 20) + 5}) {
+        CAPTURE(n);
+        HostBytes b(n);
+        REQUIRE(b.size() == n);
+        CHECK(reinterpret_cast<std::uintptr_t>(b.data()) % 4096 == 0);
+        CHECK(std::all_of(b.data(), b.data() + n, [](unsigned char c) { return c == 0; }));
+        b.data()[n - 1] = 7;
+        HostBytes c(b);
+        c.data()[n - 1] = 9;
+        CHECK(b.data()[n - 1] == 7);
+        HostBytes m(std::move(c));
+        CHECK(m.data()[n - 1] == 9);
+        CHECK(c.size() == 0);
+        b = m;
+        CHECK(b.data()[n - 1] == 9);
+    }
+    Volume v({300, 300, 13}, ValueType::float32, "big");
+    const Volume w = v;
+    CHECK(w.data() != v.data());
+    CHECK(value_range(w).max == 0);
+}
+
+TEST_CASE("value stats: one pass finds the finite range and counts NaN and Inf, every type") {
+    std::uint32_t seed = 40;
+    for (ValueType t : all_value_types)
+        for (std::size_t n : {std::size_t(1), std::size_t(17), std::size_t(40000)}) {
+            CAPTURE(value_type_name(t));
+            CAPTURE(n);
+            Volume v = testutil::random_volume({n, 1, 1}, t, -100, 100, seed++);
+            std::size_t nan = 0, inf = 0;
+            if (!is_integer(t) && n > 2) {
+                visit(v, [&](auto* p) {
+                    using T = std::remove_pointer_t<decltype(p)>;
+                    if constexpr (std::is_floating_point_v<T>) {
+                        p[n / 2] = std::numeric_limits<T>::quiet_NaN();
+                        p[n - 1] = -std::numeric_limits<T>::infinity();
+                        p[0] = -std::numeric_limits<T>::quiet_NaN();
+                    }
+                });
+                nan = 2;
+                inf = 1;
+            }
+            double lo = INFINITY, hi = -INFINITY;
+            for (std::size_t i = 0; i < n; ++i)
+                if (std::isfinite(v.value(i))) lo = std::min(lo, v.value(i)), hi = std::max(hi, v.value(i));
+            const ValueStats s = value_stats(v);
+            CHECK(s.nan == nan);
+            CHECK(s.inf == inf);
+            CHECK(s.min == lo);
+            CHECK(s.max == hi);
+            // info's summary: the same range, and a histogram and mean as a plain loop gives them.
+            const ValueSummary sum = summarize_values(v, 16);
+            CHECK(sum.stats.min == lo);
+            CHECK(sum.stats.max == hi);
+            CHECK(sum.finite == n - nan - inf);
+            std::vector<std::size_t> h(16, 0);
+            double total = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                const double x = v.value(i);
+                if (!std::isfinite(x)) continue;
+                total += x;
+                const double w = (hi - lo) / 16;
+                ++h[std::size_t(w > 0 ? std::min(int((x - lo) / w), 15) : 0)];
+            }
+            CHECK(sum.histogram == h);
+            CHECK(sum.mean == doctest::Approx(total / double(sum.finite)));
+        }
+    const ValueStats none = value_stats(nullptr, ValueType::float32, 0);
+    CHECK(none.min == 0);
+    CHECK(none.nan == 0);
+}
+
+}  // TEST_SUITE("volume")

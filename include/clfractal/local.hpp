@@ -71,6 +71,21 @@ Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int wi
 Buffer<float> local_fractal_dimension(Context& ctx, const Buffer<unsigned char>& values, ValueType type,
                                       const Dims& dims, double iso, int window = 8);
 
+/// The LD field on blocks of 2×2×2 vertices. With p = (k/2) mod 2, vertices 2m - p and
+/// 2m + 1 - p of an axis have the same windows, so LD is constant on each block ((x + p) / 2,
+/// (y + p) / 2, (z + p) / 2); and W is the union of the 2×2×2 blocks of G cubes inside W', so
+/// both counts are box sums on tables of G' (the intersected G cubes inside each G' cube, and
+/// the G' indicator): one read of the values, tables and queries at an eighth of the size.
+/// Returns the ld_block_dims(dims, window) floats, x fastest: vertex (x, y, z) has the value
+/// of its block, bit for bit the value local_fractal_dimension gives it. `values` holds
+/// dims.vertices() values of `type` on the device.
+Buffer<float> block_local_dimension(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& dims,
+                                    double iso, int window = 8);
+/// The blocks of block_local_dimension: (n + p + 1) / 2 per axis of n vertices.
+Dims ld_block_dims(const Dims& dims, int window);
+/// The block phase p = (window / 2) mod 2: vertex x lies in block (x + p) / 2.
+inline int ld_block_phase(int window) { return (window / 2) % 2; }
+
 /// The same field on the host with OpenMP threads, by the algorithm of the CPU kernels
 /// (indicator rows scanned in x and y per slice, then z; per x-row column sums and two
 /// lookups per vertex), LD rounded from double: the CPU baseline of the benchmark.

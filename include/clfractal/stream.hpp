@@ -49,6 +49,14 @@ public:
         push_slice(static_cast<const void*>(slice));
     }
 
+    /// Room in the stream's own batch buffer for the next slices, to read them straight
+    /// into it (no copy per slice): `room` gets how many (at least 1). Fill n <= room of
+    /// them, then call push_filled(n).
+    void* next_slices(std::size_t& room);
+    /// Adds the n slices written at next_slices(), as n push_slice calls would (float
+    /// slices with NaN or Inf are rejected with InputError, and none of the n is added).
+    void push_filled(std::size_t n);
+
     /// Slices pushed so far.
     std::size_t slices() const;
     /// Counts of the nx × ny × slices() volume pushed so far (all zero before the first

@@ -82,11 +82,37 @@ constexpr std::size_t max_vertices = std::size_t(1) << 40;
 /// max_vertices; throws InputError naming `what` otherwise.
 void check_dims(const Dims& d, const std::string& what);
 
+/// Host memory for the values of a volume: page-aligned, so that CPU OpenCL devices wrap
+/// it in place (CL_MEM_USE_HOST_PTR). Blocks of 1 MiB and more are fresh anonymous
+/// mappings, zero because the kernel hands out zero pages, not because a pass fills them:
+/// a reader that overwrites every byte pays no zero-fill of its own.
+class HostBytes {
+public:
+    HostBytes() = default;
+    /// n zero bytes; throws std::bad_alloc when the memory is not there.
+    explicit HostBytes(std::size_t n);
+    HostBytes(const HostBytes& o);
+    HostBytes& operator=(const HostBytes& o);
+    HostBytes(HostBytes&& o) noexcept;
+    HostBytes& operator=(HostBytes&& o) noexcept;
+    ~HostBytes();
+
+    unsigned char* data() { return p_; }
+    const unsigned char* data() const { return p_; }
+    std::size_t size() const { return n_; }
+
+private:
+    void release() noexcept;
+    unsigned char* p_ = nullptr;  // the bytes
+    std::size_t n_ = 0;
+    std::size_t mapped_ = 0;      // bytes mapped at p_ (0: p_ came from aligned_alloc)
+};
+
 /// A host volume. Owns its values (native endianness), x fastest.
 class Volume {
 public:
     Volume() = default;
-    /// Zero-filled volume; validates dims with check_dims.
+    /// Zero-filled volume (HostBytes: no pass writes the zeros); validates dims with check_dims.
     Volume(Dims dims, ValueType type, std::string name = {});
 
     const Dims& dims() const { return dims_; }
@@ -120,14 +146,37 @@ public:
 private:
     Dims dims_{};
     ValueType type_ = ValueType::uint8;
-    std::vector<unsigned char> bytes_;
+    HostBytes bytes_;
 };
 
 struct ValueRange {
     double min = 0, max = 0;
 };
-/// Smallest and largest value (for float data NaN must not be present).
+/// Smallest and largest finite value (0, 0 when there is none).
 ValueRange value_range(const Volume& v);
+
+/// What one pass over the values finds: the smallest and largest finite value (0, 0 when
+/// there is none) and the NaN and Inf counts (0 for integer types).
+struct ValueStats {
+    double min = 0, max = 0;
+    std::size_t nan = 0, inf = 0;
+};
+/// The stats of n values of type t at `data`: one vectorised, multi-threaded pass.
+ValueStats value_stats(const void* data, ValueType t, std::size_t n);
+inline ValueStats value_stats(const Volume& v) { return value_stats(v.data(), v.type(), v.vertices()); }
+
+/// `clfractal info`'s summary of the finite values: their stats, mean, population standard
+/// deviation and a histogram of `bins` equal bins over [min, max] (bin
+/// min(bins - 1, floor((x - min) / width)), all in bin 0 when min == max). 8- and 16-bit
+/// data in one pass (a count per value, from which everything follows exactly), the rest
+/// in two (value_stats, then sums and bins).
+struct ValueSummary {
+    ValueStats stats;
+    std::size_t finite = 0;
+    double mean = 0, sd = 0;
+    std::vector<std::size_t> histogram;
+};
+ValueSummary summarize_values(const Volume& v, int bins = 16);
 
 /// Index of the first NaN or Inf among the n values of type t at `data`; n when all are
 /// finite (always for integer types).

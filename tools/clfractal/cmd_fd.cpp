@@ -64,7 +64,13 @@ FdRun count_fd(const FdArgs& a) {
     StreamedSpans streamed = a.stream ? stream_spans(a.volume, a.raw.options(), a.isovalues, a.bins, a.levels, kind)
                                       : StreamedSpans{};
     r.stream_method = streamed.method;
-    Volume v = a.stream ? Volume() : read_volume(a.volume, a.raw.options());
+    // The finite check and the value range in one pass (read_volume checks by itself only
+    // before a --as conversion).
+    const bool convert = a.raw.options().as.has_value();
+    Volume v = a.stream ? Volume()
+                        : read_volume(a.volume, a.raw.options(), convert ? FiniteCheck::reject : FiniteCheck::keep);
+    const ValueStats stats = a.stream ? ValueStats{} : value_stats(v);
+    if (stats.nan + stats.inf) check_finite(v, a.volume);
     r.dims = a.stream ? streamed.dims : v.dims();
     r.type = a.stream ? streamed.type : v.type();
     if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
@@ -72,7 +78,7 @@ FdRun count_fd(const FdArgs& a) {
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     r.iso = a.stream ? streamed.spans.isovalues
             : !a.isovalues.empty() ? parse_isovalues(a.isovalues, r.type)
-                                   : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
+                                   : IsovalueSet::for_range(r.type, stats.min, stats.max, a.bins ? a.bins : 256);
     Context& ctx = Context::shared();
     if (!a.stream)
         progress("counting " + std::to_string(r.iso.size()) + " isovalues of " + dims_string(r.dims) + " " +

@@ -2,6 +2,7 @@
 // local fractal dimension says there is noise (include/clfractal/filter.hpp).
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -14,13 +15,16 @@
 #include "clfractal/stream.hpp"
 #include "clfractal/span.hpp"
 #include "cli.hpp"
+#include "output.hpp"
+
+#include <nlohmann/json.hpp>
 
 using namespace clfractal;
 
 namespace {
 
 struct FilterArgs {
-    std::string volume, output, bilateral;
+    std::string volume, output, bilateral, json_path;
     bool median = false, fractal = false, fractal4 = false, ld_guided = false, stream = false;
     double gaussian = 0, iso = NAN, threshold = NAN, q = 0;
     int window = 8;
@@ -185,6 +189,78 @@ void print_at_iso(Context& ctx, double iso, const Volume& v, const Volume& out, 
               << count_components_at(ctx, out, iso) << "\n";
 }
 
+// A copy of the volume's corner of at most 16^3 vertices: filtered once before the timed
+// call so that kernel compilation, which PoCL finishes at each kernel's first launch, stays
+// out of seconds_compute.
+Volume corner_of(const Volume& v) {
+    const Dims d = v.dims(), c{std::min<std::size_t>(d.nx, 16), std::min<std::size_t>(d.ny, 16),
+                               std::min<std::size_t>(d.nz, 16)};
+    Volume corner(c, v.type());
+    const std::size_t vs = value_size(v.type());
+    for (std::size_t z = 0; z < c.nz; ++z)
+        for (std::size_t y = 0; y < c.ny; ++y)
+            std::memcpy(static_cast<unsigned char*>(corner.data()) + (z * c.ny + y) * c.nx * vs,
+                        static_cast<const unsigned char*>(v.data()) + v.index(0, y, z) * vs, c.nx * vs);
+    return corner;
+}
+
+// The filter of the command line on `in`: targeted (LD or LD4), LD-guided or everywhere.
+struct FilterRun {
+    Volume out;
+    TargetedResult tr;
+    bool masked = false;
+    double seconds = 0, compiled = 0;  ///< the timed call, and the compilation inside it
+};
+
+void filter_once(Context& ctx, const FilterArgs& a, const FilterSpec& spec, const Volume& in, FilterRun& r) {
+    using clock = std::chrono::steady_clock;
+    if (a.fractal4) {
+        const auto t = clock::now();
+        const Volume ld4 = local_fractal_dimension_4d(ctx, in, a.q, a.window);
+        const double field_seconds = std::chrono::duration<double>(clock::now() - t).count();
+        r.tr = targeted_filter(ctx, in, spec, ld4, a.threshold);
+        r.tr.ld_seconds = field_seconds;
+    } else if (a.fractal) r.tr = targeted_filter(ctx, in, spec, a.iso, a.threshold, a.window);
+    else if (a.ld_guided) r.tr = ld_bilateral_filter(ctx, in, spec.sigma_s, spec.sigma_r, a.iso, a.window);
+    else r.out = apply_filter(ctx, in, spec);
+}
+
+FilterRun timed_filter(Context& ctx, const FilterArgs& a, const FilterSpec& spec, const Volume& v) {
+    FilterRun r;
+    r.masked = a.fractal || a.fractal4 || a.ld_guided;
+    if (!a.json_path.empty()) filter_once(ctx, a, spec, corner_of(v), r);
+    const double compiled_before = ctx.compile_seconds();
+    const auto t0 = std::chrono::steady_clock::now();
+    filter_once(ctx, a, spec, v, r);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Compute only: the call's time less any kernel compiled during it (no file I/O is in it).
+    r.compiled = ctx.compile_seconds() - compiled_before;
+    if (r.masked) r.out = std::move(r.tr.volume);
+    return r;
+}
+
+void write_filter_json(const FilterArgs& a, const std::string& how, const Context& ctx, const Volume& v,
+                       const FilterRun& r, std::size_t changed) {
+    nlohmann::json j;
+    j["volume"] = a.volume;
+    j["dims"] = {v.dims().nx, v.dims().ny, v.dims().nz};
+    j["type"] = value_type_name(v.type());
+    j["filter"] = how;
+    j["device"] = ctx.description();
+    j["vertices"] = v.vertices();
+    j["selected"] = r.masked ? r.tr.selected : v.vertices();
+    j["changed"] = changed;
+    j["fraction_selected"] = r.masked ? r.tr.selected_share : 1.0;
+    j["fraction_changed"] = double(changed) / double(v.vertices());
+    j["seconds"] = r.seconds;
+    j["seconds_compile"] = r.compiled;
+    j["seconds_compute"] = std::max(0.0, r.seconds - r.compiled);
+    // The parts of a masked filter (each may hold some of the compilation).
+    j["seconds_ld"] = r.masked ? r.tr.ld_seconds : 0.0;
+    j["seconds_filter"] = r.masked ? r.tr.filter_seconds : r.seconds;
+    write_file_atomic(a.json_path, j.dump(2) + "\n");
+}
+
 int run_filter(FilterArgs a, CLI::App* app) {
     const FilterSpec spec = parse_spec(a, app);
     check_filter_options(a, spec, app);
@@ -199,27 +275,13 @@ int run_filter(FilterArgs a, CLI::App* app) {
 
     const std::string how = describe_filter(a, spec, v);
     cli::progress(how + " of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description());
-
-    using clock = std::chrono::steady_clock;
-    const auto t0 = clock::now();
-    Volume out;
-    TargetedResult tr;
-    const bool masked = a.fractal || a.fractal4 || a.ld_guided;
-    if (a.fractal4) {
-        const Volume ld4 = local_fractal_dimension_4d(ctx, v, a.q, a.window);
-        const double field_seconds = std::chrono::duration<double>(clock::now() - t0).count();
-        tr = targeted_filter(ctx, v, spec, ld4, a.threshold);
-        tr.ld_seconds = field_seconds;
-    } else if (a.fractal) tr = targeted_filter(ctx, v, spec, a.iso, a.threshold, a.window);
-    else if (a.ld_guided) tr = ld_bilateral_filter(ctx, v, spec.sigma_s, spec.sigma_r, a.iso, a.window);
-    else out = apply_filter(ctx, v, spec);
-    const double seconds = std::chrono::duration<double>(clock::now() - t0).count();
-    if (masked) out = std::move(tr.volume);
+    const FilterRun r = timed_filter(ctx, a, spec, v);
+    const Volume& out = r.out;
     if (at_iso) after = measure(ctx, out, a.iso);
     write_volume(out, a.output, &v);
 
-    std::size_t changed = masked ? tr.changed : 0;
-    if (!masked)
+    std::size_t changed = r.masked ? r.tr.changed : 0;
+    if (!r.masked)
         for (std::size_t i = 0; i < v.vertices(); ++i) changed += out.value(i) != v.value(i);
     const double n = double(v.vertices());
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type())
@@ -227,13 +289,14 @@ int run_filter(FilterArgs a, CLI::App* app) {
               << "filter      " << how << "\n"
               << "device      " << ctx.description() << "\n";
     std::cout << std::fixed << std::setprecision(2);
-    print_selected(a, tr);
+    print_selected(a, r.tr);
     std::cout << "changed     " << changed << " vertices (" << 100 * double(changed) / n << "%)\n";
     if (at_iso) print_at_iso(ctx, a.iso, v, out, before, after);
-    std::cout << std::defaultfloat << std::setprecision(4) << "time        " << seconds << " s";
-    if (masked) std::cout << " (LD field " << tr.ld_seconds << " s, masked filter " << tr.filter_seconds << " s)";
+    std::cout << std::defaultfloat << std::setprecision(4) << "time        " << r.seconds << " s";
+    if (r.masked) std::cout << " (LD field " << r.tr.ld_seconds << " s, masked filter " << r.tr.filter_seconds << " s)";
     std::cout << ", kernels compiled in " << ctx.compile_seconds() << " s\n"
               << "wrote       " << a.output << " (" << value_type_name(out.type()) << ")\n";
+    if (!a.json_path.empty()) write_filter_json(a, how, ctx, v, r, changed);
     return 0;
 }
 
@@ -253,6 +316,9 @@ void setup_filter(CLI::App* c, FilterArgs& a) {
     c->add_option("--threshold", a.threshold, "LD threshold H of --fractal (LD4 threshold H4 of --fractal4), needed by both");
     cli::add_window_option(c, a.window);
     c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
+    c->add_option("--json", a.json_path,
+                  "write the times (seconds_compute: no file I/O, no compilation; seconds_ld, seconds_filter) and "
+                  "the fractions selected and changed as JSON");
     c->add_flag("--stream", a.stream,
                 "with --fractal: read, filter and write slice by slice (memory for a few slices; radius <= k/2)");
     a.raw.add(c);

@@ -29,21 +29,12 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
     // NaN and Inf are reported, not refused: an LD field is float data with NaN where LD is
     // undefined. Range, mean and histogram are those of the finite values.
     Volume v = read_volume(spec, raw.options(), FiniteCheck::keep);
-    const NonFinite nf = count_non_finite(v.data(), v.type(), v.vertices());
-    const std::size_t finite = v.vertices() - nf.nan - nf.inf;
-    double lo = INFINITY, hi = -INFINITY, sum = 0, sum2 = 0;
-    visit(v, [&](const auto* p) {
-        for (std::size_t i = 0; i < v.vertices(); ++i) {
-            const double x = double(p[i]);
-            if (!std::isfinite(x)) continue;
-            lo = std::min(lo, x);
-            hi = std::max(hi, x);
-            sum += x;
-            sum2 += x * x;
-        }
-    });
+    // Range, NaN counts, mean and histogram in one pass for 8/16-bit data (two otherwise).
+    const ValueSummary summary = summarize_values(v, 16);
+    const NonFinite nf{summary.stats.nan, summary.stats.inf, 0};
+    const std::size_t finite = summary.finite;
+    const double lo = summary.stats.min, hi = summary.stats.max, mean = summary.mean, sd = summary.sd;
     const double n = double(finite);
-    const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
     std::cout << "dims      " << dims_string(v.dims()) << " (" << v.vertices() << " vertices, " << v.dims().cubes()
               << " cubes)\n"
               << "type      " << value_type_name(v.type()) << "\n"
@@ -60,16 +51,8 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
               << "mean      " << mean << "  (std " << sd << ")\n";
     // A 16-bin histogram of the value range, as shares of the finite values.
     const int bins = 16;
-    std::vector<std::size_t> h(bins, 0);
+    const std::vector<std::size_t>& h = summary.histogram;
     const double w = (hi - lo) / bins;
-    visit(v, [&](const auto* p) {
-        for (std::size_t i = 0; i < v.vertices(); ++i) {
-            const double x = double(p[i]);
-            if (!std::isfinite(x)) continue;
-            int b = w > 0 ? int((x - lo) / w) : 0;
-            ++h[std::min(b, bins - 1)];
-        }
-    });
     std::cout << "histogram (16 bins over the range, % of " << (nf.nan + nf.inf ? "the finite values" : "vertices")
               << "):\n";
     for (int b = 0; b < bins; ++b) {
@@ -82,7 +65,7 @@ int cmd_info(const std::string& spec, const RawArgs& raw) {
         std::cout << "isovalues n/a (fd, local, filter, mesh and components need finite values)\n";
         return 0;
     }
-    IsovalueSet iso = IsovalueSet::for_volume(v);
+    IsovalueSet iso = IsovalueSet::for_range(v.type(), lo, hi);
     std::cout << "isovalues " << iso.size() << (iso.integer() ? " (every integer of the range)"
                                                  : iso.float64() ? " (uniform float64 list)" : " (uniform float32 list)")
               << "\n";

@@ -42,26 +42,27 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
     progress("streaming " + std::to_string(iso.size()) + " isovalues of " + dims_string(d) + " " +
              value_type_name(reader.type()) + " slice by slice (" + out.method + ") on " + ctx.description());
     SpanStream stream(ctx, d.nx, d.ny, reader.type(), iso, levels, {kind});
-    // Read a batch of slices at a time; the stream copies each slice into its own batch.
-    const std::size_t chunk = std::max<std::size_t>(1, std::min(d.nz, stream.batch_slices()));
-    std::vector<unsigned char> buf(chunk * reader.slice_bytes());
-    unsigned char lo = 255, hi = 0;
+    // Slices are read straight into the stream's batch buffer, as many as it has room for.
+    double lo = 255, hi = 0;
     for (std::size_t z = 0; z < d.nz;) {
-        const std::size_t n = std::min(chunk, d.nz - z);
-        reader.read(buf.data(), n);
+        std::size_t room = 0;
+        void* slices = stream.next_slices(room);
+        const std::size_t n = std::min(room, d.nz - z);
+        reader.read(slices, n);
         if (crop) {
-            const auto [a, b] = std::minmax_element(buf.begin(), buf.begin() + std::ptrdiff_t(n * reader.slice_bytes()));
-            lo = std::min(lo, *a);
-            hi = std::max(hi, *b);
+            const ValueStats s = value_stats(slices, ValueType::uint8, n * reader.slice_bytes());
+            lo = std::min(lo, s.min);
+            hi = std::max(hi, s.max);
         }
-        for (std::size_t i = 0; i < n; ++i) stream.push_slice(static_cast<const void*>(buf.data() + i * reader.slice_bytes()));
+        stream.push_filled(n);
         z += n;
     }
     out.spans = stream.counts();
     if (crop) {
-        out.spans.isovalues = IsovalueSet::integers(lo, hi);
+        const auto first = std::int64_t(lo), last = std::int64_t(hi);
+        out.spans.isovalues = IsovalueSet::integers(first, last);
         for (SpanCurves& c : out.spans.curves)
-            for (auto& level : c.counts) level = std::vector<std::uint64_t>(level.begin() + lo, level.begin() + hi + 1);
+            for (auto& level : c.counts) level = std::vector<std::uint64_t>(level.begin() + first, level.begin() + last + 1);
     }
     return out;
 }

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# The component curve end to end: `clfractal components FILE` (process wall), and Wenger's
+# `ijkscalarinfo -components` on the same data when it is installed (not a Debian package:
+# build it from rafewenger/ijkPublic and pass --ijk PATH), interleaved A B A B, medians.
+#
+#   bench/components_peer.sh [--build DIR] [--volume F] [--ijk PATH] [--runs R]
+#
+# Default: build/, ../shared/data/bonsai_256x256x256_uint8.raw, R = 5. ijkscalarinfo reads
+# NRRD: with --ijk, give a .nrrd volume.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+build=build volume=$here/../shared/data/bonsai_256x256x256_uint8.raw ijk=$(command -v ijkscalarinfo || true) runs=5
+while [ $# -gt 0 ]; do
+  case $1 in
+    --build) build=$2; shift 2 ;;
+    --volume) volume=$2; shift 2 ;;
+    --ijk) ijk=$2; shift 2 ;;
+    --runs) runs=$2; shift 2 ;;
+    *) echo "usage: $0 [--build DIR] [--volume F] [--ijk PATH] [--runs R]" >&2; exit 2 ;;
+  esac
+done
+[ -e "$volume" ] || { echo "components_peer: $volume is missing" >&2; exit 2; }
+clf=$build/clfractal work=${TMPDIR:-/tmp}/clfractal-bench
+mkdir -p "$work"
+timed() { /usr/bin/time -f "%e" -o "$work/time.txt" "$@" >/dev/null 2>"$work/stderr.txt" || {
+  cat "$work/stderr.txt" >&2; exit 1; }; cat "$work/time.txt"; }
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+declare -a ours peer
+for ((i = 0; i < runs; i++)); do
+  ours+=("$(timed "$clf" -q components "$volume" --csv "$work/components.csv")")
+  [ -z "$ijk" ] || peer+=("$(timed "$ijk" -components "$volume")")
+done
+echo "volume                  $volume, $runs runs, interleaved"
+echo "clfractal components    wall ${ours[*]} s (median $(median "${ours[@]}"))"
+if [ -n "$ijk" ]; then
+  echo "ijkscalarinfo           wall ${peer[*]} s (median $(median "${peer[@]}"))"
+  awk -v a="$(median "${ours[@]}")" -v b="$(median "${peer[@]}")" 'BEGIN { printf "ijkscalarinfo / clfractal: %.1fx\n", b / a }'
+else
+  echo "ijkscalarinfo           not installed (pass --ijk PATH): clfractal only"
+fi

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# End to end: `clfractal fd FILE` against bench/fd_peer_omp (a plain OpenMP program that
+# reads the file and counts levels 0 and 1 once), interleaved A B A B, on a hot uint8 file;
+# process wall time and peak RSS from /usr/bin/time, medians of the runs; the two programs'
+# counts must be equal (exit 1 otherwise).
+#
+#   bench/fd_bench.sh [--build DIR] [--size N] [--runs R] [--file F.nrrd]
+#
+# Default: build/, N = 768, R = 5, the file generated (noisy sphere, clfractal gen) into
+# /tmp/clfractal-bench/noisy_sphere_N.nrrd when missing.
+set -euo pipefail
+build=build size=768 runs=5 file=
+while [ $# -gt 0 ]; do
+  case $1 in
+    --build) build=$2; shift 2 ;;
+    --size) size=$2; shift 2 ;;
+    --runs) runs=$2; shift 2 ;;
+    --file) file=$2; shift 2 ;;
+    *) echo "usage: $0 [--build DIR] [--size N] [--runs R] [--file F.nrrd]" >&2; exit 2 ;;
+  esac
+done
+clf=$build/clfractal peer=$build/fd_peer_omp
+work=${TMPDIR:-/tmp}/clfractal-bench
+mkdir -p "$work"
+if [ -z "$file" ]; then
+  file=$work/noisy_sphere_$size.nrrd
+  [ -f "$file" ] || "$clf" gen noisy-sphere --size "$size" --noise 8 -o "$file" >/dev/null
+fi
+bytes=$(stat -c %s "$file")
+cat "$file" >/dev/null  # hot: in the page cache
+# One timed run: prints "wall_s rss_kib".
+timed() { /usr/bin/time -f "%e %M" -o "$work/time.txt" "$@" >/dev/null 2>"$work/stderr.txt" || {
+  cat "$work/stderr.txt" >&2; exit 1; }; cat "$work/time.txt"; }
+declare -a cw cr pw pr
+for ((i = 0; i < runs; i++)); do
+  read -r w r < <(timed "$clf" fd "$file" --csv "$work/clfractal.csv"); cw+=("$w"); cr+=("$r")
+  read -r w r < <(timed "$peer" "$file" --csv "$work/peer.csv"); pw+=("$w"); pr+=("$r")
+done
+# The counts of both programs, isovalue by isovalue.
+cut -d, -f1-3 "$work/clfractal.csv" | tail -n +2 > "$work/a.txt"
+tail -n +2 "$work/peer.csv" > "$work/b.txt"
+if ! cmp -s "$work/a.txt" "$work/b.txt"; then echo "fd_bench: the counts differ" >&2; exit 1; fi
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+mcw=$(median "${cw[@]}") mcr=$(median "${cr[@]}") mpw=$(median "${pw[@]}") mpr=$(median "${pr[@]}")
+echo "file           $file ($bytes bytes), $runs runs each, interleaved; counts equal"
+echo "clfractal fd   wall ${cw[*]} s (median $mcw), peak RSS median $((mcr / 1024)) MiB"
+echo "fd_peer_omp    wall ${pw[*]} s (median $mpw), peak RSS median $((mpr / 1024)) MiB"
+awk -v a="$mcw" -v b="$mpw" -v r="$mcr" -v f="$bytes" 'BEGIN {
+  printf "peer / clfractal wall: %.2fx (>= 1: clfractal at least as fast); clfractal peak RSS / file: %.2f\n", b / a, r * 1024 / f }'
