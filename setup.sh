@@ -7,7 +7,7 @@ packages=(build-essential cmake pkg-config git
   doctest-dev libteem-dev zlib1g-dev libpng-dev libcli11-dev nlohmann-json3-dev gnuplot-nox
   python3 python3-numpy python3-venv python3-dev openmpi-bin libopenmpi-dev
   libgdcm-dev libnifti2-dev libtiff-dev
-  clang-14 libfuzzer-14-dev libomp-14-dev)
+  clang-14 libfuzzer-14-dev libomp-14-dev universal-ctags)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

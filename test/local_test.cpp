@@ -121,8 +121,8 @@ TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy g
         for (const char* sat_variant : {"sequential", "workgroup"})
             for (std::uint64_t max32 : {std::uint64_t(0xffffffffu), std::uint64_t(0)})
                 for (bool zero_copy : {true, false}) {
-                    ctx().tuning.local_variant = local_variant;
-                    ctx().tuning.sat_variant = sat_variant;
+                    ctx().tuning.local_variant = parse_variant<LocalVariant>(local_variant);
+                    ctx().tuning.sat_variant = parse_variant<SatVariant>(sat_variant);
                     ctx().tuning.sat_max_32bit = max32;  // 0: every grid gets 64-bit tables
                     ctx().tuning.zero_copy = zero_copy;
                     ctx().tuning.row_items = max32 ? 3 : 64;  // 64: more work-items than rows
@@ -133,8 +133,7 @@ TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy g
                         check_field(local_fractal_dimension(ctx(), in.v, in.iso, in.k), in.want);
                     }
                 }
-    ctx().tuning.local_variant = "no-such-variant";
-    CHECK_THROWS_AS(local_fractal_dimension(ctx(), inputs[0].v, 1, 2), std::logic_error);
+    CHECK_THROWS_AS(parse_variant<LocalVariant>("no-such-variant"), InputError);
 }
 
 TEST_CASE("float64 LD compares in double: values a float32 cannot tell apart") {
@@ -171,15 +170,16 @@ TEST_CASE("the OpenMP baseline and the summed-area reference equal the brute for
 
 TEST_CASE("the field stays on the device and equals the host call") {
     Volume v = testutil::random_volume({12, 10, 9}, ValueType::int16, -3, 3, 7);
-    Buffer<unsigned char> values(ctx(), v.size_bytes());
-    values.write(ctx().queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
-    Buffer<float> field = local_fractal_dimension(ctx(), values, v.type(), v.dims(), -0.5, 4);
-    REQUIRE(field.size() == v.vertices());
+    v.spacing = {0.5, 1, 2};
+    const DeviceVolume values(ctx(), v);
+    const DeviceVolume field = local_fractal_dimension(values, -0.5, 4);
+    REQUIRE(field.dims() == v.dims());
+    CHECK(field.type() == ValueType::float32);
+    CHECK(field.spacing == v.spacing);
     Volume host = local_fractal_dimension(ctx(), v, -0.5, 4);
-    std::vector<float> dev = field.to_host(ctx().queue());
+    const Volume dev = field.download();
     CHECK(std::memcmp(dev.data(), host.data(), host.size_bytes()) == 0);
     check_field(host, ref::local_dimension_brute(v, -0.5, 4));
-    CHECK_THROWS_AS(local_fractal_dimension(ctx(), values, ValueType::float32, v.dims(), 0, 4), std::logic_error);
 }
 
 TEST_CASE("the window tables are revision 2: W' first, W exactly its region in G") {
