@@ -61,6 +61,32 @@ template <class T> T lowered_value(T f, double delta, double weight) {
     }
 }
 
+// The gaussian variant's step after f(v) was lowered by delta: each 26-neighbour w of v is
+// lowered by delta * weight[|w - v|^2]. Writes v and the changed neighbours, in increasing
+// index, to `changed` and returns their number.
+template <class T>
+int lower_neighbours(T* f, const Dims& d, long long v, double delta, const double weight[4], long long changed[27]) {
+    const long long nx = (long long)d.nx, ny = (long long)d.ny, nz = (long long)d.nz;
+    const long long vx = v % nx, vy = (v / nx) % ny, vz = v / (nx * ny);
+    int count = 0;
+    for (long long dz = -1; dz <= 1; ++dz)
+        for (long long dy = -1; dy <= 1; ++dy)
+            for (long long dx = -1; dx <= 1; ++dx) {
+                const long long x = vx + dx, y = vy + dy, z = vz + dz;
+                if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
+                const long long w = v + dx + dy * nx + dz * nx * ny;
+                if (w == v) {
+                    changed[count++] = v;
+                    continue;
+                }
+                const T lowered = lowered_value(f[w], delta, weight[dx * dx + dy * dy + dz * dz]);
+                if (lowered == f[w]) continue;
+                f[w] = lowered;
+                changed[count++] = w;
+            }
+    return count;
+}
+
 template <class T, class S>
 Counters run_queue(T* f, std::uint8_t* flags, const Dims& d, S s, bool gaussian, double tau) {
     const long long nx = (long long)d.nx, ny = (long long)d.ny, nz = (long long)d.nz;
@@ -123,25 +149,8 @@ Counters run_queue(T* f, std::uint8_t* flags, const Dims& d, S s, bool gaussian,
         }
         const double delta = double(f[v]) - double(f[u]);
         f[v] = f[u];
-        // v and its 26 neighbours in increasing index; changed ones are remembered.
-        const long long vx = v % nx, vy = (v / nx) % ny, vz = v / (nx * ny);
         long long changed[27];
-        int count = 0;
-        for (long long dz = -1; dz <= 1; ++dz)
-            for (long long dy = -1; dy <= 1; ++dy)
-                for (long long dx = -1; dx <= 1; ++dx) {
-                    const long long x = vx + dx, y = vy + dy, z = vz + dz;
-                    if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
-                    const long long w = v + dx + dy * stride[1] + dz * stride[2];
-                    if (w == v) {
-                        changed[count++] = v;
-                        continue;
-                    }
-                    const T lowered = lowered_value(f[w], delta, weight[dx * dx + dy * dy + dz * dz]);
-                    if (lowered == f[w]) continue;
-                    f[w] = lowered;
-                    changed[count++] = w;
-                }
+        const int count = lower_neighbours(f, d, v, delta, weight, changed);
         for (int c = 0; c < count; ++c) push_around(changed[c]);
     }
     return out;
