@@ -471,11 +471,26 @@ template <class Add> SpanResult count_slabs(SpanCounter& counter, const Dims& d,
 
 SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, const SpanOptions& opt) {
     // Slab by slab from host memory: a volume larger than the device never needs to fit.
-    SpanCounter counter(ctx, iso, v.type(), v.dims(), opt);
+    // When the device runs out of memory, again with slabs of half the depth, down to the
+    // smallest the layout allows (2^(levels-1) + 1 slices).
     const std::size_t slice_bytes = v.dims().nx * v.dims().ny * value_size(v.type());
     const auto* bytes = static_cast<const unsigned char*>(v.data());
-    return count_slabs(counter, v.dims(), opt,
-                       [&](std::size_t z0, std::size_t nzs) { counter.add_slab(bytes + z0 * slice_bytes, z0, nzs); });
+    SpanOptions o = opt;
+    const std::size_t part = (opt.z_end ? opt.z_end : v.dims().nz) - std::min(opt.z_begin, v.dims().nz);
+    for (;;) {
+        std::size_t depth = o.slab_slices ? std::min(o.slab_slices, part) : part;  // at most
+        try {
+            SpanCounter counter(ctx, iso, v.type(), v.dims(), o);
+            depth = counter.slab_slices();
+            return count_slabs(counter, v.dims(), o, [&](std::size_t z0, std::size_t nzs) {
+                counter.add_slab(bytes + z0 * slice_bytes, z0, nzs);
+            });
+        } catch (const DeviceError& e) {
+            const std::size_t smallest = (std::size_t(1) << (std::max(1, std::min(opt.levels, 16)) - 1)) + 1;
+            if (!e.out_of_memory() || depth <= smallest) throw;
+            o.slab_slices = std::max(smallest, depth / 2);
+        }
+    }
 }
 
 SpanResult count_spans(const DeviceVolume& v, const IsovalueSet& iso, const SpanOptions& opt) {

@@ -1,7 +1,7 @@
 // Device faults (FaultPlan): the N-th buffer allocation, kernel enqueue or program build
 // fails; walked over every step of fd, local, filter, components and a stream. Each run ends
-// with a clean DeviceError (or InputError) or with the fault-free result; never a crash or
-// another exception. Leaks are left to the sanitizer build, which runs this suite too.
+// with a clean DeviceError (or InputError) or with the fault-free result (fd retries with
+// smaller slabs when an allocation fails); never a crash or another exception. Leaks are left to the sanitizer build, which runs this suite too.
 #include <doctest/doctest.h>
 
 #include <cstring>
@@ -66,7 +66,7 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
     run(counted);
     const std::uint64_t steps = counted.fault_plan().seen[int(site)];
     CHECK(steps > 0);
-    std::uint64_t failed = 0;
+    std::uint64_t failed = 0, recovered = 0;
     for (std::uint64_t n = 1; n <= steps; ++n) {
         CAPTURE(n);
         FreshContext c;
@@ -75,6 +75,7 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
         try {
             const std::vector<unsigned char> got = run(c);
             CHECK(got == want);
+            ++recovered;
         } catch (const DeviceError& e) {
             ++failed;
             CHECK(std::string(e.what()).find("injected fault") != std::string::npos);
@@ -85,8 +86,11 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
         c.set_fault_plan(FaultPlan{});
         CHECK(run(c) == want);
     }
-    CHECK(failed > 0);
-    MESSAGE(what << ": " << site_text << " faults 1.." << steps << ", " << failed << " clean errors");
+    // fd falls back to smaller slabs when an allocation fails; every other fault is an error.
+    if (what == "fd" && site == FaultSite::allocation) CHECK(recovered > 0);
+    else CHECK(failed == steps);
+    MESSAGE(what << ": " << site_text << " faults 1.." << steps << ", " << failed << " clean errors, " << recovered
+                 << " correct results");
 }
 
 }  // namespace
@@ -100,7 +104,6 @@ TEST_CASE("every device step of fd, local, filter, components and a stream fails
         {"fd", [&](Context& c) {
              SpanOptions opt;
              opt.kinds = {SpanKind::cubes, SpanKind::edges};
-             opt.slab_slices = 3;
              return bytes_of(count_spans(c, v, iso, opt));
          }},
         {"local", [&](Context& c) { return bytes_of(local_fractal_dimension(c, v, 10.5, 4)); }},
