@@ -211,10 +211,10 @@ std::size_t slab_slices(const Context& ctx, const Dims& d, ValueType type, const
 }
 
 // Filters `v` into `out` slab by slab; `ld` (float32, same dims) for the masked filters.
+// With output slabs of S slices.
 void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& spec, Mask mask, const Volume* ld,
-                  float h) {
+                  float h, std::size_t S) {
     const Dims d = v.dims();
-    const std::size_t S = slab_slices(ctx, d, v.type(), spec, mask);
     const std::size_t r = std::size_t(spec.radius()), slice = d.nx * d.ny, vs = value_size(v.type());
     const auto* src = static_cast<const unsigned char*>(v.data());
     auto* dst = static_cast<unsigned char*>(out.data());
@@ -233,6 +233,19 @@ void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& 
             o.download(dst + z0 * slice * vs);
         }
     });
+}
+
+// Slabs as planned; when the device runs out of memory, again with half as many output
+// slices per slab, down to one.
+void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& spec, Mask mask, const Volume* ld,
+                  float h) {
+    for (std::size_t S = slab_slices(ctx, v.dims(), v.type(), spec, mask);; S = (S + 1) / 2) {
+        try {
+            return filter_slabs(ctx, v, out, spec, mask, ld, h, S);
+        } catch (const DeviceError& e) {
+            if (!e.out_of_memory() || S == 1) throw;
+        }
+    }
 }
 
 void check_volume(const Volume& v) {
