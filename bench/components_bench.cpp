@@ -27,10 +27,6 @@ using namespace clfractal;
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 Volume uint16_case(std::size_t n) {
     SyntheticOptions o;
     o.size = n;

@@ -92,10 +92,9 @@ int main(int argc, char** argv) {
                 const Volume cpu = local_fractal_dimension_openmp(v, c.iso, window);
                 const double host_call = best_of(repeats, [&] { local_fractal_dimension(ctx, v, c.iso, window); });
                 // The field of a volume already on the device, left there (what later stages use).
-                Buffer<unsigned char> values(ctx, v.size_bytes(), CL_MEM_READ_ONLY);
-                values.write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
+                const DeviceVolume values(ctx, v);
                 const double resident = best_of(repeats, [&] {
-                    local_fractal_dimension(ctx, values, v.type(), v.dims(), c.iso, window);
+                    local_fractal_dimension(values, c.iso, window);
                     ctx.queue().finish();
                 });
                 const double openmp = best_of(repeats, [&] { local_fractal_dimension_openmp(v, c.iso, window); });

@@ -14,6 +14,7 @@
 #include <parallel/algorithm>
 #include <type_traits>
 
+#include "clfractal/slab_plan.hpp"
 #include "type_options.hpp"
 
 namespace clfractal {
@@ -70,8 +71,8 @@ constexpr long counting_sort_values = long(1) << 20;
 
 // Counts of the values of integer data, bins vmin..vmax, on the device (32-bit counts:
 // called below 2^32 vertices only).
-template <class T>
-std::vector<std::uint64_t> value_histogram_device(Context& ctx, const Volume& v, long vmin, long vmax) {
+std::vector<std::uint64_t> value_histogram_device(const DeviceVolume& v, long vmin, long vmax) {
+    Context& ctx = v.context();
     const std::size_t nbins = std::size_t(vmax - vmin + 1), n = v.vertices();
     // Work-group histograms in local memory where they fit (Tuning::local_hist_bytes, as span counting).
     const bool local_hist = nbins * 4 <= std::min(ctx.tuning.local_hist_bytes, ctx.local_mem() / 2);
@@ -80,45 +81,30 @@ std::vector<std::uint64_t> value_histogram_device(Context& ctx, const Volume& v,
     if (local_hist) options += " -DLOCAL_HIST";
     std::vector<std::uint32_t> h32(nbins);
     with_cl_errors([&] {
-        cl::Kernel k = ctx.kernel("components", "value_histogram", options);
         const std::size_t items = ctx.is_cpu() ? wg * std::max(1u, ctx.compute_units()) : wg * 1024;
         const std::size_t chunk = std::max<std::size_t>(1, (n + items - 1) / items);
         Buffer<std::uint32_t> hist(ctx, nbins);
         hist.fill(ctx.queue(), 0u);
-        std::unique_ptr<Buffer<T>> copy;
-        cl::Buffer values;
-        if (ctx.tuning.zero_copy) {
-            values = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, v.size_bytes(),
-                                const_cast<void*>(v.data()));
-        } else {
-            copy = std::make_unique<Buffer<T>>(ctx, n, CL_MEM_READ_ONLY);
-            copy->write(ctx.queue(), v.as<T>(), n);
-            values = copy->get();
-        }
-        k.setArg(0, values);
-        // An empty first launch: PoCL and some drivers finish compiling here (counted apart).
-        k.setArg(1, cl_ulong(0));
-        k.setArg(2, cl_ulong(chunk));
-        k.setArg(3, cl_long(vmin));
-        k.setArg(4, cl_uint(nbins));
-        k.setArg(5, hist.get());
-        if (local_hist) k.setArg(6, cl::Local(nbins * 4));
-        ctx.warm_up(k, cl::NDRange(wg), cl::NDRange(wg));
-        k.setArg(1, cl_ulong(n));
-        k.setArg(2, cl_ulong(chunk));
-        k.setArg(3, cl_long(vmin));
-        k.setArg(4, cl_uint(nbins));
-        k.setArg(5, hist.get());
-        if (local_hist) k.setArg(6, cl::Local(nbins * 4));
-        ctx.launch(k, cl::NDRange(items), cl::NDRange(wg));
-        hist.read(ctx.queue(), h32.data(), nbins);  // blocking: the kernel is done with `values`
+        // kernels/components.cl value_histogram(values, n, chunk, vmin, nbins, hist[, local_hist]).
+        using Global = KernelCall<cl::Buffer, cl_ulong, cl_ulong, cl_long, cl_uint, cl::Buffer>;
+        using Local = KernelCall<cl::Buffer, cl_ulong, cl_ulong, cl_long, cl_uint, cl::Buffer, cl::LocalSpaceArg>;
+        const cl::NDRange global(items), local(wg);
+        if (local_hist)
+            Local(ctx, "components", "value_histogram", options)(global, local, v.buffer(), cl_ulong(n), cl_ulong(chunk),
+                                                                 cl_long(vmin), cl_uint(nbins), hist.get(),
+                                                                 cl::Local(nbins * 4));
+        else
+            Global(ctx, "components", "value_histogram", options)(global, local, v.buffer(), cl_ulong(n),
+                                                                  cl_ulong(chunk), cl_long(vmin), cl_uint(nbins),
+                                                                  hist.get());
+        hist.read(ctx.queue(), h32.data(), nbins);  // blocking: the kernel is done with the values
     });
     return std::vector<std::uint64_t>(h32.begin(), h32.end());
 }
 
 // The vertex indices ordered by (value, index).
 template <class T, class I>
-std::vector<I> sorted_vertices(Context& ctx, const Volume& v) {
+std::vector<I> sorted_vertices(const Volume& v, const DeviceVolume* dv) {
     const std::size_t n = v.vertices();
     const T* f = v.as<T>();
     std::vector<I> order(n);
@@ -127,11 +113,9 @@ std::vector<I> sorted_vertices(Context& ctx, const Volume& v) {
         // Counting sort: histogram (device), exclusive prefix, stable scatter (host).
         const long vmin = long(r.min), vmax = long(r.max);
         std::vector<std::uint64_t> hist;
-        // On the device when the volume fits one allocation (and Tuning::slab_bytes, when set).
-        const std::size_t limit =
-            ctx.tuning.slab_bytes ? std::min(ctx.tuning.slab_bytes, ctx.max_alloc()) : ctx.max_alloc();
-        if (n < (std::size_t(1) << 32) && v.size_bytes() <= limit) {
-            hist = value_histogram_device<T>(ctx, v, vmin, vmax);
+        // On the device when the volume is there (32-bit counts: below 2^32 vertices).
+        if (dv && n < (std::size_t(1) << 32)) {
+            hist = value_histogram_device(*dv, vmin, vmax);
         } else {
             hist.assign(std::size_t(vmax - vmin + 1), 0);
             for (std::size_t i = 0; i < n; ++i) ++hist[std::size_t(long(f[i]) - vmin)];
@@ -216,57 +200,26 @@ void neighbour_masks_host(const T* f, const Dims& d, const std::vector<Offset>& 
 // For every vertex, bit q < |a|: neighbour a[q] precedes it in (value, index) order; bit
 // |a| + q: neighbour c[q] follows it. On the device (one work-item per vertex) when it fits.
 template <class T>
-std::vector<std::uint32_t> neighbour_masks(Context& ctx, const Volume& v, int adj_a, int adj_c) {
+std::vector<std::uint32_t> neighbour_masks(const Volume& v, const DeviceVolume* dv, int adj_a, int adj_c) {
     const std::vector<Offset> a = neighbourhood(adj_a), c = neighbourhood(adj_c);
     const Dims d = v.dims();
-    const std::size_t n = v.vertices();
-    std::vector<std::uint32_t> mask(n);
-    // Tuning::slab_bytes, when set, bounds the volume the device takes in one piece (tests
-    // set it to force this host path).
-    const std::size_t limit = ctx.tuning.slab_bytes ? std::min(ctx.tuning.slab_bytes, ctx.max_alloc()) : ctx.max_alloc();
-    const bool fits = n * 4 <= ctx.max_alloc() && v.size_bytes() <= limit && d.nx < (1u << 31) &&
-                      d.ny < (1u << 31) && d.nz < (1u << 31);
-    if (!fits) {
+    std::vector<std::uint32_t> mask(v.vertices());
+    if (!dv || v.vertices() * 4 > dv->context().max_alloc()) {
         neighbour_masks_host(v.as<T>(), d, a, c, mask.data());
         return mask;
     }
+    Context& ctx = dv->context();
     with_cl_errors([&] {
         const std::string options = type_options(v.type()) + defines({{"ADJ_A", std::to_string(adj_a)},
                                              {"ADJ_C", std::to_string(adj_c)},
                                              {"A_COUNT", std::to_string(a.size())}});
-        cl::Kernel k = ctx.kernel("components", "neighbour_masks", options);
+        // kernels/components.cl neighbour_masks(f, nx, ny, nz, mask).
+        KernelCall<cl::Buffer, cl_int, cl_int, cl_int, cl::Buffer> k(ctx, "components", "neighbour_masks", options);
         const std::size_t wg = std::min<std::size_t>(64, ctx.max_work_group());
-        cl::Buffer values, out;
-        std::unique_ptr<Buffer<T>> values_copy;
-        std::unique_ptr<Buffer<std::uint32_t>> out_copy;
-        if (ctx.tuning.zero_copy) {
-            values = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, v.size_bytes(),
-                                const_cast<void*>(v.data()));
-            out = cl::Buffer(ctx.context(), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, n * 4, mask.data());
-        } else {
-            values_copy = std::make_unique<Buffer<T>>(ctx, n, CL_MEM_READ_ONLY);
-            values_copy->write(ctx.queue(), v.as<T>(), n);
-            out_copy = std::make_unique<Buffer<std::uint32_t>>(ctx, n, CL_MEM_WRITE_ONLY);
-            values = values_copy->get();
-            out = out_copy->get();
-        }
-        k.setArg(0, values);
-        k.setArg(1, cl_int(0));  // an empty first launch finishes the compilation (counted apart)
-        k.setArg(2, cl_int(d.ny));
-        k.setArg(3, cl_int(d.nz));
-        k.setArg(4, out);
-        ctx.warm_up(k, cl::NDRange(wg, 1, 1), cl::NDRange(wg, 1, 1));
-        k.setArg(1, cl_int(d.nx));
+        const DeviceVolume out = DeviceVolume::output(ctx, mask.data(), d, ValueType::uint32);
         const cl::NDRange global((d.nx + wg - 1) / wg * wg, d.ny, d.nz), local(wg, 1, 1);
-        ctx.launch(k, global, local);
-        if (out_copy) {
-            out_copy->read(ctx.queue(), mask.data(), n);
-        } else {
-            // Mapping makes the device's writes visible in host memory (a no-op on CPUs).
-            void* p = ctx.queue().enqueueMapBuffer(out, CL_TRUE, CL_MAP_READ, 0, n * 4);
-            ctx.queue().enqueueUnmapMemObject(out, p);
-        }
-        ctx.queue().finish();
+        k(global, local, dv->buffer(), cl_int(d.nx), cl_int(d.ny), cl_int(d.nz), out.buffer());
+        out.download(mask.data());
     });
     return mask;
 }
@@ -346,10 +299,11 @@ void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::ui
 }
 
 template <class T, class I>
-std::vector<std::int64_t> component_counts(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode) {
+std::vector<std::int64_t> component_counts(const Volume& v, const DeviceVolume* dv, const IsovalueSet& iso,
+                                           Connectivity mode) {
     const T* f = v.as<T>();
     const std::size_t K = iso.size();
-    std::vector<I> order = sorted_vertices<T, I>(ctx, v);
+    std::vector<I> order = sorted_vertices<T, I>(v, dv);
     // Bin of a vertex: the first isovalue index j with f(v) < s_j (K when none).
     auto bin = [&](I i) -> std::size_t {
         if (iso.integer()) {
@@ -363,7 +317,7 @@ std::vector<std::int64_t> component_counts(Context& ctx, const Volume& v, const 
     std::vector<std::int64_t> delta(K + 1, 0);
     const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
     const std::vector<Offset> a_nbrs = neighbourhood(a_adj), c_nbrs = neighbourhood(c_adj);
-    const std::vector<std::uint32_t> mask = neighbour_masks<T>(ctx, v, a_adj, c_adj);
+    const std::vector<std::uint32_t> mask = neighbour_masks<T>(v, dv, a_adj, c_adj);
     // The two sweeps are independent: each runs on its own core with its own union-find
     // forest and its own differences (4 bytes per vertex more than one after the other).
     std::vector<std::int64_t> delta_split(K + 1, 0);
@@ -406,9 +360,12 @@ std::vector<std::int64_t> component_counts(Context& ctx, const Volume& v, const 
 
 }  // namespace
 
-ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const double compile0 = ctx.compile_seconds();
+namespace {
+
+// The curve of `v`, with the device steps on `dv` (the same values) when it is given.
+ComponentCurve components_of(Context& ctx, const Volume& v, const DeviceVolume* dv, const IsovalueSet& iso,
+                             Connectivity mode) {
+    const ComputeTimer timer(ctx);
     ComponentCurve c;
     c.isovalues = iso;
     if (!iso.matches(v.type()))
@@ -416,14 +373,33 @@ ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet
     if (iso.size() > 0 && v.vertices() > 0) {
         c.components = visit(v, [&](const auto* p) {
             using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-            return v.vertices() < std::size_t(0xffffffffu) ? component_counts<T, std::uint32_t>(ctx, v, iso, mode)
-                                                            : component_counts<T, std::uint64_t>(ctx, v, iso, mode);
+            return v.vertices() < std::size_t(0xffffffffu) ? component_counts<T, std::uint32_t>(v, dv, iso, mode)
+                                                            : component_counts<T, std::uint64_t>(v, dv, iso, mode);
         });
     }
     c.components.resize(iso.size(), 0);
-    c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() -
-                (ctx.compile_seconds() - compile0);
+    c.seconds = timer.seconds();
     return c;
+}
+
+}  // namespace
+
+ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode) {
+    // The device takes the volume in one piece when it fits one allocation (and
+    // Tuning::slab_bytes, when set: tests lower it to force the host path).
+    const Dims d = v.dims();
+    SlabNeed need;
+    need.nz = d.nz;
+    need.input_slice_bytes = d.nx * d.ny * value_size(v.type());
+    need.memory_divisor = 1;
+    const bool fits = v.vertices() > 0 && int_axes(d) && slab_fit(ctx, need) >= d.nz;
+    if (!fits || iso.size() == 0) return components_of(ctx, v, nullptr, iso, mode);
+    const DeviceVolume dv(ctx, v);
+    return components_of(ctx, v, &dv, iso, mode);
+}
+
+ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, Connectivity mode) {
+    return components_of(v.context(), v.download(), &v, iso, mode);
 }
 
 std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue, Connectivity mode) {

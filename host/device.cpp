@@ -55,6 +55,63 @@ void check_cl(int code, const char* call) {
 
 namespace {
 
+template <class E> struct VariantTable;
+template <> struct VariantTable<SpanVariant> {
+    static constexpr const char* what = "span variant";
+    static constexpr std::pair<SpanVariant, const char*> names[] = {{SpanVariant::private_histograms, "private"},
+                                                                    {SpanVariant::atomic, "atomic"}};
+};
+template <> struct VariantTable<SatVariant> {
+    static constexpr const char* what = "summed-area table variant";
+    static constexpr std::pair<SatVariant, const char*> names[] = {{SatVariant::sequential, "sequential"},
+                                                                   {SatVariant::workgroup, "workgroup"}};
+};
+template <> struct VariantTable<LocalVariant> {
+    static constexpr const char* what = "local-dimension variant";
+    static constexpr std::pair<LocalVariant, const char*> names[] = {{LocalVariant::rows, "rows"},
+                                                                     {LocalVariant::vertices, "vertices"}};
+};
+template <> struct VariantTable<FilterVariant> {
+    static constexpr const char* what = "filter variant";
+    static constexpr std::pair<FilterVariant, const char*> names[] = {
+        {FilterVariant::rows, "rows"}, {FilterVariant::vertices, "vertices"}, {FilterVariant::tiled, "tiled"}};
+};
+
+}  // namespace
+
+template <class E> const char* variant_name(E v) {
+    for (const auto& [e, name] : VariantTable<E>::names)
+        if (e == v) return name;
+    throw std::logic_error(std::string("unknown ") + VariantTable<E>::what);
+}
+
+template <class E> E parse_variant(const std::string& name) {
+    std::string all;
+    for (const auto& [e, n] : VariantTable<E>::names) {
+        if (name == n) return e;
+        all += std::string(all.empty() ? "" : ", ") + n;
+    }
+    throw InputError(std::string(VariantTable<E>::what) + " '" + name + "': expected one of " + all);
+}
+
+template <class E> std::vector<E> all_variants() {
+    std::vector<E> out;
+    for (const auto& entry : VariantTable<E>::names) out.push_back(entry.first);
+    return out;
+}
+
+#define CLF_VARIANT(E)                                           \
+    template const char* variant_name<E>(E);                     \
+    template E parse_variant<E>(const std::string&);             \
+    template std::vector<E> all_variants<E>();
+CLF_VARIANT(SpanVariant)
+CLF_VARIANT(SatVariant)
+CLF_VARIANT(LocalVariant)
+CLF_VARIANT(FilterVariant)
+#undef CLF_VARIANT
+
+namespace {
+
 std::string lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return s;
@@ -158,14 +215,15 @@ Context::Context(cl::Device device) : device_(std::move(device)) {
         local_mem_ = device_.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
         compute_units_ = device_.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
         fp64_ = device_.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;
+        mem_base_align_ = std::max<std::size_t>(1, device_.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8);
     });
-    tuning.span_variant = is_cpu() ? "private" : "atomic";
+    tuning.span_variant = is_cpu() ? SpanVariant::private_histograms : SpanVariant::atomic;
     tuning.local_hist_bytes = local_mem_ / 2;
     tuning.zero_copy = is_cpu();
     tuning.work_group = std::min<std::size_t>(256, max_work_group_);
-    tuning.sat_variant = is_cpu() ? "sequential" : "workgroup";
-    tuning.local_variant = is_cpu() ? "rows" : "vertices";
-    tuning.filter_variant = is_cpu() ? "rows" : "tiled";
+    tuning.sat_variant = is_cpu() ? SatVariant::sequential : SatVariant::workgroup;
+    tuning.local_variant = is_cpu() ? LocalVariant::rows : LocalVariant::vertices;
+    tuning.filter_variant = is_cpu() ? FilterVariant::rows : FilterVariant::tiled;
     tuning.sat_work_group = std::min<std::size_t>(256, max_work_group_);
 }
 
@@ -182,6 +240,16 @@ std::string Context::description() const {
 }
 
 bool Context::is_cpu() const { return (device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0; }
+
+cl::Buffer create_buffer(Context& ctx, cl_mem_flags flags, std::size_t bytes, void* host) {
+    try {
+        ctx.fault_point(FaultSite::allocation);
+        return cl::Buffer(ctx.context(), flags, bytes, host);
+    } catch (const cl::Error& e) {
+        check_cl(e.err(), ("clCreateBuffer of " + std::to_string(bytes) + " bytes").c_str());
+        throw;  // unreachable: check_cl throws for every error code
+    }
+}
 
 std::string defines(const std::vector<std::pair<std::string, std::string>>& kv) {
     std::string s;
@@ -209,6 +277,7 @@ const cl::Program& Context::program(const std::string& family, const std::string
     std::string source = std::string(common ? common : "") + "\n#line 1\n" + body;
 
     auto t0 = std::chrono::steady_clock::now();
+    fault_point(FaultSite::build);
     cl::Program program(context_, source);
     std::string all_options = "-cl-std=CL1.2" + options;
     cl_int err = CL_SUCCESS;
@@ -237,6 +306,32 @@ cl::Kernel Context::kernel(const std::string& family, const std::string& name, c
     }
 }
 
+void Context::set_fault_plan(const FaultPlan& plan) {
+    std::lock_guard<std::mutex> lock(faults_mutex_);
+    faults_ = plan;
+    for (auto& n : faults_.seen) n = 0;
+    faults_on_ = true;
+}
+
+FaultPlan Context::fault_plan() const {
+    std::lock_guard<std::mutex> lock(faults_mutex_);
+    return faults_;
+}
+
+void Context::fault_point(FaultSite site) {
+    if (!faults_on_) return;
+    bool fail;
+    {
+        std::lock_guard<std::mutex> lock(faults_mutex_);
+        fail = ++faults_.seen[int(site)] == faults_.fail_at && faults_.site == site;
+    }
+    if (!fail) return;
+    static const int codes[3] = {CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES, CL_BUILD_PROGRAM_FAILURE};
+    static const char* calls[3] = {"clCreateBuffer (injected fault)", "clEnqueueNDRangeKernel (injected fault)",
+                                   "clBuildProgram (injected fault)"};
+    check_cl(codes[int(site)], calls[int(site)]);
+}
+
 void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
     std::string name = kernel.getInfo<CL_KERNEL_FUNCTION_NAME>();
     if (local.dimensions() != 0) {
@@ -256,19 +351,27 @@ void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::ND
     }
     for (cl_uint d = 0; d < global.dimensions(); ++d)
         if (global[d] == 0) return;  // nothing to do
+    std::array<std::size_t, 3> local_size{0, 0, 0};
+    for (cl_uint d = 0; d < local.dimensions() && d < 3; ++d) local_size[d] = local[d];
+    bool first;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        first = warmed_.emplace(kernel.getInfo<CL_KERNEL_PROGRAM>()(), name, local_size).second;
+    }
     try {
+        // The first launch of this (kernel, options, local size): the work queued before it
+        // is finished first, so that only the launch counts as compilation.
+        if (first) queue_.finish();
+        const auto t0 = std::chrono::steady_clock::now();
+        fault_point(FaultSite::enqueue);
         queue_.enqueueNDRangeKernel(kernel, cl::NullRange, global, local);
+        if (!first) return;
+        queue_.finish();
+        std::lock_guard<std::mutex> lock(mutex_);
+        compile_seconds_ += seconds_since(t0);
     } catch (const cl::Error& e) {
         check_cl(e.err(), ("clEnqueueNDRangeKernel " + name).c_str());
     }
-}
-
-void Context::warm_up(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
-    auto t0 = std::chrono::steady_clock::now();
-    launch(kernel, global, local);
-    queue_.finish();
-    std::lock_guard<std::mutex> lock(mutex_);
-    compile_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace clfractal

@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "clfractal/local.hpp"
+#include "clfractal/device_volume.hpp"
 #include "type_options.hpp"
 #include "clfractal/pyramid.hpp"
 #include "clfractal/sat.hpp"
@@ -59,10 +60,9 @@ public:
         dims_[1] = level_dims(v.dims(), 1);
         if (device_bins_) {
             options_ = type_options(v.type());
-            data_[0] = Buffer<unsigned char>(ctx, v.size_bytes(), CL_MEM_READ_ONLY);
-            data_[0].write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
+            volume_ = DeviceVolume(ctx, v);
             data_[1] = Buffer<unsigned char>(ctx, dims_[1].vertices() * value_size(v.type()));
-            subsample(ctx, data_[0].get(), v.type(), dims_[0], data_[1].get());
+            subsample(ctx, volume_.buffer(), v.type(), dims_[0], data_[1].get());
         } else {
             options_ = defines({{"T", "long"}}) + " -DBIN_INDEX";
             upload(ctx, 0, v, q);
@@ -72,16 +72,13 @@ public:
 
     const std::string& options() const { return options_; }
     const Dims& dims(int level) const { return dims_[level]; }
-    const cl::Buffer& data(int level) const { return data_[level].get(); }
-    // Sets the arguments (vmin, q) of a kernel at `index`, `index + 1` for `level`.
-    void set_bin_args(cl::Kernel& k, cl_uint index, int level) const {
-        if (device_bins_) {
-            k.setArg(index, cl_double(vmin_));
-            k.setArg(index + 1, cl_double(level ? 2 * q_ : q_));
-        } else {
-            k.setArg(index, cl_long(0));
-            k.setArg(index + 1, cl_long(0));
-        }
+    const cl::Buffer& data(int level) const {
+        return device_bins_ && level == 0 ? volume_.buffer() : data_[level].get();
+    }
+    // The kernel arguments vmin and q (BIN_T) of `level`.
+    ScalarArg bin_vmin() const { return device_bins_ ? ScalarArg::of(cl_double(vmin_)) : ScalarArg::of(cl_long(0)); }
+    ScalarArg bin_width(int level) const {
+        return device_bins_ ? ScalarArg::of(cl_double(level ? 2 * q_ : q_)) : ScalarArg::of(cl_long(0));
     }
 
 private:
@@ -100,21 +97,22 @@ private:
     double vmin_, q_;
     std::string options_;
     Dims dims_[2];
+    DeviceVolume volume_;  // level 0 when the device computes the bins
     Buffer<unsigned char> data_[2];
 };
+
+// kernels/fd4.cl cube_bins_rows(vol, nx, ny, vmin, q, sums) and cube_bins_table(vol, nx, ny,
+// vmin, q, table).
+using BinsKernel = KernelCall<cl::Buffer, int, int, ScalarArg, ScalarArg, cl::Buffer>;
 
 // I4 of one level: per-row sums of B_q on the device, added here.
 std::uint64_t sum_bins(Context& ctx, const BinnedLevels& levels, int level) {
     const Dims d = levels.dims(level);
     if (d.cubes() == 0) return 0;
-    cl::Kernel k = ctx.kernel("fd4", "cube_bins_rows", levels.options());
     Buffer<cl_ulong> sums(ctx, (d.ny - 1) * (d.nz - 1));
-    k.setArg(0, levels.data(level));
-    k.setArg(1, int(d.nx));
-    k.setArg(2, int(d.ny));
-    levels.set_bin_args(k, 3, level);
-    k.setArg(5, sums.get());
-    ctx.launch(k, cl::NDRange(d.ny - 1, d.nz - 1));
+    BinsKernel(ctx, "fd4", "cube_bins_rows", levels.options())(cl::NDRange(d.ny - 1, d.nz - 1), cl::NullRange,
+                                                               levels.data(level), int(d.nx), int(d.ny),
+                                                               levels.bin_vmin(), levels.bin_width(level), sums.get());
     const std::vector<cl_ulong> h = sums.to_host(ctx.queue());
     return std::accumulate(h.begin(), h.end(), std::uint64_t(0));
 }
@@ -136,13 +134,9 @@ void field4(Context& ctx, const BinnedLevels& levels, ValueType type, int window
                              " MiB, more than the device's largest allocation (" +
                              std::to_string(ctx.max_alloc() >> 20) + " MiB)");
         tables[level] = Buffer<C>(ctx, d.vertices());
-        cl::Kernel k = ctx.kernel("fd4", "cube_bins_table", levels.options() + defines({{"C", count}}));
-        k.setArg(0, levels.data(level));
-        k.setArg(1, int(d.nx));
-        k.setArg(2, int(d.ny));
-        levels.set_bin_args(k, 3, level);
-        k.setArg(5, tables[level].get());
-        ctx.launch(k, cl::NDRange(d.nx, d.ny, d.nz));
+        BinsKernel(ctx, "fd4", "cube_bins_table", levels.options() + defines({{"C", count}}))(
+            cl::NDRange(d.nx, d.ny, d.nz), cl::NullRange, levels.data(level), int(d.nx), int(d.ny), levels.bin_vmin(),
+            levels.bin_width(level), tables[level].get());
         summed_area_table(ctx, tables[level], d);
     }
     // The query kernels of the local dimension read the tables (the value type is unused

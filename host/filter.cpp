@@ -6,12 +6,11 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <mutex>
-#include <set>
 #include <tuple>
 #include <sstream>
 
 #include "clfractal/local.hpp"
+#include "clfractal/slab_plan.hpp"
 #include "type_options.hpp"
 
 namespace clfractal {
@@ -60,7 +59,6 @@ float float_threshold(double h) {
 namespace {
 
 using clock = std::chrono::steady_clock;
-double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
 
 // Normalised Gaussian weights w[r + i] = exp(-i^2 / (2 sigma^2)) / sum, i = -r..r.
 std::vector<double> gaussian_weights(double sigma, int r) {
@@ -95,12 +93,9 @@ public:
     // `window`: the LD window of the block mask (Mask::blocks).
     Runner(Context& ctx, ValueType type, const Dims& d, const FilterSpec& spec, Mask mask, int window = 8)
         : ctx_(ctx), type_(type), d_(d), spec_(spec), mask_(mask), window_(window) {
-        const std::string& variant = ctx.tuning.filter_variant;
-        if (variant != "rows" && variant != "vertices" && variant != "tiled")
-            throw std::logic_error("unknown filter variant '" + variant + "'");
-        rows_ = variant == "rows";
-        tiled_ = variant == "tiled" && spec.kind == FilterKind::median;
-        items_ = ctx.tuning.row_items ? ctx.tuning.row_items : 4 * ctx.compute_units();
+        rows_ = ctx.tuning.filter_variant == FilterVariant::rows;
+        tiled_ = ctx.tuning.filter_variant == FilterVariant::tiled && spec.kind == FilterKind::median;
+        items_ = row_items(ctx);
         options_ = type_options(type) + defines({{"RADIUS", std::to_string(spec.radius())}});
         if (is_integer(type)) options_ += " -DINTEGER_VALUES";
         // Double accumulation for the wide types; the int32/uint32 median needs none (nor
@@ -141,27 +136,23 @@ public:
                   : tiled_ ? cl::NDRange(round_up(d_.nx, tile_x), round_up(d_.ny, tile_y), std::size_t(nz_out))
                            : cl::NDRange(d_.nx, d_.ny, std::size_t(nz_out));
         const cl::NDRange local = rows_ ? cl::NDRange(1) : tiled_ ? cl::NDRange(tile_x, tile_y, 1) : cl::NullRange;
-        auto mask_args = [&](cl::Kernel& k, int next) {
-            if (mask_ == Mask::none) return;
-            k.setArg(next, *ld);
-            if (mask_ == Mask::threshold) k.setArg(next + 1, h);
-            if (mask_ == Mask::blocks) {
-                const Dims hb = ld_block_dims(d_, window_);
-                k.setArg(next + 1, int(hb.nx));
-                k.setArg(next + 2, int(hb.ny));
-                k.setArg(next + 3, ld_block_phase(window_));
-                k.setArg(next + 4, h);
-            }
+        // The kernels' arguments in order (kernels/filter.cl); the masked kernels end with
+        // (ld, h) (-DMASKED), (ld, bnx, bny, phase, h) (-DBLOCK_MASKED) or (ld) (-DLD_GUIDED).
+        const auto plain = [&](cl::Kernel& k, const auto&... args) {
+            set_args(k, args...);
+            ctx_.launch(k, global, local);
         };
-        auto go = [&](cl::Kernel& k) {
-            if (first_launch(k)) ctx_.warm_up(k, global, local);
-            else ctx_.launch(k, global, local);
+        const auto masked = [&](cl::Kernel& k, const auto&... args) {
+            if (mask_ == Mask::none) set_args(k, args...);
+            else if (mask_ == Mask::threshold) set_args(k, args..., *ld, h);
+            else if (mask_ == Mask::blocks) {
+                const Dims hb = ld_block_dims(d_, window_);
+                set_args(k, args..., *ld, int(hb.nx), int(hb.ny), ld_block_phase(window_), h);
+            } else set_args(k, args..., *ld);
+            ctx_.launch(k, global, local);
         };
         if (spec_.kind == FilterKind::median) {
-            set_slab_args(main_, in, nx, ny, nz_in, z_begin, nz_out);
-            main_.setArg(6, out);
-            mask_args(main_, 7);
-            go(main_);
+            masked(main_, in, nx, ny, nz_in, z_begin, nz_out, out);
         } else if (spec_.kind == FilterKind::gaussian) {
             const std::size_t n = d_.nx * d_.ny * std::size_t(nz_out);
             if (tmp_size_ < n) {
@@ -169,36 +160,14 @@ public:
                 tmp_b_ = Buffer<unsigned char>(ctx_, n * accumulator_size(type_));
                 tmp_size_ = n;
             }
-            set_slab_args(gz_, in, nx, ny, nz_in, z_begin, nz_out);
-            gz_.setArg(6, weights_);
-            gz_.setArg(7, tmp_a_.get());
-            go(gz_);
+            plain(gz_, in, nx, ny, nz_in, z_begin, nz_out, weights_, tmp_a_.get());
             // The y and x passes read the previous pass's float slab of nz_out slices.
-            const auto pass_args = [&](cl::Kernel& k, const cl::Buffer& src) {
-                k.setArg(0, src);
-                k.setArg(1, nx);
-                k.setArg(2, ny);
-                k.setArg(3, nz_out);
-                k.setArg(4, weights_);
-            };
-            pass_args(gy_, tmp_a_.get());
-            gy_.setArg(5, tmp_b_.get());
-            go(gy_);
-            pass_args(main_, tmp_b_.get());
-            main_.setArg(5, out);
-            main_.setArg(6, in);
-            main_.setArg(7, z_begin);
-            mask_args(main_, 8);
-            go(main_);
+            plain(gy_, tmp_a_.get(), nx, ny, nz_out, weights_, tmp_b_.get());
+            masked(main_, tmp_b_.get(), nx, ny, nz_out, weights_, out, in, z_begin);
         } else {
-            set_slab_args(main_, in, nx, ny, nz_in, z_begin, nz_out);
-            main_.setArg(6, weights_);
             const double inv_2sr2 = 1.0 / (2 * spec_.sigma_r * spec_.sigma_r);
-            if (is_wide(type_)) main_.setArg(7, cl_double(inv_2sr2));
-            else main_.setArg(7, cl_float(float(inv_2sr2)));
-            main_.setArg(8, out);
-            mask_args(main_, 9);
-            go(main_);
+            if (is_wide(type_)) masked(main_, in, nx, ny, nz_in, z_begin, nz_out, weights_, cl_double(inv_2sr2), out);
+            else masked(main_, in, nx, ny, nz_in, z_begin, nz_out, weights_, cl_float(float(inv_2sr2)), out);
         }
     }
 
@@ -212,26 +181,7 @@ private:
             const std::vector<float> f(w.begin(), w.end());
             std::memcpy(bytes.data(), f.data(), bytes.size());
         }
-        return cl::Buffer(ctx_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes.size(), bytes.data());
-    }
-
-    // True the first time this process launches kernel `k` (name and options) on this
-    // context: PoCL finishes compiling at the first launch, which counts as compilation.
-    bool first_launch(const cl::Kernel& k) {
-        static std::mutex mutex;
-        static std::set<std::tuple<const void*, std::string, std::string>> seen;
-        std::lock_guard<std::mutex> lock(mutex);
-        return seen.emplace(ctx_.context()(), k.getInfo<CL_KERNEL_FUNCTION_NAME>(), options_).second;
-    }
-
-    static void set_slab_args(cl::Kernel& k, const cl::Buffer& in, int nx, int ny, int nz_in, int z_begin,
-                              int nz_out) {
-        k.setArg(0, in);
-        k.setArg(1, nx);
-        k.setArg(2, ny);
-        k.setArg(3, nz_in);
-        k.setArg(4, z_begin);
-        k.setArg(5, nz_out);
+        return Buffer<unsigned char>(ctx_, bytes).get();
     }
 
     Context& ctx_;
@@ -255,57 +205,28 @@ private:
 // Output slices per slab: all of them when the volume fits, else as many as fit with the
 // halo (Tuning::slab_bytes bounds the input slab with its halo when set).
 std::size_t slab_slices(const Context& ctx, const Dims& d, ValueType type, const FilterSpec& spec, Mask mask) {
-    if (d.nx > std::size_t(INT_MAX) || d.ny > std::size_t(INT_MAX) || d.nz > std::size_t(INT_MAX))
-        throw InputError("volume: axes longer than 2^31 - 1 vertices are not supported");
-    const std::size_t r = std::size_t(spec.radius());
+    check_int_axes(d);
     const std::size_t slice = d.nx * d.ny, vs = value_size(type);
-    std::size_t fit;
-    if (ctx.tuning.slab_bytes) {
-        const std::size_t in_slices = ctx.tuning.slab_bytes / std::max<std::size_t>(1, slice * vs);
-        fit = in_slices > 2 * r ? in_slices - 2 * r : 1;
-    } else {
-        // Per output slice: input and output values, two accumulator temporaries (Gaussian)
-        // and the float LD field (masked); every buffer within the largest allocation, all
-        // of them within half the device's memory.
-        const std::size_t temps = spec.kind == FilterKind::gaussian ? 2 : 0, lds = mask != Mask::none ? 1 : 0;
-        const std::size_t acc = accumulator_size(type);
-        const std::size_t per_slice = slice * (2 * vs + acc * temps + 4 * lds);
-        const std::size_t biggest = slice * std::max({vs, temps ? acc : vs, lds ? std::size_t(4) : vs});
-        fit = std::min(ctx.max_alloc() / std::max<std::size_t>(1, biggest),
-                       ctx.global_mem() / 2 / std::max<std::size_t>(1, per_slice));
-        fit = fit > 2 * r ? fit - 2 * r : 0;
-        if (fit == 0)
-            throw InputError("volume: a slab of " + std::to_string(2 * r + 1) + " slices of " +
-                             std::to_string(d.nx) + "x" + std::to_string(d.ny) + " does not fit the device's memory");
-    }
-    return std::min(fit, d.nz);
-}
-
-// A buffer over host memory (CPU devices) or a device copy of it.
-cl::Buffer host_buffer(Context& ctx, const void* p, std::size_t bytes, cl_mem_flags flags, bool copy_in) {
-    if (ctx.tuning.zero_copy)
-        return cl::Buffer(ctx.context(), flags | CL_MEM_USE_HOST_PTR, bytes, const_cast<void*>(p));
-    cl::Buffer b(ctx.context(), flags, bytes);
-    if (copy_in) ctx.queue().enqueueWriteBuffer(b, CL_TRUE, 0, bytes, p);
-    return b;
-}
-
-// The result buffer `b` of `bytes` into host memory `p`.
-void fetch(Context& ctx, const cl::Buffer& b, void* p, std::size_t bytes) {
-    if (ctx.tuning.zero_copy) {
-        // Mapping makes the device's writes visible in host memory (a no-op on CPUs).
-        void* m = ctx.queue().enqueueMapBuffer(b, CL_TRUE, CL_MAP_READ, 0, bytes);
-        ctx.queue().enqueueUnmapMemObject(b, m);
-    } else {
-        ctx.queue().enqueueReadBuffer(b, CL_TRUE, 0, bytes, p);
-    }
+    // Per output slice: input and output values, two accumulator temporaries (Gaussian)
+    // and the float LD field (masked); every buffer within the largest allocation, all
+    // of them within half the device's memory.
+    const std::size_t temps = spec.kind == FilterKind::gaussian ? 2 : 0, lds = mask != Mask::none ? 1 : 0;
+    const std::size_t acc = accumulator_size(type);
+    SlabNeed need;
+    need.nz = d.nz;
+    need.input_slice_bytes = slice * vs;
+    need.slice_bytes = slice * (2 * vs + acc * temps + 4 * lds);
+    need.largest_slice_bytes = slice * std::max({vs, temps ? acc : vs, lds ? std::size_t(4) : vs});
+    need.memory_divisor = 2;
+    need.halo = std::size_t(spec.radius());
+    return plan_slab(ctx, need, d);
 }
 
 // Filters `v` into `out` slab by slab; `ld` (float32, same dims) for the masked filters.
+// With output slabs of S slices.
 void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& spec, Mask mask, const Volume* ld,
-                  float h) {
+                  float h, std::size_t S) {
     const Dims d = v.dims();
-    const std::size_t S = slab_slices(ctx, d, v.type(), spec, mask);
     const std::size_t r = std::size_t(spec.radius()), slice = d.nx * d.ny, vs = value_size(v.type());
     const auto* src = static_cast<const unsigned char*>(v.data());
     auto* dst = static_cast<unsigned char*>(out.data());
@@ -314,17 +235,29 @@ void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& 
         for (std::size_t z0 = 0; z0 < d.nz; z0 += S) {
             const std::size_t z1 = std::min(d.nz, z0 + S);
             const std::size_t zi0 = z0 > r ? z0 - r : 0, zi1 = std::min(d.nz, z1 + r);
-            cl::Buffer in = host_buffer(ctx, src + zi0 * slice * vs, (zi1 - zi0) * slice * vs, CL_MEM_READ_ONLY, true);
-            cl::Buffer o = host_buffer(ctx, dst + z0 * slice * vs, (z1 - z0) * slice * vs, CL_MEM_WRITE_ONLY, false);
-            cl::Buffer m;
-            if (ld)
-                m = host_buffer(ctx, ld->as<float>() + z0 * slice, (z1 - z0) * slice * sizeof(float), CL_MEM_READ_ONLY,
-                                true);
-            runner.run(in, int(zi1 - zi0), int(z0 - zi0), int(z1 - z0), o, ld ? &m : nullptr, h);
-            fetch(ctx, o, dst + z0 * slice * vs, (z1 - z0) * slice * vs);
-            ctx.queue().finish();
+            const Dims in_dims{d.nx, d.ny, zi1 - zi0}, out_dims{d.nx, d.ny, z1 - z0};
+            const DeviceVolume in(ctx, src + zi0 * slice * vs, in_dims, v.type());
+            const DeviceVolume o = DeviceVolume::output(ctx, dst + z0 * slice * vs, out_dims, v.type());
+            DeviceVolume m;
+            if (ld) m = DeviceVolume(ctx, ld->as<float>() + z0 * slice, out_dims, ValueType::float32);
+            runner.run(in.buffer(), int(zi1 - zi0), int(z0 - zi0), int(z1 - z0), o.buffer(), ld ? &m.buffer() : nullptr,
+                       h);
+            o.download(dst + z0 * slice * vs);
         }
     });
+}
+
+// Slabs as planned; when the device runs out of memory, again with half as many output
+// slices per slab, down to one.
+void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& spec, Mask mask, const Volume* ld,
+                  float h) {
+    for (std::size_t S = slab_slices(ctx, v.dims(), v.type(), spec, mask);; S = (S + 1) / 2) {
+        try {
+            return filter_slabs(ctx, v, out, spec, mask, ld, h, S);
+        } catch (const DeviceError& e) {
+            if (!e.out_of_memory() || S == 1) throw;
+        }
+    }
 }
 
 void check_volume(const Volume& v) {
@@ -384,6 +317,17 @@ void finish_result(const Volume& v, TargetedResult& res) {
     res.changed_share = double(res.changed) / double(v.vertices());
 }
 
+// The filter of a whole device volume into `out` (its dims and type); `ld` for the masked
+// filters.
+void run_in_one_piece(const DeviceVolume& v, const FilterSpec& spec, Mask mask, const DeviceVolume* ld, float h,
+                      const DeviceVolume& out) {
+    check_dims(v.dims(), "volume");
+    check_int_axes(v.dims());
+    Runner runner(v.context(), v.type(), v.dims(), spec, mask);
+    const int nz = int(v.dims().nz);
+    runner.run(v.buffer(), nz, 0, nz, out.buffer(), ld ? &ld->buffer() : nullptr, h);
+}
+
 // The masked filter of `v` with a given field (float32, v's dims) into res.volume, slab by
 // slab, and the count of selected vertices (field > hf).
 void field_run(Context& ctx, const Volume& v, const FilterSpec& spec, Mask mask, const Volume& field, float hf,
@@ -413,19 +357,19 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
         res.ld_seconds = seconds_since(t);
         t = clock::now();
         field_run(ctx, v, spec, mask, ld, hf, res);
-    } else if (mask == Mask::threshold && spec.kind == FilterKind::median && ctx.tuning.filter_variant == "rows") {
+    } else if (mask == Mask::threshold && spec.kind == FilterKind::median && ctx.tuning.filter_variant == FilterVariant::rows) {
         // The median on CPUs: LD on blocks of 2×2×2 vertices, read as such by the median
         // kernel, which computes only the blocks of 16 columns that hold a selected vertex.
         with_cl_errors_finished(ctx, [&] {
-            cl::Buffer values = host_buffer(ctx, v.data(), v.size_bytes(), CL_MEM_READ_ONLY, true);
-            Buffer<float> ld = block_local_dimension(ctx, values, v.type(), d, iso, window);
+            const DeviceVolume values(ctx, v);
+            Buffer<float> ld = block_local_dimension(ctx, values.buffer(), v.type(), d, iso, window);
             ctx.queue().finish();
             res.ld_seconds = seconds_since(t);
             t = clock::now();
             Runner runner(ctx, v.type(), d, spec, Mask::blocks, window);
-            cl::Buffer o = host_buffer(ctx, res.volume.data(), v.size_bytes(), CL_MEM_WRITE_ONLY, false);
-            runner.run(values, int(d.nz), 0, int(d.nz), o, &ld.get(), hf);
-            fetch(ctx, o, res.volume.data(), v.size_bytes());
+            const DeviceVolume o = DeviceVolume::output(ctx, res.volume);
+            runner.run(values.buffer(), int(d.nz), 0, int(d.nz), o.buffer(), &ld.get(), hf);
+            o.download_to(res.volume);
             const float* p = static_cast<const float*>(
                 ctx.queue().enqueueMapBuffer(ld.get(), CL_TRUE, CL_MAP_READ, 0, ld.bytes()));
             res.selected = count_selected_blocks(p, d, window, hf);
@@ -434,20 +378,16 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
     } else {
         // One upload: the LD field and the filter read the same device values.
         with_cl_errors_finished(ctx, [&] {
-            Buffer<unsigned char> values(ctx, v.size_bytes(), CL_MEM_READ_ONLY);
-            values.write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
-            Buffer<float> ld = local_fractal_dimension(ctx, values, v.type(), d, iso, window);
+            const DeviceVolume values(ctx, v);
+            const DeviceVolume ld = local_fractal_dimension(values, iso, window);
             ctx.queue().finish();
             res.ld_seconds = seconds_since(t);
             t = clock::now();
-            Runner runner(ctx, v.type(), d, spec, mask);
-            cl::Buffer o = host_buffer(ctx, res.volume.data(), v.size_bytes(), CL_MEM_WRITE_ONLY, false);
-            runner.run(values.get(), int(d.nz), 0, int(d.nz), o, &ld.get(), hf);
-            fetch(ctx, o, res.volume.data(), v.size_bytes());
-            const float* p = static_cast<const float*>(
-                ctx.queue().enqueueMapBuffer(ld.get(), CL_TRUE, CL_MAP_READ, 0, ld.bytes()));
-            res.selected = count_selected(p, v.vertices(), hf);
-            ctx.queue().enqueueUnmapMemObject(ld.get(), const_cast<float*>(p));
+            const DeviceVolume o = DeviceVolume::output(ctx, res.volume);
+            run_in_one_piece(values, spec, mask, &ld, hf, o);
+            o.download_to(res.volume);
+            const Volume field = ld.download();
+            res.selected = count_selected(field.as<float>(), v.vertices(), hf);
         });
     }
     finish_result(v, res);
@@ -511,6 +451,24 @@ TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& 
 TargetedResult ld_bilateral_filter(Context& ctx, const Volume& v, double sigma_s, double sigma_r, double iso,
                                    int window) {
     return masked_run(ctx, v, FilterSpec::bilateral(sigma_s, sigma_r), Mask::ld_guided, iso, 0, window);
+}
+
+DeviceVolume apply_filter(const DeviceVolume& v, const FilterSpec& spec) {
+    spec.check();
+    DeviceVolume out = allocate_like(v, v.type());
+    with_cl_errors([&] { run_in_one_piece(v, spec, Mask::none, nullptr, 0, out); });
+    return out;
+}
+
+DeviceVolume targeted_filter(const DeviceVolume& v, const FilterSpec& spec, double iso, double h, int window) {
+    spec.check();
+    const float hf = float_threshold(h);
+    DeviceVolume out = allocate_like(v, v.type());
+    with_cl_errors([&] {
+        const DeviceVolume ld = local_fractal_dimension(v, iso, window);
+        run_in_one_piece(v, spec, Mask::threshold, &ld, hf, out);
+    });
+    return out;
 }
 
 }  // namespace clfractal

@@ -9,6 +9,7 @@
 
 #include "clfractal/pyramid.hpp"
 #include "clfractal/sat.hpp"
+#include "clfractal/slab_plan.hpp"
 #include "type_options.hpp"
 
 namespace clfractal {
@@ -44,24 +45,14 @@ std::vector<LocalWindow> local_windows(std::size_t n, int window) {
 
 namespace {
 
-// ---------------------------------------------------------------- device
-
-std::size_t row_items(const Context& ctx) {
-    return ctx.tuning.row_items ? ctx.tuning.row_items : 4 * ctx.compute_units();
-}
-
 }  // namespace
 
 template <class C>
 void window_log_ratios(Context& ctx, const Buffer<C>& table, const Dims& d, const Buffer<C>& table_sub, int window,
                        const std::string& options, const cl::Buffer& out) {
     const Dims ds = level_dims(d, 1);
-    const std::string& variant = ctx.tuning.local_variant;
-    if (variant != "rows" && variant != "vertices")
-        throw std::logic_error("unknown local-dimension variant '" + variant + "'");
-    const bool rows = variant == "rows";
+    const bool rows = ctx.tuning.local_variant == LocalVariant::rows;
     const std::size_t items = row_items(ctx);
-    cl::Kernel query = ctx.kernel("local", rows ? "local_dimension_rows" : "local_dimension_vertices", options);
     Buffer<C> scratch(ctx, rows ? items * (d.nx + ds.nx) : 0);
     // The window tables of the three axes, x then y then z (local_windows).
     std::vector<LocalWindow> windows;
@@ -69,25 +60,20 @@ void window_log_ratios(Context& ctx, const Buffer<C>& table, const Dims& d, cons
         const std::vector<LocalWindow> w = local_windows(n, window);
         windows.insert(windows.end(), w.begin(), w.end());
     }
-    Buffer<LocalWindow> window_table(ctx, windows.size(), CL_MEM_READ_ONLY);
-    window_table.write(ctx.queue(), windows.data(), windows.size());
-
-    query.setArg(0, table.get());
-    query.setArg(1, int(d.nx));
-    query.setArg(2, int(d.ny));
-    query.setArg(3, int(d.nz));
-    query.setArg(4, table_sub.get());
-    query.setArg(5, int(ds.nx));
-    query.setArg(6, int(ds.ny));
-    query.setArg(7, int(ds.nz));
-    query.setArg(8, window_table.get());
-    query.setArg(9, out);
-    if (rows) {
-        query.setArg(10, scratch.get());
-        ctx.launch(query, cl::NDRange(items), cl::NDRange(1));
-    } else {
-        ctx.launch(query, cl::NDRange(d.nx, d.ny, d.nz));
-    }
+    const Buffer<LocalWindow> window_table(ctx, windows);
+    // kernels/local.cl local_dimension_*(table, nx, ny, nz, table_sub, mx, my, mz, win, ld
+    // [, scratch]).
+    using Vertices = KernelCall<cl::Buffer, int, int, int, cl::Buffer, int, int, int, cl::Buffer, cl::Buffer>;
+    using Rows = KernelCall<cl::Buffer, int, int, int, cl::Buffer, int, int, int, cl::Buffer, cl::Buffer, cl::Buffer>;
+    const int nx = int(d.nx), ny = int(d.ny), nz = int(d.nz), mx = int(ds.nx), my = int(ds.ny), mz = int(ds.nz);
+    if (rows)
+        Rows(ctx, "local", "local_dimension_rows", options)(cl::NDRange(items), cl::NDRange(1), table.get(), nx, ny, nz,
+                                                            table_sub.get(), mx, my, mz, window_table.get(), out,
+                                                            scratch.get());
+    else
+        Vertices(ctx, "local", "local_dimension_vertices", options)(cl::NDRange(d.nx, d.ny, d.nz), cl::NullRange,
+                                                                    table.get(), nx, ny, nz, table_sub.get(), mx, my,
+                                                                    mz, window_table.get(), out);
 }
 
 template void window_log_ratios<cl_uint>(Context&, const Buffer<cl_uint>&, const Dims&, const Buffer<cl_uint>&, int,
@@ -108,29 +94,23 @@ void field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, con
         throw InputError("volume " + dims_string(d) + ": the local-dimension tables need " +
                          std::to_string(table_bytes >> 20) + " MiB, more than the device's largest allocation (" +
                          std::to_string(ctx.max_alloc() >> 20) + " MiB)");
-    const std::string& variant = ctx.tuning.local_variant;
-    if (variant != "rows" && variant != "vertices")
-        throw std::logic_error("unknown local-dimension variant '" + variant + "'");
-    const bool rows = variant == "rows";
+    const bool rows = ctx.tuning.local_variant == LocalVariant::rows;
     const std::size_t items = row_items(ctx);
 
     const std::string options =
         single_isovalue_options(type) + defines({{"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
-    cl::Kernel indicator = ctx.kernel("local", rows ? "cube_indicator_rows" : "cube_indicator_vertices", options);
+    // kernels/local.cl cube_indicator_*(vol, nx, ny, nz, s, table).
+    KernelCall<cl::Buffer, int, int, int, ScalarArg, cl::Buffer> indicator(
+        ctx, "local", rows ? "cube_indicator_rows" : "cube_indicator_vertices", options);
 
     Buffer<unsigned char> sub(ctx, ds.vertices() * value_size(type));
     Buffer<C> table(ctx, d.vertices()), table_sub(ctx, ds.vertices());
     subsample(ctx, values, type, d, sub.get());
 
     auto indicator_table = [&](const cl::Buffer& vol, const Dims& dims, Buffer<C>& out) {
-        indicator.setArg(0, vol);
-        indicator.setArg(1, int(dims.nx));
-        indicator.setArg(2, int(dims.ny));
-        indicator.setArg(3, int(dims.nz));
-        set_isovalue_arg(indicator, 4, type, iso);
-        indicator.setArg(5, out.get());
-        if (rows) ctx.launch(indicator, cl::NDRange(items), cl::NDRange(1));
-        else ctx.launch(indicator, cl::NDRange(dims.nx, dims.ny, dims.nz));
+        const cl::NDRange global = rows ? cl::NDRange(items) : cl::NDRange(dims.nx, dims.ny, dims.nz);
+        indicator(global, rows ? cl::NDRange(1) : cl::NullRange, vol, int(dims.nx), int(dims.ny), int(dims.nz),
+                  isovalue_arg(type, iso), out.get());
         summed_area_table(ctx, out, dims);
     };
     indicator_table(values, d, table);
@@ -253,31 +233,6 @@ template <class C> Volume field_openmp(const Volume& v, double iso, int window) 
 
 }  // namespace
 
-Buffer<float> local_fractal_dimension(Context& ctx, const Buffer<unsigned char>& values, ValueType type,
-                                      const Dims& dims, double iso, int window) {
-    if (values.size() != dims.vertices() * value_size(type))
-        throw std::logic_error("local_fractal_dimension: the buffer does not hold " + dims_string(dims) + " " +
-                               value_type_name(type) + " values");
-    // The block field spread over the vertices: the same values as field_on_device at a
-    // fraction of the cost (whatever Tuning::local_variant, which must still be valid).
-    const std::string& variant = ctx.tuning.local_variant;
-    if (variant != "rows" && variant != "vertices")
-        throw std::logic_error("unknown local-dimension variant '" + variant + "'");
-    const Buffer<float> blocks = block_local_dimension(ctx, values.get(), type, dims, iso, window);
-    Buffer<float> ld(ctx, dims.vertices());
-    with_cl_errors([&] {
-        const Dims hb = ld_block_dims(dims, window);
-        cl::Kernel expand = ctx.kernel("local", "expand_blocks", single_isovalue_options(type) + defines({{"C", "uint"}}));
-        expand.setArg(0, blocks.get());
-        expand.setArg(1, int(hb.nx));
-        expand.setArg(2, int(hb.ny));
-        expand.setArg(3, ld_block_phase(window));
-        expand.setArg(4, ld.get());
-        ctx.launch(expand, cl::NDRange(dims.nx, dims.ny, dims.nz));
-    });
-    return ld;
-}
-
 Dims ld_block_dims(const Dims& d, int window) {
     const std::size_t p = std::size_t(ld_block_phase(window));
     return Dims{(d.nx + p + 1) / 2, (d.ny + p + 1) / 2, (d.nz + p + 1) / 2};
@@ -291,26 +246,20 @@ void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const D
     const Dims ds = level_dims(d, 1), hb = ld_block_dims(d, window);
     const std::string options =
         single_isovalue_options(type) + defines({{"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
-    // Tuning::local_variant as for the full field: whole rows per work-item on CPUs.
-    const bool rows = ctx.tuning.local_variant == "rows";
-    cl::Kernel indicators = ctx.kernel("local", rows ? "block_indicators_rows" : "block_indicators", options);
-    cl::Kernel query = ctx.kernel("local", "block_dimension", options);
     Buffer<C> counts(ctx, ds.vertices()), sub(ctx, ds.vertices());
-    int a = 0;
-    indicators.setArg(a++, values);
-    indicators.setArg(a++, int(d.nx));
-    indicators.setArg(a++, int(d.ny));
-    indicators.setArg(a++, int(d.nz));
-    set_isovalue_arg(indicators, a++, type, iso);
-    if (rows) {
-        indicators.setArg(a++, int(ds.nx));
-        indicators.setArg(a++, int(ds.ny));
-        indicators.setArg(a++, int(ds.nz));
+    // Tuning::local_variant as for the full field: whole rows per work-item on CPUs.
+    // kernels/local.cl block_indicators[_rows](vol, nx, ny, nz, s, [snx, sny, snz,] counts, sub).
+    if (ctx.tuning.local_variant == LocalVariant::rows) {
+        KernelCall<cl::Buffer, int, int, int, ScalarArg, int, int, int, cl::Buffer, cl::Buffer> indicators(
+            ctx, "local", "block_indicators_rows", options);
+        indicators(cl::NDRange(row_items(ctx)), cl::NDRange(1), values, int(d.nx), int(d.ny), int(d.nz),
+                   isovalue_arg(type, iso), int(ds.nx), int(ds.ny), int(ds.nz), counts.get(), sub.get());
+    } else {
+        KernelCall<cl::Buffer, int, int, int, ScalarArg, cl::Buffer, cl::Buffer> indicators(ctx, "local",
+                                                                                          "block_indicators", options);
+        indicators(cl::NDRange(ds.nx, ds.ny, ds.nz), cl::NullRange, values, int(d.nx), int(d.ny), int(d.nz),
+                   isovalue_arg(type, iso), counts.get(), sub.get());
     }
-    indicators.setArg(a++, counts.get());
-    indicators.setArg(a++, sub.get());
-    if (rows) ctx.launch(indicators, cl::NDRange(row_items(ctx)), cl::NDRange(1));
-    else ctx.launch(indicators, cl::NDRange(ds.nx, ds.ny, ds.nz));
     summed_area_table(ctx, counts, ds);
     summed_area_table(ctx, sub, ds);
     std::vector<LocalWindow> windows;
@@ -320,20 +269,14 @@ void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const D
     }
     Buffer<LocalWindow> window_table(ctx, windows.size(), CL_MEM_READ_ONLY);
     window_table.write(ctx.queue(), windows.data(), windows.size());
-    query.setArg(0, counts.get());
-    query.setArg(1, sub.get());
-    query.setArg(2, int(ds.nx));
-    query.setArg(3, int(ds.ny));
-    query.setArg(4, window_table.get());
-    query.setArg(5, int(d.nx));
-    query.setArg(6, int(d.ny));
-    query.setArg(7, ld_block_phase(window));
-    query.setArg(8, int(hb.nx));
-    query.setArg(9, int(hb.ny));
-    query.setArg(10, ld);
+    // block_dimension(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, ld).
+    KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, cl::Buffer> query(
+        ctx, "local", "block_dimension", options);
     // A fixed work-group size: PoCL compiles a kernel once per work-group size.
     const std::size_t wg = std::min<std::size_t>(16, ctx.max_work_group());
-    ctx.launch(query, cl::NDRange((hb.nx + wg - 1) / wg * wg, hb.ny, hb.nz), cl::NDRange(wg, 1, 1));
+    query(cl::NDRange((hb.nx + wg - 1) / wg * wg, hb.ny, hb.nz), cl::NDRange(wg, 1, 1), counts.get(), sub.get(),
+          int(ds.nx), int(ds.ny), window_table.get(), int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx),
+          int(hb.ny), ld);
 }
 
 }  // namespace
@@ -353,20 +296,41 @@ Buffer<float> block_local_dimension(Context& ctx, const cl::Buffer& values, Valu
     return ld;
 }
 
+
+DeviceVolume local_fractal_dimension(const DeviceVolume& v, double iso, int window) {
+    Context& ctx = v.context();
+    DeviceVolume ld = allocate_like(v, ValueType::float32);
+    // The block field spread over the vertices: the same values as field_on_device at a
+    // fraction of the cost.
+    const Dims& d = v.dims();
+    const Buffer<float> blocks = block_local_dimension(ctx, v.buffer(), v.type(), d, iso, window);
+    with_cl_errors([&] {
+        const Dims hb = ld_block_dims(d, window);
+        // expand_blocks(blocks, bnx, bny, phase, ld).
+        KernelCall<cl::Buffer, int, int, int, cl::Buffer> expand(
+            ctx, "local", "expand_blocks", single_isovalue_options(v.type()) + defines({{"C", "uint"}}));
+        expand(cl::NDRange(d.nx, d.ny, d.nz), cl::NullRange, blocks.get(), int(hb.nx), int(hb.ny),
+               ld_block_phase(window), ld.buffer());
+    });
+    return ld;
+}
+
 namespace {
 
-// Device bytes per vertex of an in-core run: the values, the field, the table (64-bit
-// when the grid may need it) and the subsampled values and table (an eighth).
-std::size_t local_bytes_per_vertex(ValueType type) { return value_size(type) * 9 / 8 + 4 + 8 * 9 / 8 + 1; }
-
-// Whether a grid of `d` must be split into z-slabs: its tables or field exceed the
-// device's largest allocation, the whole run a third of its memory, or its values the
-// slab limit Tuning::slab_bytes (which tests lower to force slabs).
-bool needs_slabs(const Context& ctx, const Dims& d, ValueType type) {
-    const std::size_t c = d.cubes() > ctx.tuning.sat_max_32bit ? 8 : 4;
-    if (d.vertices() * c > ctx.max_alloc() || d.vertices() * sizeof(float) > ctx.max_alloc()) return true;
-    if (d.vertices() * local_bytes_per_vertex(type) > ctx.global_mem() / 3) return true;
-    return ctx.tuning.slab_bytes && d.vertices() * value_size(type) > ctx.tuning.slab_bytes;
+// The slab need of the LD field of a grid of `d`: per slice the values, the field, the table
+// (64-bit when the grid may need it) and the subsampled values and table (an eighth); the
+// tables and the field within the largest allocation, the run within a third of the
+// device's memory, the values within Tuning::slab_bytes (which tests lower to force slabs).
+SlabNeed local_need(const Context& ctx, const Dims& d, ValueType type, std::size_t halo) {
+    const std::size_t plane = d.nx * d.ny, table = d.cubes() > ctx.tuning.sat_max_32bit ? 8 : 4;
+    SlabNeed need;
+    need.nz = d.nz;
+    need.input_slice_bytes = plane * value_size(type);
+    need.slice_bytes = plane * (value_size(type) * 9 / 8 + 4 + 8 * 9 / 8 + 1);
+    need.largest_slice_bytes = plane * table;
+    need.memory_divisor = 3;
+    need.halo = halo;
+    return need;
 }
 
 Volume local_in_core(Context& ctx, const Volume& v, double iso, int window);
@@ -378,9 +342,9 @@ Volume local_in_core(Context& ctx, const Volume& v, double iso, int window);
 Volume local_in_slabs(Context& ctx, const Volume& v, double iso, int window) {
     const Dims d = v.dims();
     const std::size_t half = std::size_t(window / 2), plane = d.nx * d.ny, slice_bytes = plane * value_size(v.type());
-    // The deepest output slab whose input slab (up to depth + k + 1 slices) fits.
-    std::size_t depth = 1;
-    while (depth < d.nz && !needs_slabs(ctx, Dims{d.nx, d.ny, 2 * depth + window + 1}, v.type())) depth *= 2;
+    // The input slab of `depth` output slices: k/2 more on each side, one more where the
+    // start is rounded down to even.
+    const std::size_t depth = plan_slab(ctx, local_need(ctx, d, v.type(), half + 1), d);
     Volume out(d, ValueType::float32, v.name);
     out.spacing = v.spacing;
     for (std::size_t a = 0; a < d.nz; a += depth) {
@@ -398,7 +362,8 @@ Volume local_in_slabs(Context& ctx, const Volume& v, double iso, int window) {
 
 Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int window) {
     check_local_arguments(iso, window);
-    if (v.dims().nz > 1 && needs_slabs(ctx, v.dims(), v.type())) return local_in_slabs(ctx, v, iso, window);
+    if (v.dims().nz > 1 && slab_fit(ctx, local_need(ctx, v.dims(), v.type(), 0)) < v.dims().nz)
+        return local_in_slabs(ctx, v, iso, window);
     return local_in_core(ctx, v, iso, window);
 }
 
@@ -407,24 +372,10 @@ namespace {
 Volume local_in_core(Context& ctx, const Volume& v, double iso, int window) {
     Volume out(v.dims(), ValueType::float32, v.name);
     out.spacing = v.spacing;
-    if (!ctx.tuning.zero_copy) {
-        Buffer<unsigned char> values(ctx, v.size_bytes(), CL_MEM_READ_ONLY);
-        with_cl_errors([&] { values.write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes()); });
-        Buffer<float> ld = local_fractal_dimension(ctx, values, v.type(), v.dims(), iso, window);
-        with_cl_errors([&] { ld.read(ctx.queue(), out.as<float>(), out.vertices()); });
-        return out;
-    }
-    // CPU devices read the volume and write the field in place in host memory. No kernel
-    // may still use that memory when we return, on an exception too.
-    with_cl_errors_finished(ctx, [&] {
-        cl::Buffer values(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, v.size_bytes(),
-                          const_cast<void*>(v.data()));
-        cl::Buffer ld(ctx.context(), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, out.size_bytes(), out.data());
-        field_on_device(ctx, values, v.type(), v.dims(), iso, window, ld);
-        // Mapping makes the device's writes visible in host memory (a no-op on CPUs).
-        void* p = ctx.queue().enqueueMapBuffer(ld, CL_TRUE, CL_MAP_READ, 0, out.size_bytes());
-        ctx.queue().enqueueUnmapMemObject(ld, p);
-    });
+    const DeviceVolume values(ctx, v);
+    const DeviceVolume ld = DeviceVolume::output(ctx, out);
+    field_on_device(ctx, values.buffer(), v.type(), v.dims(), iso, window, ld.buffer());
+    ld.download_to(out);
     return out;
 }
 

@@ -541,4 +541,10 @@ Mesh read_ply(const std::string& path) {
     return mesh;
 }
 
+Mesh extract_isosurface(const DeviceVolume& v, double s, MeshMethod method) {
+    return extract_isosurface(v.download(), s, method);
+}
+
+void color_by_ld(Mesh& mesh, const DeviceVolume& ld_field) { color_by_ld(mesh, ld_field.download()); }
+
 }  // namespace clfractal

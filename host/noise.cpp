@@ -14,6 +14,7 @@
 #include "clfractal/synthetic.hpp"
 
 #include "counter_rng.hpp"
+#include "clfractal/slab_plan.hpp"
 #include "type_options.hpp"
 
 namespace clfractal {
@@ -280,54 +281,78 @@ Volume add_noise_host(const Volume& v, const NoiseOptions& opt) {
     return out;
 }
 
-Volume add_noise(Context& ctx, const Volume& v, const NoiseOptions& opt) {
-    check_amplitude(opt.amplitude);
-    const ValueType out_type = opt.keep_type ? v.type() : ValueType::float32;
-    Volume out(v.dims(), out_type, v.name);
-    out.spacing = v.spacing;
-    const Dims d = v.dims();
-    const std::size_t slice = d.nx * d.ny;
-    const std::size_t in_bytes = value_size(v.type()), out_bytes = value_size(out_type);
-    std::size_t slab = opt.slab_slices;
-    if (slab == 0) {
-        const std::size_t cap = std::min<std::size_t>(ctx.max_alloc(), std::size_t(256) << 20);
-        slab = std::max<std::size_t>(1, cap / (slice * std::max(in_bytes, out_bytes)));
-    }
-    slab = std::min(slab, d.nz);
+namespace {
 
-    std::string options = type_options(v.type());
+// The -D options of the noise kernel for data of type t.
+std::string noise_options(ValueType t, const NoiseOptions& opt) {
+    std::string options = type_options(t);
     if (opt.kind == NoiseKind::gaussian) options += " -DGAUSSIAN";
-    const bool wide = is_wide(v.type());
+    const bool wide = is_wide(t);
     if (wide) options += " -DNOISE_DOUBLE -DFP64";
-    if (opt.keep_type) options += " " + defines({{"OUT_T", opencl_type_name(v.type())}});
-    if (opt.keep_type && is_integer(v.type())) {
+    if (opt.keep_type) options += " " + defines({{"OUT_T", opencl_type_name(t)}});
+    if (opt.keep_type && is_integer(t)) {
         // The range as literals of the noisy value's type (every integer type's bounds are exact).
         const auto literal = [&](double x) {
             char buf[40];
             std::snprintf(buf, sizeof buf, wide ? "%.1f" : "%.1ff", x);
             return std::string(buf);
         };
-        options += " -DKEEP_TYPE " + defines({{"OUT_MIN", literal(type_min(v.type()))},
-                                              {"OUT_MAX", literal(type_max(v.type()))}});
+        options += " -DKEEP_TYPE " + defines({{"OUT_MIN", literal(type_min(t))}, {"OUT_MAX", literal(type_max(t))}});
     }
+    return options;
+}
+
+// The noisy values of `in` into `out` (same dims), whose first vertex is vertex `first` of
+// the volume.
+void noise_on_device(const DeviceVolume& in, const DeviceVolume& out, std::size_t first, const NoiseOptions& opt) {
+    Context& ctx = in.context();
+    // kernels/noise.cl add_noise(in, out, first, mixed_seed, amplitude).
+    KernelCall<cl::Buffer, cl::Buffer, cl_ulong, cl_ulong, cl_float> kernel(ctx, "noise", "add_noise",
+                                                                           noise_options(in.type(), opt));
+    kernel(cl::NDRange(in.vertices()), cl::NullRange, in.buffer(), out.buffer(), cl_ulong(first),
+           cl_ulong(splitmix64_mix(opt.seed)), cl_float(float(opt.amplitude)));
+}
+
+ValueType noisy_type(ValueType t, const NoiseOptions& opt) { return opt.keep_type ? t : ValueType::float32; }
+
+}  // namespace
+
+Volume add_noise(Context& ctx, const Volume& v, const NoiseOptions& opt) {
+    check_amplitude(opt.amplitude);
+    const ValueType out_type = noisy_type(v.type(), opt);
+    Volume out(v.dims(), out_type, v.name);
+    out.spacing = v.spacing;
+    const Dims d = v.dims();
+    const std::size_t slice = d.nx * d.ny;
+    const std::size_t in_bytes = value_size(v.type()), out_bytes = value_size(out_type);
+    // Slabs of at most 256 MiB per buffer: the input and the noisy output.
+    SlabNeed need;
+    need.nz = d.nz;
+    need.input_slice_bytes = slice * in_bytes;
+    need.slice_bytes = slice * (in_bytes + out_bytes);
+    need.largest_slice_bytes = slice * std::max(in_bytes, out_bytes);
+    need.largest_bytes = std::size_t(256) << 20;
+    need.memory_divisor = 1;
+    need.forced = opt.slab_slices;
+    const std::size_t slab = plan_slab(ctx, need, d);
+    const auto* src = static_cast<const unsigned char*>(v.data());
+    auto* dst = static_cast<unsigned char*>(out.data());
     with_cl_errors([&] {
-        cl::Kernel kernel = ctx.kernel("noise", "add_noise", options);
-        Buffer<unsigned char> in(ctx, slab * slice * in_bytes, CL_MEM_READ_ONLY);
-        Buffer<unsigned char> res(ctx, slab * slice * out_bytes, CL_MEM_WRITE_ONLY);
-        const auto* src = static_cast<const unsigned char*>(v.data());
-        auto* dst = static_cast<unsigned char*>(out.data());
         for (std::size_t z0 = 0; z0 < d.nz; z0 += slab) {
-            const std::size_t n = std::min(slab, d.nz - z0) * slice;
-            in.write(ctx.queue(), src + z0 * slice * in_bytes, n * in_bytes);
-            kernel.setArg(0, in.get());
-            kernel.setArg(1, res.get());
-            kernel.setArg(2, cl_ulong(z0 * slice));
-            kernel.setArg(3, cl_ulong(splitmix64_mix(opt.seed)));
-            kernel.setArg(4, cl_float(float(opt.amplitude)));
-            ctx.launch(kernel, cl::NDRange(n));
-            res.read(ctx.queue(), dst + z0 * slice * out_bytes, n * out_bytes);
+            const Dims sd{d.nx, d.ny, std::min(slab, d.nz - z0)};
+            const DeviceVolume in(ctx, src + z0 * slice * in_bytes, sd, v.type());
+            const DeviceVolume res = DeviceVolume::output(ctx, dst + z0 * slice * out_bytes, sd, out_type);
+            noise_on_device(in, res, z0 * slice, opt);
+            res.download(dst + z0 * slice * out_bytes);
         }
     });
+    return out;
+}
+
+DeviceVolume add_noise(const DeviceVolume& v, const NoiseOptions& opt) {
+    check_amplitude(opt.amplitude);
+    DeviceVolume out = allocate_like(v, noisy_type(v.type(), opt));
+    with_cl_errors([&] { noise_on_device(v, out, 0, opt); });
     return out;
 }
 

@@ -28,14 +28,8 @@ Volume subsample(const Volume& v) {
 
 void subsample(Context& ctx, const cl::Buffer& src, ValueType type, const Dims& d, const cl::Buffer& dst) {
     const Dims s = level_dims(d, 1);
-    cl::Kernel k = ctx.kernel("pyramid", "subsample", type_options(type));
-    k.setArg(0, src);
-    k.setArg(1, int(d.nx));
-    k.setArg(2, int(d.ny));
-    k.setArg(3, dst);
-    k.setArg(4, int(s.nx));
-    k.setArg(5, int(s.ny));
-    ctx.launch(k, cl::NDRange(s.nx, s.ny, s.nz));
+    SubsampleKernel k(ctx, "pyramid", "subsample", type_options(type));
+    k(cl::NDRange(s.nx, s.ny, s.nz), cl::NullRange, src, int(d.nx), int(d.ny), dst, int(s.nx), int(s.ny));
 }
 
 }  // namespace clfractal

@@ -8,6 +8,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/span.hpp"
 #include "type_options.hpp"
@@ -17,16 +18,6 @@ namespace clfractal {
 namespace {
 
 using clock_type = std::chrono::steady_clock;
-double seconds_since(clock_type::time_point t) {
-    return std::chrono::duration<double>(clock_type::now() - t).count();
-}
-
-// The largest float <= h: for a float x, x > h iff x > below(h).
-float float_at_or_below(double h) {
-    float f = float(h);
-    if (double(f) > h) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-    return f;
-}
 
 // Bits of the per-vertex flags (kernels/smooth.cl): bit a (0, 1, 2) the edge from the
 // vertex to its +x, +y, +z neighbour; on the host it means "waiting in the queue". Bit 3:
@@ -35,32 +26,20 @@ constexpr std::uint8_t hot_bit = 8;
 
 // ---------------------------------------------------------------- Algorithm 1, device
 
-std::vector<std::uint8_t> high_fractal_flags(Context& ctx, const Volume& v, double iso, double h, int window,
-                                             Volume* keep_ld) {
+std::vector<std::uint8_t> high_fractal_flags(const DeviceVolume& v, double iso, double h, int window, Volume* keep_ld) {
+    Context& ctx = v.context();
     const Dims d = v.dims();
     std::vector<std::uint8_t> flags(d.vertices());
     with_cl_errors([&] {
-        Buffer<unsigned char> values(ctx, v.size_bytes(), CL_MEM_READ_ONLY);
-        values.write(ctx.queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
-        Buffer<float> ld = local_fractal_dimension(ctx, values, v.type(), d, iso, window);
+        const DeviceVolume ld = local_fractal_dimension(v, iso, window);
         Buffer<cl_uchar> out(ctx, d.vertices());
-        cl::Kernel scan = ctx.kernel("smooth", "high_fractal_edges", single_isovalue_options(v.type()));
-        scan.setArg(0, values.get());
-        scan.setArg(1, ld.get());
-        scan.setArg(2, int(d.nx));
-        scan.setArg(3, int(d.ny));
-        scan.setArg(4, int(d.nz));
-        set_isovalue_arg(scan, 5, v.type(), iso);
-        scan.setArg(6, cl_float(float_at_or_below(h)));
-        scan.setArg(7, out.get());
-        ctx.launch(scan, cl::NDRange(d.nx, d.ny, d.nz));
+        // kernels/smooth.cl high_fractal_edges(vol, ld, nx, ny, nz, s, h, flags).
+        KernelCall<cl::Buffer, cl::Buffer, int, int, int, ScalarArg, cl_float, cl::Buffer> scan(
+            ctx, "smooth", "high_fractal_edges", single_isovalue_options(v.type()));
+        scan(cl::NDRange(d.nx, d.ny, d.nz), cl::NullRange, v.buffer(), ld.buffer(), int(d.nx), int(d.ny), int(d.nz),
+             isovalue_arg(v.type(), iso), cl_float(float_threshold(h)), out.get());
         out.read(ctx.queue(), flags.data(), flags.size());
-        if (keep_ld) {
-            Volume field(d, ValueType::float32, v.name);
-            field.spacing = v.spacing;
-            ld.read(ctx.queue(), field.as<float>(), field.vertices());
-            *keep_ld = std::move(field);
-        }
+        if (keep_ld) *keep_ld = ld.download();
     });
     return flags;
 }
@@ -80,6 +59,32 @@ template <class T> T lowered_value(T f, double delta, double weight) {
     } else {
         return T(std::max(double(std::numeric_limits<T>::lowest()), double(f) - delta * weight));
     }
+}
+
+// The gaussian variant's step after f(v) was lowered by delta: each 26-neighbour w of v is
+// lowered by delta * weight[|w - v|^2]. Writes v and the changed neighbours, in increasing
+// index, to `changed` and returns their number.
+template <class T>
+int lower_neighbours(T* f, const Dims& d, long long v, double delta, const double weight[4], long long changed[27]) {
+    const long long nx = (long long)d.nx, ny = (long long)d.ny, nz = (long long)d.nz;
+    const long long vx = v % nx, vy = (v / nx) % ny, vz = v / (nx * ny);
+    int count = 0;
+    for (long long dz = -1; dz <= 1; ++dz)
+        for (long long dy = -1; dy <= 1; ++dy)
+            for (long long dx = -1; dx <= 1; ++dx) {
+                const long long x = vx + dx, y = vy + dy, z = vz + dz;
+                if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
+                const long long w = v + dx + dy * nx + dz * nx * ny;
+                if (w == v) {
+                    changed[count++] = v;
+                    continue;
+                }
+                const T lowered = lowered_value(f[w], delta, weight[dx * dx + dy * dy + dz * dz]);
+                if (lowered == f[w]) continue;
+                f[w] = lowered;
+                changed[count++] = w;
+            }
+    return count;
 }
 
 template <class T, class S>
@@ -144,25 +149,8 @@ Counters run_queue(T* f, std::uint8_t* flags, const Dims& d, S s, bool gaussian,
         }
         const double delta = double(f[v]) - double(f[u]);
         f[v] = f[u];
-        // v and its 26 neighbours in increasing index; changed ones are remembered.
-        const long long vx = v % nx, vy = (v / nx) % ny, vz = v / (nx * ny);
         long long changed[27];
-        int count = 0;
-        for (long long dz = -1; dz <= 1; ++dz)
-            for (long long dy = -1; dy <= 1; ++dy)
-                for (long long dx = -1; dx <= 1; ++dx) {
-                    const long long x = vx + dx, y = vy + dy, z = vz + dz;
-                    if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
-                    const long long w = v + dx + dy * stride[1] + dz * stride[2];
-                    if (w == v) {
-                        changed[count++] = v;
-                        continue;
-                    }
-                    const T lowered = lowered_value(f[w], delta, weight[dx * dx + dy * dy + dz * dz]);
-                    if (lowered == f[w]) continue;
-                    f[w] = lowered;
-                    changed[count++] = w;
-                }
+        const int count = lower_neighbours(f, d, v, delta, weight, changed);
         for (int c = 0; c < count; ++c) push_around(changed[c]);
     }
     return out;
@@ -178,16 +166,21 @@ SmoothVariant parse_smooth_variant(const std::string& name) {
 
 const char* smooth_variant_name(SmoothVariant v) { return v == SmoothVariant::plain ? "plain" : "gaussian"; }
 
-SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double h, int window,
-                               SmoothVariant variant, double tau, bool keep_ld) {
+namespace {
+
+void check_smooth_arguments(double iso, double h, int window, SmoothVariant variant, double tau) {
     check_local_arguments(iso, window);
     if (std::isnan(h)) throw InputError("--threshold: the threshold must be a number");
     if (variant == SmoothVariant::gaussian && !(std::isfinite(tau) && tau > 0))
         throw InputError("--tau: must be a positive finite number");
+}
 
+// Algorithms 1 (on the device, `dv`) and 2 (on the host, `v`: the same values).
+SmoothResult smooth(const DeviceVolume& dv, const Volume& v, double iso, double h, int window, SmoothVariant variant,
+                    double tau, bool keep_ld) {
     SmoothResult r;
     auto t = clock_type::now();
-    std::vector<std::uint8_t> flags = high_fractal_flags(ctx, v, iso, h, window, keep_ld ? &r.ld : nullptr);
+    std::vector<std::uint8_t> flags = high_fractal_flags(dv, iso, h, window, keep_ld ? &r.ld : nullptr);
     r.device_seconds = seconds_since(t);
     for (std::uint8_t b : flags) {
         r.high_vertices += (b & hot_bit) != 0;
@@ -216,10 +209,28 @@ SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double
     return r;
 }
 
+}  // namespace
+
+SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double h, int window,
+                               SmoothVariant variant, double tau, bool keep_ld) {
+    check_smooth_arguments(iso, h, window, variant, tau);
+    return smooth(DeviceVolume(ctx, v), v, iso, h, window, variant, tau, keep_ld);
+}
+
+SmoothResult smooth_isosurface(const DeviceVolume& v, double iso, double h, int window, SmoothVariant variant,
+                               double tau, bool keep_ld) {
+    check_smooth_arguments(iso, h, window, variant, tau);
+    return smooth(v, v.download(), iso, h, window, variant, tau, keep_ld);
+}
+
 IsoCounts intersected_counts(Context& ctx, const Volume& v, double iso) {
+    return intersected_counts(DeviceVolume(ctx, v), iso);
+}
+
+IsoCounts intersected_counts(const DeviceVolume& v, double iso) {
     if (!std::isfinite(iso)) throw InputError("--iso: the isovalue must be a finite number");
     const IsovalueSet set = IsovalueSet::single(v.type(), iso);
-    const SpanResult r = count_spans(ctx, v, set, SpanOptions{{SpanKind::cubes, SpanKind::edges}, 1, 0});
+    const SpanResult r = count_spans(v, set, SpanOptions{{SpanKind::cubes, SpanKind::edges}, 1, 0});
     return IsoCounts{r.get(SpanKind::cubes).counts[0][0], r.get(SpanKind::edges).counts[0][0]};
 }
 

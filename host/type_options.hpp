@@ -30,12 +30,44 @@ inline std::int64_t integer_isovalue(double s) {
     return std::int64_t(std::clamp(std::ceil(s), -limit, limit));
 }
 
-/// Sets argument `index` of a kernel built with single_isovalue_options(t) to isovalue s
-/// (an iso_t: long ceil(s), float(s) or s).
-inline void set_isovalue_arg(cl::Kernel& k, cl_uint index, ValueType t, double s) {
-    if (is_integer(t)) k.setArg(index, cl_long(integer_isovalue(s)));
-    else if (t == ValueType::float64) k.setArg(index, cl_double(s));
-    else k.setArg(index, cl_float(float(s)));
+/// A scalar kernel argument whose OpenCL type is chosen at run time (a -D type such as
+/// iso_t or BIN_T): long, double or float, set with its own size by KernelCall/set_args.
+struct ScalarArg {
+    union {
+        cl_long integer;
+        cl_double wide;
+        cl_float single;
+    } value;
+    std::size_t bytes = 0;
+
+    static ScalarArg of(cl_long x) {
+        ScalarArg a{};
+        a.value.integer = x;
+        a.bytes = sizeof x;
+        return a;
+    }
+    static ScalarArg of(cl_double x) {
+        ScalarArg a{};
+        a.value.wide = x;
+        a.bytes = sizeof x;
+        return a;
+    }
+    static ScalarArg of(cl_float x) {
+        ScalarArg a{};
+        a.value.single = x;
+        a.bytes = sizeof x;
+        return a;
+    }
+};
+
+inline void set_kernel_arg(cl::Kernel& k, cl_uint index, const ScalarArg& a) { k.setArg(index, a.bytes, &a.value); }
+
+/// One isovalue as the kernels of single_isovalue_options(t) take it (iso_t): long ceil(s)
+/// for integer data, double s for float64 data, float(s) for float32 data.
+inline ScalarArg isovalue_arg(ValueType t, double s) {
+    if (is_integer(t)) return ScalarArg::of(cl_long(integer_isovalue(s)));
+    if (t == ValueType::float64) return ScalarArg::of(cl_double(s));
+    return ScalarArg::of(cl_float(float(s)));
 }
 
 }  // namespace clfractal

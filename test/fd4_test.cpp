@@ -144,7 +144,7 @@ TEST_CASE("LD4 equals brute-force window sums: every type, windows 2..40, both t
                 if (k != 6 && k != 40) continue;
                 // 64-bit tables, the other query variant, host bins: the same field.
                 ctx().tuning.sat_max_32bit = 0;
-                ctx().tuning.local_variant = guard.saved.local_variant == "rows" ? "vertices" : "rows";
+                ctx().tuning.local_variant = guard.saved.local_variant == LocalVariant::rows ? LocalVariant::vertices : LocalVariant::rows;
                 ctx().tuning.use_fp64 = false;
                 compare_field(local_fractal_dimension_4d(ctx(), v, q, k), want);
                 ctx().tuning = guard.saved;

@@ -92,7 +92,7 @@ TEST_SUITE("filter") {
 TEST_CASE("median equals the reference exactly: every type, awkward sizes, every variant") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.filter_variant = variant;
+        ctx().tuning.filter_variant = parse_variant<FilterVariant>(variant);
         std::uint32_t seed = 1;
         for (const Dims& d : sizes)
             for (ValueType t : types) {
@@ -111,7 +111,7 @@ TEST_CASE("median equals the reference exactly: every type, awkward sizes, every
 TEST_CASE("Gaussian within tolerance of the exact result") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.filter_variant = variant;
+        ctx().tuning.filter_variant = parse_variant<FilterVariant>(variant);
         std::uint32_t seed = 100;
         for (const Dims& d : sizes)
             for (ValueType t : types)
@@ -131,7 +131,7 @@ TEST_CASE("Gaussian within tolerance of the exact result") {
 TEST_CASE("bilateral within tolerance of the exact result") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.filter_variant = variant;
+        ctx().tuning.filter_variant = parse_variant<FilterVariant>(variant);
         std::uint32_t seed = 200;
         for (const Dims& d : sizes)
             for (ValueType t : types) {
@@ -152,7 +152,7 @@ TEST_CASE("slabs with a halo equal the in-core run") {
     const Dims d{9, 7, 23};
     for (const char* variant : variants)
         for (ValueType t : types) {
-            ctx().tuning.filter_variant = variant;
+            ctx().tuning.filter_variant = parse_variant<FilterVariant>(variant);
             CAPTURE(variant);
             CAPTURE(value_type_name(t));
             Volume v = testutil::random_volume(d, t, 0, 30, 7);
@@ -179,7 +179,7 @@ TEST_CASE("slabs with a halo equal the in-core run") {
 TEST_CASE("targeted filter changes exactly the vertices with LD > h") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.filter_variant = variant;
+        ctx().tuning.filter_variant = parse_variant<FilterVariant>(variant);
         std::uint32_t seed = 300;
         for (ValueType t : types)
             for (const Dims& d : {Dims{17, 13, 11}, Dims{2, 9, 8}, Dims{24, 24, 24}}) {
@@ -226,7 +226,7 @@ TEST_CASE("revision 2 types: median exact, Gaussian and bilateral within toleran
     testutil::TuningGuard guard;
     std::uint32_t seed = 400;
     for (const char* variant : variants) {
-        ctx().tuning.filter_variant = variant;
+        ctx().tuning.filter_variant = parse_variant<FilterVariant>(variant);
         for (ValueType t : {ValueType::int8, ValueType::int32, ValueType::uint32, ValueType::float64})
             for (const Dims& d : {Dims{2, 2, 2}, Dims{1, 5, 7}, Dims{19, 6, 9}, Dims{33, 4, 3}}) {
                 CAPTURE(variant);
@@ -292,7 +292,7 @@ TEST_CASE("the threshold is compared exactly as a double") {
 TEST_CASE("LD-guided bilateral filter against the reference") {
     testutil::TuningGuard guard;
     for (const char* variant : variants) {
-        ctx().tuning.filter_variant = variant;
+        ctx().tuning.filter_variant = parse_variant<FilterVariant>(variant);
         for (ValueType t : types) {
             CAPTURE(variant);
             CAPTURE(value_type_name(t));
@@ -358,7 +358,7 @@ TEST_CASE("the targeted median (LD on blocks) equals the masked median with the 
     testutil::TuningGuard guard;
     std::uint32_t seed = 700;
     for (const char* variant : {"rows", "vertices"}) {
-        ctx().tuning.filter_variant = variant;
+        ctx().tuning.filter_variant = parse_variant<FilterVariant>(variant);
         for (ValueType t : {ValueType::uint8, ValueType::float32, ValueType::int32})
             for (const Dims& d : {Dims{37, 19, 13}, Dims{1, 17, 9}, Dims{18, 2, 3}, Dims{33, 33, 33}})
                 for (int window : {2, 6, 8})

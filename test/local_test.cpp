@@ -117,8 +117,8 @@ TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy g
         for (const char* sat_variant : {"sequential", "workgroup"})
             for (std::uint64_t max32 : {std::uint64_t(0xffffffffu), std::uint64_t(0)})
                 for (bool zero_copy : {true, false}) {
-                    ctx().tuning.local_variant = local_variant;
-                    ctx().tuning.sat_variant = sat_variant;
+                    ctx().tuning.local_variant = parse_variant<LocalVariant>(local_variant);
+                    ctx().tuning.sat_variant = parse_variant<SatVariant>(sat_variant);
                     ctx().tuning.sat_max_32bit = max32;  // 0: every grid gets 64-bit tables
                     ctx().tuning.zero_copy = zero_copy;
                     ctx().tuning.row_items = max32 ? 3 : 64;  // 64: more work-items than rows
@@ -129,8 +129,7 @@ TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy g
                         check_field(local_fractal_dimension(ctx(), in.v, in.iso, in.k), in.want);
                     }
                 }
-    ctx().tuning.local_variant = "no-such-variant";
-    CHECK_THROWS_AS(local_fractal_dimension(ctx(), inputs[0].v, 1, 2), std::logic_error);
+    CHECK_THROWS_AS(parse_variant<LocalVariant>("no-such-variant"), InputError);
 }
 
 TEST_CASE("float64 LD compares in double: values a float32 cannot tell apart") {
@@ -167,15 +166,16 @@ TEST_CASE("the OpenMP baseline and the summed-area reference equal the brute for
 
 TEST_CASE("the field stays on the device and equals the host call") {
     Volume v = testutil::random_volume({12, 10, 9}, ValueType::int16, -3, 3, 7);
-    Buffer<unsigned char> values(ctx(), v.size_bytes());
-    values.write(ctx().queue(), static_cast<const unsigned char*>(v.data()), v.size_bytes());
-    Buffer<float> field = local_fractal_dimension(ctx(), values, v.type(), v.dims(), -0.5, 4);
-    REQUIRE(field.size() == v.vertices());
+    v.spacing = {0.5, 1, 2};
+    const DeviceVolume values(ctx(), v);
+    const DeviceVolume field = local_fractal_dimension(values, -0.5, 4);
+    REQUIRE(field.dims() == v.dims());
+    CHECK(field.type() == ValueType::float32);
+    CHECK(field.spacing == v.spacing);
     Volume host = local_fractal_dimension(ctx(), v, -0.5, 4);
-    std::vector<float> dev = field.to_host(ctx().queue());
+    const Volume dev = field.download();
     CHECK(std::memcmp(dev.data(), host.data(), host.size_bytes()) == 0);
     check_field(host, ref::local_dimension_brute(v, -0.5, 4));
-    CHECK_THROWS_AS(local_fractal_dimension(ctx(), values, ValueType::float32, v.dims(), 0, 4), std::logic_error);
 }
 
 TEST_CASE("the window tables are revision 2: W' first, W exactly its region in G") {
@@ -371,7 +371,7 @@ TEST_CASE("the LD field on 2x2x2 blocks holds the full field bit for bit: all ty
     testutil::TuningGuard guard;
     std::uint32_t seed = 900;
     for (const char* variant : {"rows", "vertices"}) {
-        ctx().tuning.local_variant = variant;
+        ctx().tuning.local_variant = parse_variant<LocalVariant>(variant);
         ctx().tuning.row_items = variant[0] == 'r' ? 5 : 0;  // 5: rows shared unevenly
         const ValueType types[] = {ValueType::uint8, ValueType::int16, ValueType::float32, ValueType::float64,
                                    ValueType::uint32};

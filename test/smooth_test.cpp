@@ -141,7 +141,7 @@ TEST_SUITE("smooth") {
 TEST_CASE("both variants equal the plain reference: every type, awkward sizes, both LD kernels") {
     testutil::TuningGuard guard;
     for (const char* local_variant : {"rows", "vertices"}) {
-        ctx().tuning.local_variant = local_variant;
+        ctx().tuning.local_variant = parse_variant<LocalVariant>(local_variant);
         CAPTURE(std::string(local_variant));
         std::uint32_t seed = 11;
         for (const Case& c : cases) {

@@ -228,7 +228,7 @@ TEST_CASE("every kernel variant gives the reference counts") {
     };
     std::uint32_t seed = 100;
     for (const Variant& var : variants) {
-        ctx().tuning.span_variant = var.name;
+        ctx().tuning.span_variant = parse_variant<SpanVariant>(var.name);
         ctx().tuning.work_group = var.work_group;
         ctx().tuning.private_items = var.items;
         ctx().tuning.local_hist_bytes = var.local_hist_bytes;
@@ -280,7 +280,7 @@ TEST_CASE("float64 and wide int32/uint32 data: isovalues in the data's own type,
     for (const IsovalueSet& iso : {fs, fdef})
         for (const char* variant : {"private", "atomic"}) {
             CAPTURE(variant);
-            ctx().tuning.span_variant = variant;
+            ctx().tuning.span_variant = parse_variant<SpanVariant>(variant);
             const SpanResult r = count_spans(ctx(), f, iso, opt);
             check_against_reference(f, iso, r, 2);
             CHECK(counted(r) > 100);

@@ -183,7 +183,7 @@ TEST_CASE("the GPU kernel variants and copied (not zero-copy) slices stream the 
             CAPTURE(variant);
             CAPTURE(zero_copy);
             testutil::TuningGuard guard;
-            ctx().tuning.span_variant = variant;
+            ctx().tuning.span_variant = parse_variant<SpanVariant>(variant);
             ctx().tuning.zero_copy = zero_copy;
             ctx().tuning.local_hist_bytes = 1024;  // 16-bit ranges use global-memory histograms
             SpanStream stream(ctx(), 11, 7, ValueType::uint16, iso, 3);
@@ -291,8 +291,8 @@ TEST_CASE("out-of-core LD: tiny z-slabs give the in-core field exactly") {
         ctx().tuning.sat_max_32bit = 10;
         ctx().tuning.zero_copy = false;
         CHECK(same_field(local_fractal_dimension(ctx(), v, 0.5, 4), want));
-        ctx().tuning.local_variant = "vertices";
-        ctx().tuning.sat_variant = "workgroup";
+        ctx().tuning.local_variant = parse_variant<LocalVariant>("vertices");
+        ctx().tuning.sat_variant = parse_variant<SatVariant>("workgroup");
         ctx().tuning.sat_work_group = 4;
         CHECK(same_field(local_fractal_dimension(ctx(), v, 0.5, 4), want));
     }

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume.hpp"
 
@@ -46,6 +47,9 @@ struct ComponentCurve {
 /// beyond the volume.
 ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet& iso,
                                 Connectivity mode = Connectivity::cube);
+/// The same for a volume already on the device: the device steps read it there, the
+/// union-find sweeps run on a downloaded copy.
+ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, Connectivity mode = Connectivity::cube);
 
 /// components(s) at one isovalue (IsovalueSet::single: integer data ceil(s), float32 data s
 /// rounded to float32, float64 data s).

@@ -18,13 +18,19 @@
 #endif
 #include <CL/opencl.hpp>
 
+#include <array>
+#include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <algorithm>
 #include <map>
+#include <set>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "clfractal/error.hpp"
@@ -54,11 +60,31 @@ std::vector<DeviceEntry> list_devices();
 /// the first GPU, else the first device. Throws DeviceError when nothing matches.
 cl::Device choose_device();
 
+/// Kernel variants (Tuning), chosen per device type and forced by tests.
+/// Span counting: one histogram per work-item ("private", CPUs) or work-group histograms
+/// with atomics ("atomic", GPUs).
+enum class SpanVariant { private_histograms, atomic };
+/// Summed-area table scans (sat.hpp): a few work-items scanning whole lines or rows
+/// ("sequential", CPUs) or local-memory scans per line ("workgroup", GPUs).
+enum class SatVariant { sequential, workgroup };
+/// Local-dimension kernels (local.hpp): a few work-items walking whole x-rows ("rows",
+/// CPUs) or one work-item per vertex ("vertices", GPUs).
+enum class LocalVariant { rows, vertices };
+/// Filter kernels (filter.hpp): whole x-rows, 16 columns at a time ("rows", CPUs), one
+/// work-item per vertex ("vertices") or the median through local-memory tiles ("tiled", GPUs).
+enum class FilterVariant { rows, vertices, tiled };
+
+/// The one name <-> enum table of the variants, for the command line, tests and benchmarks:
+/// variant_name(SpanVariant::private_histograms) is "private"; parse_variant<E>(name)
+/// throws InputError listing the names of E.
+template <class E> const char* variant_name(E v);
+template <class E> E parse_variant(const std::string& name);
+/// Every value of E, in declaration order (tests walk them).
+template <class E> std::vector<E> all_variants();
+
 /// Tuning values per device (STYLE §10): defaults by device type, overridable by tests.
 struct Tuning {
-    /// Span counting variant: "private" (one histogram per work-item, for CPUs) or
-    /// "atomic" (work-group histograms with atomics, for GPUs).
-    std::string span_variant;
+    SpanVariant span_variant = SpanVariant::private_histograms;
     std::size_t work_group = 64;     ///< work-group size of the "local" variant
     std::size_t private_items = 0;   ///< work-items of the "private" variant (0 = 4 x CUs)
     /// Largest slab in bytes of input volume; 0 = derived from the device's memory.
@@ -69,17 +95,10 @@ struct Tuning {
     /// Largest histogram the "atomic" variant keeps in local memory (bytes); larger ones
     /// use global atomics. Set from the device (half its local memory).
     std::size_t local_hist_bytes = 0;
-    /// Summed-area table scans (sat.hpp): "sequential" (CPUs: a few work-items, each
-    /// scanning whole lines or rows) or "workgroup" (GPUs: local-memory scans per line).
-    std::string sat_variant;
+    SatVariant sat_variant = SatVariant::sequential;
     std::size_t sat_work_group = 256;  ///< work-group size of the "workgroup" variant
-    /// Local-dimension kernels (local.hpp): "rows" (CPUs: a few work-items, each walking
-    /// whole x-rows) or "vertices" (GPUs: one work-item per vertex).
-    std::string local_variant;
-    /// Filter kernels (filter.hpp): "rows" (CPUs: whole x-rows, 16 columns at a time),
-    /// "vertices" (one work-item per vertex) or "tiled" (GPUs: the median through
-    /// local-memory tiles, the other filters per vertex).
-    std::string filter_variant;
+    LocalVariant local_variant = LocalVariant::rows;
+    FilterVariant filter_variant = FilterVariant::rows;
     /// Work-items of the row-walking variants (sat "sequential", local "rows"); 0 = 4 x CUs.
     std::size_t row_items = 0;
     /// Largest count total kept in 32-bit tables; above it tables are 64-bit. Tests
@@ -91,6 +110,19 @@ struct Tuning {
     /// Use cl_khr_fp64 where the device has it (fd4.hpp: bins in double on the device);
     /// tests clear it to force the path for devices without it.
     bool use_fp64 = true;
+};
+
+/// Device operations a test can make fail (FaultPlan): buffer allocations (create_buffer),
+/// kernel enqueues (Context::launch) and program builds (Context::program).
+enum class FaultSite { allocation = 0, enqueue = 1, build = 2 };
+
+/// Test-only fault injection on one Context: counts the operations of each site and makes
+/// the `fail_at`-th one of `site` (1-based; 0 = never) fail as the device would, with
+/// CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES or CL_BUILD_PROGRAM_FAILURE.
+struct FaultPlan {
+    FaultSite site = FaultSite::allocation;
+    std::uint64_t fail_at = 0;
+    std::uint64_t seen[3] = {0, 0, 0};  ///< operations of each site since the plan was set
 };
 
 /// A context on one device with one in-order queue and a thread-safe program cache.
@@ -113,6 +145,15 @@ public:
     std::size_t local_mem() const { return local_mem_; }
     unsigned compute_units() const { return compute_units_; }
     bool has_fp64() const { return fp64_; }
+    /// CL_DEVICE_MEM_BASE_ADDR_ALIGN in bytes: host memory the device reads in place
+    /// (CL_MEM_USE_HOST_PTR, DeviceVolume) must start at a multiple of it.
+    std::size_t mem_base_align() const { return mem_base_align_; }
+
+    /// Volumes and slabs made visible to the device from host memory so far, by copy or by
+    /// zero-copy wrap: one per DeviceVolume built from host values (device_volume.hpp).
+    /// Tests count it to check that a pipeline uploads its volume once.
+    std::uint64_t uploads() const { return uploads_.load(); }
+    void count_upload() { ++uploads_; }
 
     Tuning tuning;
 
@@ -125,6 +166,14 @@ public:
     /// A fresh kernel object (kernels carry their arguments, so each caller gets its own).
     cl::Kernel kernel(const std::string& family, const std::string& name, const std::string& options);
 
+    /// Testing only: sets the fault plan (counts restart at 0); FaultPlan{} switches it off.
+    void set_fault_plan(const FaultPlan& plan);
+    /// The plan with its counts so far.
+    FaultPlan fault_plan() const;
+    /// Counts one operation of `site` and throws DeviceError when the plan says it fails:
+    /// called by the one allocation, launch and build path.
+    void fault_point(FaultSite site);
+
     /// Seconds spent compiling programs so far (reported apart from compute time).
     double compile_seconds() const {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -132,28 +181,103 @@ public:
     }
 
     /// Enqueues `kernel` after checking the sizes against the device and kernel limits
-    /// (global a multiple of local, local <= CL_KERNEL_WORK_GROUP_SIZE).
+    /// (global a multiple of local, local <= CL_KERNEL_WORK_GROUP_SIZE). The one launch
+    /// path, with the one warm-up: the first launch of each (kernel, program options,
+    /// local size) on this context is waited for and its time counted as compilation
+    /// (compile_seconds), because PoCL and some GPU drivers finish compiling a kernel for a
+    /// work-group size at its first launch. That launch does its real work; timers built on
+    /// ComputeTimer leave it out of compute time.
     void launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local = cl::NullRange);
-
-    /// A first launch of `kernel` (arguments set, work-group size `local`), waited for
-    /// and counted as compilation: PoCL and some GPU drivers finish compiling a kernel
-    /// for a work-group size at its first launch, which must not count as compute time.
-    void warm_up(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local);
 
 private:
     cl::Device device_;
     cl::Context context_;
     cl::CommandQueue queue_;
     std::size_t max_alloc_ = 0, global_mem_ = 0, max_work_group_ = 0, local_mem_ = 0;
+    std::size_t mem_base_align_ = 1;
     unsigned compute_units_ = 0;
     bool fp64_ = false;
     mutable std::mutex mutex_;
     std::map<std::pair<std::string, std::string>, cl::Program> programs_;
+    // (program, kernel name, local size) already launched once (warmed up).
+    std::set<std::tuple<cl_program, std::string, std::array<std::size_t, 3>>> warmed_;
     double compile_seconds_ = 0;
+    std::atomic<std::uint64_t> uploads_{0};
+    mutable std::mutex faults_mutex_;
+    FaultPlan faults_;
+    std::atomic<bool> faults_on_{false};
+};
+
+/// Seconds from `t` to now (steady clock): the one timing helper.
+inline double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+/// Wall time since construction (or restart) less the compilation (Context::compile_seconds,
+/// first launches included) done meanwhile: compute time that never counts compile time.
+class ComputeTimer {
+public:
+    explicit ComputeTimer(const Context& ctx) : ctx_(ctx) { restart(); }
+    void restart() {
+        start_ = std::chrono::steady_clock::now();
+        compile0_ = ctx_.compile_seconds();
+    }
+    double seconds() const {
+        return std::max(0.0, seconds_since(start_) - (ctx_.compile_seconds() - compile0_));
+    }
+
+private:
+    const Context& ctx_;
+    std::chrono::steady_clock::time_point start_;
+    double compile0_ = 0;
+};
+
+/// Sets argument `index` of `k` (the generic case: buffers, scalars, cl::Local). Types
+/// with their own layout (e.g. an isovalue of the data's type) overload it.
+template <class T> void set_kernel_arg(cl::Kernel& k, cl_uint index, const T& value) { k.setArg(index, value); }
+
+/// Sets the arguments of `k` in order: set_args(k, a, b, c) for kernels whose argument
+/// list is chosen at run time (e.g. an optional mask tail); never literal indices.
+template <class... Args> void set_args(cl::Kernel& k, const Args&... args) {
+    cl_uint index = 0;
+    (set_kernel_arg(k, index++, args), ...);
+}
+
+/// A kernel with its argument list in its type (STYLE "typed kernel calls"):
+///   KernelCall<cl::Buffer, int, int, cl::Buffer> sub(ctx, "pyramid", "subsample", options);
+///   sub(global, local, src, nx, ny, dst);
+/// A call sets every argument in order and launches through Context::launch (size checks,
+/// warm-up); a kernel that gains a parameter needs its KernelCall type changed, and every
+/// call with the old list stops compiling.
+template <class... Args> class KernelCall {
+public:
+    KernelCall() = default;
+    KernelCall(Context& ctx, const std::string& family, const std::string& name, const std::string& options)
+        : ctx_(&ctx), kernel_(ctx.kernel(family, name, options)) {}
+
+    void operator()(const cl::NDRange& global, const cl::NDRange& local, const Args&... args) {
+        set(std::index_sequence_for<Args...>{}, args...);
+        ctx_->launch(kernel_, global, local);
+    }
+    /// CL_KERNEL_WORK_GROUP_SIZE of this kernel on the context's device.
+    std::size_t work_group_limit() const {
+        return kernel_.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx_->device());
+    }
+
+private:
+    template <std::size_t... I> void set(std::index_sequence<I...>, const Args&... args) {
+        (set_kernel_arg(kernel_, cl_uint(I), args), ...);
+    }
+    Context* ctx_ = nullptr;
+    cl::Kernel kernel_;
 };
 
 /// Builds a -D options string: defines({{"T", "uchar"}, {"WG", "64"}}).
 std::string defines(const std::vector<std::pair<std::string, std::string>>& kv);
+
+/// The one buffer allocation path: clCreateBuffer of `bytes` with `flags` (and `host`
+/// for CL_MEM_USE_HOST_PTR or CL_MEM_COPY_HOST_PTR). Throws DeviceError naming the size.
+cl::Buffer create_buffer(Context& ctx, cl_mem_flags flags, std::size_t bytes, void* host = nullptr);
 
 /// A move-only typed device buffer that knows its element count.
 template <class T> class Buffer {
@@ -161,11 +285,12 @@ public:
     Buffer() = default;
     Buffer(Context& ctx, std::size_t count, cl_mem_flags flags = CL_MEM_READ_WRITE) : count_(count) {
         if (count == 0) return;
-        try {
-            buffer_ = cl::Buffer(ctx.context(), flags, count * sizeof(T));
-        } catch (const cl::Error& e) {
-            check_cl(e.err(), ("clCreateBuffer of " + std::to_string(count * sizeof(T)) + " bytes").c_str());
-        }
+        buffer_ = create_buffer(ctx, flags, count * sizeof(T));
+    }
+    /// A read-only buffer holding a copy of `values` (CL_MEM_COPY_HOST_PTR).
+    Buffer(Context& ctx, const std::vector<T>& values) : count_(values.size()) {
+        if (count_ == 0) return;
+        buffer_ = create_buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes(), const_cast<T*>(values.data()));
     }
     Buffer(Buffer&&) noexcept = default;
     Buffer& operator=(Buffer&&) noexcept = default;

@@ -46,6 +46,7 @@
 #include <cstddef>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -81,6 +82,9 @@ Volume gaussian_filter(Context& ctx, const Volume& v, double sigma);
 Volume bilateral_filter(Context& ctx, const Volume& v, double sigma_s, double sigma_r);
 /// Any of the three.
 Volume apply_filter(Context& ctx, const Volume& v, const FilterSpec& spec);
+/// Any of the three on a volume already on the device, in one piece (no slabs, no
+/// upload); the result stays on the device.
+DeviceVolume apply_filter(const DeviceVolume& v, const FilterSpec& spec);
 
 /// The threshold as the device compares it: the largest float32 <= h, so that for every
 /// float32 LD, (LD > h) == (LD > float_threshold(h)). Throws InputError when h is NaN.
@@ -101,6 +105,10 @@ struct TargetedResult {
 /// >= 2). The values stay on the device between the LD field and the filter.
 TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, double iso, double h,
                                int window = 8);
+
+/// The same on a volume already on the device, in one piece: the LD field and the filter
+/// read the same device values, and the result stays on the device.
+DeviceVolume targeted_filter(const DeviceVolume& v, const FilterSpec& spec, double iso, double h, int window = 8);
 
 /// The filter applied only where a given field (float32, the volume's dims) is > h, NaN
 /// never qualifying: the targeted filter for any precomputed mask field, e.g. the LD4 field

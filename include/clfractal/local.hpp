@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -66,10 +67,10 @@ void check_local_arguments(double iso, int window);
 /// z-slabs with a halo of k/2 slices, with results identical to the in-core run.
 Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int window = 8);
 
-/// The same for values already on the device (`values` holds dims.vertices() values of
-/// `type`, x fastest); the field stays on the device for the stages that follow.
-Buffer<float> local_fractal_dimension(Context& ctx, const Buffer<unsigned char>& values, ValueType type,
-                                      const Dims& dims, double iso, int window = 8);
+/// The same for a volume already on the device, in one piece (no slabs, no upload); the
+/// field (float32, the volume's dims and spacing) stays on the device for the stages that
+/// follow.
+DeviceVolume local_fractal_dimension(const DeviceVolume& v, double iso, int window = 8);
 
 /// The LD field on blocks of 2×2×2 vertices. With p = (k/2) mod 2, vertices 2m - p and
 /// 2m + 1 - p of an axis have the same windows, so LD is constant on each block ((x + p) / 2,

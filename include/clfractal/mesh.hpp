@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "clfractal/device_volume.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -63,6 +64,8 @@ struct Mesh {
 /// is then empty. Throws InputError when the mesh would exceed 2^31 - 1 vertices or
 /// triangles (the PLY index type).
 Mesh extract_isosurface(const Volume& v, double s, MeshMethod method = MeshMethod::marching_cubes);
+/// The same for a device volume (meshing runs on the host: the values are downloaded).
+Mesh extract_isosurface(const DeviceVolume& v, double s, MeshMethod method = MeshMethod::marching_cubes);
 
 /// Per-vertex values of a field with the volume's dims (float32, e.g. the LD field),
 /// interpolated along each vertex's grid edge: field(u) + t (field(w) - field(u)); NaN when
@@ -72,6 +75,8 @@ std::vector<float> interpolate_on_vertices(const Mesh& mesh, const Volume& field
 /// Sets mesh.ld from an LD field (float32, the volume's dims, as local_fractal_dimension
 /// returns it) and mesh.colors from the thesis colour map ld_colour (local.hpp).
 void color_by_ld(Mesh& mesh, const Volume& ld_field);
+/// The same with the LD field on the device (downloaded).
+void color_by_ld(Mesh& mesh, const DeviceVolume& ld_field);
 
 /// Writes binary little-endian PLY: vertex x y z (float), then uchar red green blue when
 /// the mesh has colours, then float ld when it has LD values; faces as a uchar-counted

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -124,6 +125,8 @@ struct NoiseOptions {
 /// Adds noise to every vertex of `v` on the device, slab by slab. Throws InputError for a
 /// negative or non-finite amplitude.
 Volume add_noise(Context& ctx, const Volume& v, const NoiseOptions& opt);
+/// The same for a volume on the device, in one piece; the result stays there.
+DeviceVolume add_noise(const DeviceVolume& v, const NoiseOptions& opt);
 
 /// The same on the host: the definition the device is compared against, bit for bit.
 Volume add_noise_host(const Volume& v, const NoiseOptions& opt);

@@ -34,6 +34,7 @@
 #include <string>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -62,6 +63,10 @@ struct SmoothResult {
 SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double h, int window = 8,
                                SmoothVariant variant = SmoothVariant::plain, double tau = 1.0,
                                bool keep_ld = false);
+/// The same for a volume already on the device: Algorithm 1 reads it there (no upload),
+/// Algorithm 2 runs on a downloaded copy.
+SmoothResult smooth_isosurface(const DeviceVolume& v, double iso, double h, int window = 8,
+                               SmoothVariant variant = SmoothVariant::plain, double tau = 1.0, bool keep_ld = false);
 
 /// Intersected cubes I(s) and intersected grid edges E(s) of `v` at one isovalue (counted
 /// on the device by count_spans).
@@ -69,5 +74,6 @@ struct IsoCounts {
     std::uint64_t cubes = 0, edges = 0;
 };
 IsoCounts intersected_counts(Context& ctx, const Volume& v, double iso);
+IsoCounts intersected_counts(const DeviceVolume& v, double iso);
 
 }  // namespace clfractal

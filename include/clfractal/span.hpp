@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/pyramid.hpp"
 #include "clfractal/volume.hpp"
 
@@ -118,6 +119,9 @@ public:
     /// holds those slices (nx * ny * nzs values of the counter's type). The first slab
     /// starts at SpanOptions::z_begin.
     void add_slab(const void* data, std::size_t z0, std::size_t nzs);
+    /// The same for slices z0 .. z0 + nzs - 1 of a device volume of the counter's dims and
+    /// type (no upload).
+    void add_slab(const DeviceVolume& volume, std::size_t z0, std::size_t nzs);
     /// Downloads the histograms and forms the prefix sums. Call after the last slab.
     SpanResult finish();
     /// The counts of the slabs added so far, without requiring the last one (the slab
@@ -141,6 +145,9 @@ std::vector<std::pair<std::size_t, std::size_t>> split_slices(std::size_t nz, in
 
 /// Counts the spans of `v` for every isovalue of `iso` at every level, on the device,
 /// in one pass per slab.
+SpanResult count_spans(const DeviceVolume& v, const IsovalueSet& iso, const SpanOptions& opt = {});
+/// The same for a host volume, uploaded slab by slab (one upload when it fits one slab),
+/// so that a volume larger than the device is counted too.
 SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, const SpanOptions& opt = {});
 
 /// The same counts on the host with OpenMP threads (per-thread histograms, x-rows with

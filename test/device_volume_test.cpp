@@ -1,0 +1,167 @@
+// DeviceVolume (device_volume.hpp): one upload, zero-copy where the device shares host
+// memory and the pointer is aligned, a copy otherwise; a pipeline that uploads its volume once.
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <memory>
+
+#include "clfractal/components.hpp"
+#include "clfractal/device_volume.hpp"
+#include "clfractal/filter.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/mesh.hpp"
+#include "clfractal/smooth.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/synthetic.hpp"
+#include "test_util.hpp"
+
+using namespace clfractal;
+using testutil::ctx;
+
+namespace {
+
+bool same_bytes(const Volume& a, const Volume& b) {
+    return a.dims() == b.dims() && a.type() == b.type() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
+}
+
+}  // namespace
+
+TEST_SUITE("device") {
+
+TEST_CASE("a DeviceVolume is one upload and downloads what was uploaded") {
+    testutil::TuningGuard guard;
+    Volume v = testutil::random_volume({13, 7, 5}, ValueType::int16, -300, 300, 3);
+    v.spacing = {0.5, 2, 3};
+    v.name = "random";
+    for (bool zero_copy : {true, false}) {
+        CAPTURE(zero_copy);
+        ctx().tuning.zero_copy = zero_copy;
+        const std::uint64_t before = ctx().uploads();
+        const DeviceVolume d(ctx(), v);
+        CHECK(ctx().uploads() == before + 1);
+        CHECK(d.dims() == v.dims());
+        CHECK(d.type() == v.type());
+        CHECK(d.spacing == v.spacing);
+        CHECK(d.name == v.name);
+        CHECK(d.bytes() == v.size_bytes());
+        const bool aligned = reinterpret_cast<std::uintptr_t>(v.data()) % ctx().mem_base_align() == 0;
+        CHECK(d.in_host_memory() == (zero_copy && aligned));
+        const Volume back = d.download();
+        CHECK(same_bytes(back, v));
+        CHECK(back.spacing == v.spacing);
+        CHECK(ctx().uploads() == before + 1);  // downloads are not uploads
+    }
+}
+
+TEST_CASE("zero-copy honours the device's base-address alignment, else copies") {
+    testutil::TuningGuard guard;
+    ctx().tuning.zero_copy = true;
+    const std::size_t align = ctx().mem_base_align();
+    const Dims d{9, 4, 3};
+    // Host memory at an aligned address and one byte past it.
+    std::unique_ptr<unsigned char[]> raw(new unsigned char[d.vertices() + 2 * align]);
+    unsigned char* base = raw.get() + (align - reinterpret_cast<std::uintptr_t>(raw.get()) % align) % align;
+    for (std::size_t i = 0; i < d.vertices() + 1; ++i) base[i] = static_cast<unsigned char>(i * 7 + 1);
+    for (std::size_t offset : {std::size_t(0), std::size_t(1)}) {
+        CAPTURE(offset);
+        const DeviceVolume dv(ctx(), base + offset, d, ValueType::uint8);
+        CHECK(dv.in_host_memory() == (offset == 0 || align == 1));
+        Volume back = dv.download();
+        CHECK(std::memcmp(back.data(), base + offset, d.vertices()) == 0);
+    }
+    // A result written in place into an aligned target, copied into an unaligned one.
+    for (std::size_t offset : {std::size_t(0), std::size_t(1)}) {
+        CAPTURE(offset);
+        std::memset(base, 0, d.vertices() + 1);
+        const Volume values = testutil::random_volume(d, ValueType::uint8, 0, 255, 9);
+        const DeviceVolume src(ctx(), values);
+        const DeviceVolume out = DeviceVolume::output(ctx(), base + offset, d, ValueType::uint8);
+        ctx().queue().enqueueCopyBuffer(src.buffer(), out.buffer(), 0, 0, src.bytes());
+        out.download(base + offset);
+        CHECK(std::memcmp(src.download().data(), base + offset, d.vertices()) == 0);
+    }
+}
+
+TEST_CASE("filter, LD, smooth and mesh on a 256^3 volume upload it once, results as the Volume path") {
+    SyntheticOptions o;
+    o.size = 256;
+    o.noise = 20;
+    const Volume v = make_synthetic("sphere", o);
+    const double iso = 128, h = 2.5;
+    const FilterSpec median = FilterSpec::median();
+
+    const std::uint64_t before = ctx().uploads();
+    const DeviceVolume dv(ctx(), v);
+    const DeviceVolume filtered = targeted_filter(dv, median, iso, h);
+    const DeviceVolume ld = local_fractal_dimension(filtered, iso);
+    const SmoothResult smoothed = smooth_isosurface(filtered, iso, h);
+    Mesh mesh = extract_isosurface(smoothed.volume, iso);
+    color_by_ld(mesh, ld);
+    const IsoCounts counts = intersected_counts(filtered, iso);
+    CHECK(ctx().uploads() - before == 1);
+
+    // The same through the Volume overloads (each uploads its input).
+    const TargetedResult f = targeted_filter(ctx(), v, median, iso, h);
+    const Volume ld_host = local_fractal_dimension(ctx(), f.volume, iso);
+    const SmoothResult s = smooth_isosurface(ctx(), f.volume, iso, h);
+    Mesh mesh_host = extract_isosurface(s.volume, iso);
+    color_by_ld(mesh_host, ld_host);
+    CHECK(ctx().uploads() - before > 2);
+
+    CHECK(same_bytes(filtered.download(), f.volume));
+    CHECK(same_bytes(ld.download(), ld_host));
+    CHECK(same_bytes(smoothed.volume, s.volume));
+    CHECK(smoothed.edges_lowered == s.edges_lowered);
+    CHECK(mesh.positions == mesh_host.positions);
+    CHECK(mesh.triangles == mesh_host.triangles);
+    CHECK(mesh.colors == mesh_host.colors);
+    CHECK(!mesh.triangles.empty());
+    const IsoCounts host_counts = intersected_counts(ctx(), f.volume, iso);
+    CHECK(counts.cubes == host_counts.cubes);
+    CHECK(counts.edges == host_counts.edges);
+    CHECK(counts.cubes > 0);
+}
+
+TEST_CASE("span counts and components of a DeviceVolume equal the Volume overloads, in slabs too") {
+    testutil::TuningGuard guard;
+    const Volume v = testutil::random_volume({17, 11, 23}, ValueType::uint8, 0, 40, 5);
+    const IsovalueSet iso = IsovalueSet::for_volume(v);
+    SpanOptions opt;
+    opt.kinds = {SpanKind::cubes, SpanKind::edges};
+    opt.levels = 3;
+    const SpanResult host = count_spans(ctx(), v, iso, opt);
+    const DeviceVolume dv(ctx(), v);
+    const std::uint64_t before = ctx().uploads();
+    for (std::size_t slab : {std::size_t(0), std::size_t(5), std::size_t(9)}) {
+        CAPTURE(slab);
+        opt.slab_slices = slab;
+        const SpanResult dev = count_spans(dv, iso, opt);
+        for (std::size_t k = 0; k < 2; ++k) CHECK(dev.curves[k].counts == host.curves[k].counts);
+        if (slab) CHECK(dev.slabs > 1);
+    }
+    const ComponentCurve c = count_components(dv, iso);
+    CHECK(ctx().uploads() == before);
+    CHECK(c.components == count_components(ctx(), v, iso).components);
+}
+
+}  // TEST_SUITE
+
+TEST_SUITE("device") {
+
+TEST_CASE("kernel variants: one name table, round trip, unknown names refused with the choices") {
+    const auto round_trip = [](auto tag) {
+        using E = decltype(tag);
+        const std::vector<E> all = all_variants<E>();
+        CHECK(all.size() >= 2);
+        for (E v : all) CHECK(parse_variant<E>(variant_name(v)) == v);
+        CHECK_THROWS_AS(parse_variant<E>("no-such-variant"), InputError);
+    };
+    round_trip(SpanVariant{});
+    round_trip(SatVariant{});
+    round_trip(LocalVariant{});
+    round_trip(FilterVariant{});
+    CHECK(std::string(variant_name(SpanVariant::private_histograms)) == "private");
+    CHECK_THROWS_WITH(parse_variant<FilterVariant>("tile"), doctest::Contains("rows, vertices, tiled"));
+}
+
+}  // TEST_SUITE

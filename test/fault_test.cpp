@@ -1,0 +1,133 @@
+// Device faults (FaultPlan): the N-th buffer allocation, kernel enqueue or program build
+// fails; walked over every step of fd, local, filter, components and a stream. Each run ends
+// with a clean DeviceError (or InputError) or with the fault-free result (fd and the
+// filters' slab path retry with smaller slabs when an allocation fails); never a crash or
+// another exception. Leaks are left to the sanitizer build, which runs this suite too.
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "clfractal/components.hpp"
+#include "clfractal/filter.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/span.hpp"
+#include "clfractal/stream.hpp"
+#include "test_util.hpp"
+
+using namespace clfractal;
+
+namespace {
+
+const char* site_name(FaultSite s) {
+    return s == FaultSite::allocation ? "allocation" : s == FaultSite::enqueue ? "enqueue" : "build";
+}
+
+// The results of one operation as bytes, so that any two runs compare exactly.
+using Run = std::function<std::vector<unsigned char>(Context&)>;
+
+template <class T> std::vector<unsigned char> bytes_of(const T* p, std::size_t n) {
+    const auto* b = reinterpret_cast<const unsigned char*>(p);
+    return std::vector<unsigned char>(b, b + n * sizeof(T));
+}
+
+std::vector<unsigned char> bytes_of(const Volume& v) {
+    return bytes_of(static_cast<const unsigned char*>(v.data()), v.size_bytes());
+}
+
+std::vector<unsigned char> bytes_of(const SpanResult& r) {
+    std::vector<unsigned char> out;
+    for (const SpanCurves& c : r.curves)
+        for (const auto& level : c.counts) {
+            const auto b = bytes_of(level.data(), level.size());
+            out.insert(out.end(), b.begin(), b.end());
+        }
+    return out;
+}
+
+// A context like the shared one (same device, same tuning), with its own program cache.
+struct FreshContext : Context {
+    FreshContext() : Context(testutil::ctx().device()) { tuning = testutil::ctx().tuning; }
+};
+
+// Walks n = 1, 2, ... over every operation of `site` that `run` makes. Allocation and
+// enqueue faults hit a context whose programs are built (as on every call after the first);
+// build faults a fresh one.
+void walk(const std::string& what, const Run& run, FaultSite site) {
+    CAPTURE(what);
+    const std::string site_text = site_name(site);
+    CAPTURE(site_text);
+    FreshContext plain;
+    const std::vector<unsigned char> want = run(plain);
+    FreshContext counted;
+    if (site != FaultSite::build) run(counted);
+    counted.set_fault_plan(FaultPlan{site, 0});
+    run(counted);
+    const std::uint64_t steps = counted.fault_plan().seen[int(site)];
+    CHECK(steps > 0);
+    std::uint64_t failed = 0, recovered = 0;
+    for (std::uint64_t n = 1; n <= steps; ++n) {
+        CAPTURE(n);
+        FreshContext c;
+        if (site != FaultSite::build) run(c);
+        c.set_fault_plan(FaultPlan{site, n});
+        try {
+            const std::vector<unsigned char> got = run(c);
+            CHECK(got == want);
+            ++recovered;
+        } catch (const DeviceError& e) {
+            ++failed;
+            CHECK(std::string(e.what()).find("injected fault") != std::string::npos);
+        } catch (const InputError&) {
+            ++failed;
+        }
+        // The context works again once the fault is gone.
+        c.set_fault_plan(FaultPlan{});
+        CHECK(run(c) == want);
+    }
+    // fd and the slab path of the filters fall back to smaller slabs when an allocation
+    // fails; every other fault is an error.
+    if ((what == "fd" || what == "filter") && site == FaultSite::allocation) CHECK(recovered > 0);
+    else CHECK(failed == steps);
+    MESSAGE(what << ": " << site_text << " faults 1.." << steps << ", " << failed << " clean errors, " << recovered
+                 << " correct results");
+}
+
+}  // namespace
+
+TEST_SUITE("faults") {
+
+TEST_CASE("every device step of fd, local, filter, components and a stream fails cleanly") {
+    const Volume v = testutil::random_volume({11, 9, 7}, ValueType::uint8, 0, 20, 31);
+    const IsovalueSet iso = IsovalueSet::for_volume(v);
+    const std::vector<std::pair<std::string, Run>> runs = {
+        {"fd", [&](Context& c) {
+             SpanOptions opt;
+             opt.kinds = {SpanKind::cubes, SpanKind::edges};
+             return bytes_of(count_spans(c, v, iso, opt));
+         }},
+        {"local", [&](Context& c) { return bytes_of(local_fractal_dimension(c, v, 10.5, 4)); }},
+        {"filter", [&](Context& c) {
+             auto out = bytes_of(targeted_filter(c, v, FilterSpec::median(), 10.5, 2.2, 4).volume);
+             const auto g = bytes_of(apply_filter(c, v, FilterSpec::gaussian(1)));
+             out.insert(out.end(), g.begin(), g.end());
+             return out;
+         }},
+        {"components", [&](Context& c) {
+             const ComponentCurve k = count_components(c, v, iso);
+             return bytes_of(k.components.data(), k.components.size());
+         }},
+        {"stream", [&](Context& c) {
+             SpanStream s(c, v.dims().nx, v.dims().ny, v.type(), iso, 2);
+             const std::size_t plane = v.dims().nx * v.dims().ny;
+             for (std::size_t z = 0; z < v.dims().nz; ++z) s.push_slice(v.as<std::uint8_t>() + z * plane);
+             return bytes_of(s.counts());
+         }},
+    };
+    for (const auto& [what, run] : runs)
+        for (FaultSite site : {FaultSite::allocation, FaultSite::enqueue, FaultSite::build}) walk(what, run, site);
+}
+
+}  // TEST_SUITE
