@@ -138,20 +138,28 @@ copy=$(awk -F'[:,]' '/"copy_gb_per_s"/ {gsub(/ /, "", $2); print $2; exit}' "$bu
   echo
   echo "device: $(awk -F'"' '/"device"/ {print $4; exit}' "$build/bench_span.json" 2>/dev/null)"
   printf '%-44s %10s %12s\n' stage GB/s of_copy
+  # JSON as nlohmann dumps it (one key per line, keys sorted): the keys of each object are
+  # kept and its row printed at its closing brace.
   awk -v copy="${copy:-0}" '
     function bpv(label) { return label ~ /float64/ ? 8 : label ~ /float32|int32/ ? 4 : label ~ /16/ ? 2 : 1 }
-    function row(stage, gbs) { printf "%-44s %10.2f %11.1f%%\n", stage, gbs, copy > 0 ? 100 * gbs / copy : 0 }
-    FNR == 1 { file = FILENAME; sub(/.*bench_/, "", file); sub(/\.[a-z]*$/, "", file) }
-    { line = $0; gsub(/^ +|,$/, "", line); split(line, kv, /": ?/); key = kv[1]; gsub(/"/, "", key); value = kv[2]; gsub(/"/, "", value) }
-    file == "span" && key == "copy_gb_per_s" { row("copy (kernels/copy.cl, read + write)", value) }
-    file == "span" && key == "volume" { label = value }
-    file == "span" && key == "device_gb_per_s" { row("span curve, levels 0+1, " label, value) }
-    (file == "local" || file == "filter") && key == "case" { label = value }
-    file == "local" && key == "device_gb_per_s" { row("local LD field, " label, value) }
-    file == "filter" && key == "median_gb_per_s" { row("median 3^3, " label, value) }
-    file == "filter" && key == "gaussian_gvoxels_per_s" { row("Gaussian, " label, value * bpv(label)) }
-    file == "components" && key == "volume" { label = value }
-    file == "components" && key == "sweep_mvoxel_per_s" { row("components curve, " label, value * bpv(label) / 1000) }
+    function row(stage, gbs) { printf "%-44s %10.3f %11.1f%%\n", stage, gbs, (copy > 0 ? 100 * gbs / copy : 0) }
+    FNR == 1 { file = FILENAME; sub(/.*bench_/, "", file); sub(/\.[a-z]*$/, "", file); split("", f) }
+    /^ *[}\]]/ {
+      label = f["volume"] f["case"]
+      if (file == "span" && "device_gb_per_s" in f) row("span curve, levels 0+1, " label, f["device_gb_per_s"])
+      if (file == "local" && "device_gb_per_s" in f) row("local LD field, " label, f["device_gb_per_s"])
+      if (file == "filter" && "median_gb_per_s" in f) row("median 3^3, " label, f["median_gb_per_s"])
+      if (file == "filter" && "gaussian_gvoxels_per_s" in f) row("Gaussian, " label, f["gaussian_gvoxels_per_s"] * bpv(label))
+      if (file == "components" && "sweep_mvoxel_per_s" in f)
+        row("components curve, " label, f["sweep_mvoxel_per_s"] * bpv(label) / 1000)
+      split("", f)
+      next
+    }
+    /^ *"/ {
+      line = $0; gsub(/^ +|,$/, "", line); n = index(line, "\":")
+      key = substr(line, 2, n - 2); value = substr(line, n + 2); gsub(/^ +|"/, "", value); f[key] = value
+      if (file == "span" && key == "copy_gb_per_s") row("copy (kernels/copy.cl, read + write)", value)
+    }
     file == "stream" && /^volume/ { n = $2; sub(/\^3/, "", n) }
     file == "stream" && /^stream / { row("fd --stream counting, " n "^3 uint8", n * n * n / $2 / 1e9) }
     file == "stream" && /^in-core / { row("fd in core, " n "^3 uint8", n * n * n / $2 / 1e9) }
