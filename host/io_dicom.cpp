@@ -30,7 +30,8 @@ namespace {
 const gdcm::Tag tag_series_uid(0x0020, 0x000e), tag_position(0x0020, 0x0032), tag_orientation(0x0020, 0x0037),
     tag_pixel_spacing(0x0028, 0x0030), tag_rows(0x0028, 0x0010), tag_columns(0x0028, 0x0011),
     tag_slope(0x0028, 0x1053), tag_intercept(0x0028, 0x1052), tag_description(0x0008, 0x103e),
-    tag_frames(0x0028, 0x0008), tag_thickness(0x0018, 0x0050), tag_bits(0x0028, 0x0100);
+    tag_frames(0x0028, 0x0008), tag_thickness(0x0018, 0x0050), tag_bits(0x0028, 0x0100),
+    tag_samples(0x0028, 0x0002), tag_bits_stored(0x0028, 0x0101), tag_high_bit(0x0028, 0x0102);
 
 std::vector<double> numbers(const char* text) {
     std::vector<double> v;
@@ -210,7 +211,8 @@ void scan(Scan& s, const std::string& path) {
             if (fs::equivalent(f, path, ec)) s.selected = f;
     }
     for (const gdcm::Tag& t : {tag_series_uid, tag_position, tag_orientation, tag_pixel_spacing, tag_rows, tag_columns,
-                               tag_slope, tag_intercept, tag_description, tag_frames, tag_thickness, tag_bits})
+                               tag_slope, tag_intercept, tag_description, tag_frames, tag_thickness, tag_bits,
+                               tag_samples, tag_bits_stored, tag_high_bit})
         s.scanner.AddTag(t);
     if (!s.scanner.Scan(files)) throw InputError(s.dir + ": cannot scan the DICOM files");
     std::sort(files.begin(), files.end(), natural_less);
@@ -407,6 +409,17 @@ private:
         const std::vector<double> bits = numbers(s.scanner.GetValue(f.c_str(), tag_bits));
         const double b = bits.empty() ? 16 : bits[0];
         if (!(b >= 1 && b <= 64)) throw InputError(f + ": BitsAllocated " + std::to_string(b) + " is not 1 to 64");
+        // GDCM asserts (aborts) on SamplesPerPixel above 4, BitsStored above BitsAllocated
+        // and HighBit not below BitsStored.
+        const std::vector<double> samples = numbers(s.scanner.GetValue(f.c_str(), tag_samples));
+        if (!samples.empty() && samples[0] != 1)
+            throw InputError(f + ": " + std::to_string(std::lround(std::min(samples[0], 1e9))) +
+                             " samples per pixel; only greyscale DICOM is supported");
+        const std::vector<double> stored = numbers(s.scanner.GetValue(f.c_str(), tag_bits_stored));
+        const std::vector<double> high = numbers(s.scanner.GetValue(f.c_str(), tag_high_bit));
+        const double bs = stored.empty() ? b : stored[0];
+        if (!(bs >= 1 && bs <= b) || (!high.empty() && !(high[0] >= 0 && high[0] < bs)))
+            throw InputError(f + ": BitsStored/HighBit do not fit BitsAllocated " + std::to_string(std::lround(b)));
         const std::uint64_t claimed = std::uint64_t(slice_values()) * ((std::uint64_t(b) + 7) / 8);
         const auto it = s.layouts.find(f);
         const Layout l = it == s.layouts.end() ? Layout{} : it->second;
