@@ -6,14 +6,15 @@
 # exits 1 if there is any finding.
 # Usage: bench/fuzz_campaign.sh [BUILD_DIR (build-fuzz)] [SECONDS per target (600)] [TARGET...]
 # The build: CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCLFRACTAL_FUZZ=ON
-#            cmake --build build-fuzz --target nrrd_fuzz raw_name_fuzz capi_fuzz
+#            cmake --build build-fuzz --target nrrd_fuzz raw_name_fuzz capi_fuzz nifti_fuzz dicom_fuzz \
+#              tiff_fuzz metaimage_fuzz detect_fuzz
 set -u
 cd "$(dirname "$0")/.."
 build=${1:-build-fuzz}
 seconds=${2:-600}
 shift $(( $# < 2 ? $# : 2 ))
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(nrrd raw_name capi)
+[ ${#targets[@]} -eq 0 ] && targets=(nrrd raw_name capi nifti dicom tiff metaimage detect)
 total_cpu=0 total_execs=0 total_findings=0
 printf '%-10s %10s %14s %8s %9s\n' target cpu_s executions corpus findings
 for t in "${targets[@]}"; do

@@ -239,16 +239,6 @@ std::vector<unsigned char> head_bytes(const std::string& path, std::size_t n) {
     return b;
 }
 
-std::vector<unsigned char> gunzip_head(const std::string& path, std::size_t n) {
-    std::vector<unsigned char> b(n);
-    gzFile gz = gzopen(path.c_str(), "rb");
-    if (!gz) return {};
-    const int got = gzread(gz, b.data(), unsigned(n));
-    gzclose(gz);
-    b.resize(got > 0 ? std::size_t(got) : 0);
-    return b;
-}
-
 bool is_dicom_file(const std::string& path) {
     const std::vector<unsigned char> b = head_bytes(path, 132);
     return b.size() == 132 && std::memcmp(b.data() + 128, "DICM", 4) == 0;
@@ -260,6 +250,16 @@ bool dicom_extension(const fs::path& p) {
 }
 
 }  // namespace
+
+std::vector<unsigned char> gunzip_head(const std::string& path, std::size_t n) {
+    std::vector<unsigned char> b(n);
+    gzFile gz = gzopen(path.c_str(), "rb");
+    if (!gz) return {};
+    const int got = gzread(gz, b.data(), unsigned(n));
+    gzclose(gz);
+    b.resize(got > 0 ? std::size_t(got) : 0);
+    return b;
+}
 
 Format detect_format(const std::string& path) {
     std::error_code ec;

@@ -20,6 +20,8 @@
 #include <map>
 #include <sstream>
 
+#include "input_guard.hpp"
+
 namespace fs = std::filesystem;
 
 namespace clfractal::io {
@@ -28,7 +30,8 @@ namespace {
 const gdcm::Tag tag_series_uid(0x0020, 0x000e), tag_position(0x0020, 0x0032), tag_orientation(0x0020, 0x0037),
     tag_pixel_spacing(0x0028, 0x0030), tag_rows(0x0028, 0x0010), tag_columns(0x0028, 0x0011),
     tag_slope(0x0028, 0x1053), tag_intercept(0x0028, 0x1052), tag_description(0x0008, 0x103e),
-    tag_frames(0x0028, 0x0008), tag_thickness(0x0018, 0x0050);
+    tag_frames(0x0028, 0x0008), tag_thickness(0x0018, 0x0050), tag_bits(0x0028, 0x0100),
+    tag_samples(0x0028, 0x0002), tag_bits_stored(0x0028, 0x0101), tag_high_bit(0x0028, 0x0102);
 
 std::vector<double> numbers(const char* text) {
     std::vector<double> v;
@@ -61,8 +64,15 @@ struct Series {
     std::size_t rows = 0, columns = 0;
 };
 
+/// Where a file's pixel data lies, as the walk over its elements found it.
+struct Layout {
+    enum Kind { native, encapsulated, deflated, unknown } kind = unknown;
+    std::uint64_t pixel_bytes = 0;  ///< native: the element's length; otherwise what may hold it
+};
+
 /// The headers of every DICOM file of a directory, grouped by series.
 struct Scan {
+    std::map<std::string, Layout> layouts;
     std::string dir;
     gdcm::Scanner scanner;
     std::map<std::string, Series> series;
@@ -81,22 +91,26 @@ void quiet_gdcm() {
     gdcm::Trace::SetError(false);
 }
 
-/// True when every data element of a file with the "DICM" preamble lies within the file
-/// (a walk over the element headers: tag, VR, length; nested items and undefined lengths
-/// followed to their delimiters). GDCM asserts (aborts) on some cut files and reads others
-/// short without failing, so a truncated file is refused before GDCM reads it. Files
-/// without the preamble, and deflated data sets, are left to GDCM.
-bool elements_complete(const std::string& file) {
+enum class Walk { complete, truncated, no_preamble, bad_vr };
+
+/// A walk over the element headers of a DICOM Part 10 file (tag, VR, length; nested items
+/// and undefined lengths followed to their delimiters): complete when every data element
+/// lies within the file and every explicit VR is one DICOM defines. GDCM asserts (aborts)
+/// on cut files, on unknown VRs and on data sets without the "DICM" preamble that are not
+/// what it guesses, and reads other cut files short without failing, so only files this
+/// walk accepts reach it. Deflated data sets are left to GDCM.
+Walk walk_elements(const std::string& file, Layout& layout) {
     std::ifstream in(file, std::ios::binary);
     in.seekg(0, std::ios::end);
     const std::uint64_t size = std::uint64_t(in.tellg());
+    layout = Layout{Layout::unknown, size};
     unsigned char h[12];
     auto read_at = [&](std::uint64_t at, std::size_t n) {
         in.clear();
         in.seekg(std::streamoff(at));
         return bool(in.read(reinterpret_cast<char*>(h), std::streamsize(n)));
     };
-    if (size < 132 || !read_at(128, 4) || std::memcmp(h, "DICM", 4) != 0) return true;
+    if (size < 132 || !read_at(128, 4) || std::memcmp(h, "DICM", 4) != 0) return Walk::no_preamble;
     auto u16 = [&](int at, bool big) { return big ? unsigned(h[at] << 8 | h[at + 1]) : unsigned(h[at] | h[at + 1] << 8); };
     auto u32 = [&](int at, bool big) {
         return big ? std::uint32_t(h[at]) << 24 | std::uint32_t(h[at + 1]) << 16 | std::uint32_t(h[at + 2]) << 8 | h[at + 3]
@@ -107,12 +121,15 @@ bool elements_complete(const std::string& file) {
     int depth = 0;  // open undefined-length sequences and items
     bool data_set = false;
     while (p < size) {
-        if (size - p < 8 || !read_at(p, 8)) return false;
+        if (size - p < 8 || !read_at(p, 8)) return Walk::truncated;
         const bool meta = u16(0, false) == 0x0002;
         data_set = data_set || !meta;
         const bool implicit = !meta && syntax == "1.2.840.10008.1.2";
         const bool big = !meta && syntax == "1.2.840.10008.1.2.2";
-        if (!meta && syntax == "1.2.840.10008.1.2.1.99") return true;  // deflated: GDCM's to judge
+        if (!meta && syntax == "1.2.840.10008.1.2.1.99") {  // deflated: GDCM's to judge
+            layout.kind = Layout::deflated;
+            return Walk::complete;
+        }
         const unsigned group = u16(0, big), element = u16(2, big);
         std::uint64_t header = 8, length = 0;
         if (group == 0xfffe || implicit) {
@@ -120,8 +137,14 @@ bool elements_complete(const std::string& file) {
         } else {
             const std::string vr(reinterpret_cast<const char*>(h + 4), 2);
             static const char* long_vrs[] = {"OB", "OW", "OF", "SQ", "UT", "UN", "UC", "UR", "OD", "OL", "OV", "SV", "UV"};
-            if (std::any_of(std::begin(long_vrs), std::end(long_vrs), [&](const char* v) { return vr == v; })) {
-                if (size - p < 12 || !read_at(p, 12)) return false;
+            static const char* short_vrs[] = {"AE", "AS", "AT", "CS", "DA", "DS", "DT", "FL", "FD", "IS", "LO", "LT",
+                                              "PN", "SH", "SL", "SS", "ST", "TM", "UI", "UL", "US"};
+            auto is = [&](const char* v) { return vr == v; };
+            if (std::none_of(std::begin(short_vrs), std::end(short_vrs), is) &&
+                std::none_of(std::begin(long_vrs), std::end(long_vrs), is))
+                return Walk::bad_vr;
+            if (std::any_of(std::begin(long_vrs), std::end(long_vrs), is)) {
+                if (size - p < 12 || !read_at(p, 12)) return Walk::truncated;
                 length = u32(8, big);
                 header = 12;
             } else {
@@ -133,16 +156,18 @@ bool elements_complete(const std::string& file) {
             p += header;
             continue;
         }
+        const bool pixels = group == 0x7fe0 && element == 0x0010 && depth == 0;
+        if (pixels) layout = length == 0xffffffffu ? Layout{Layout::encapsulated, size - p} : Layout{Layout::native, length};
         if (length == 0xffffffffu) {  // the content follows as elements or items up to a delimiter
             ++depth;
             p += header;
             continue;
         }
-        if (size - p - header < length) return false;
+        if (size - p - header < length) return Walk::truncated;
         if (meta && element == 0x0000 && length == 4) {  // the group length: the data set follows it
-            if (!read_at(p + header, 4)) return false;
+            if (!read_at(p + header, 4)) return Walk::truncated;
             const std::uint64_t data_set = p + header + 4 + u32(0, false);
-            if (data_set + 8 > size) return false;
+            if (data_set + 8 > size) return Walk::truncated;
         }
         if (meta && element == 0x0010 && length < 80) {  // the transfer syntax of the data set
             char uid[80] = {};
@@ -154,7 +179,7 @@ bool elements_complete(const std::string& file) {
         }
         p += header + length;  // a defined-length value (an item too) lies within the file: skip it
     }
-    return data_set && depth <= 0;
+    return data_set && depth <= 0 ? Walk::complete : Walk::truncated;
 }
 
 void scan(Scan& s, const std::string& path) {
@@ -166,16 +191,28 @@ void scan(Scan& s, const std::string& path) {
     if (!is_dir) s.selected = path;
     gdcm::Directory d;
     d.Load(s.dir, false);
-    std::vector<std::string> files = d.GetFilenames();
+    std::vector<std::string> files;
+    for (const std::string& f : d.GetFilenames()) {
+        if (!fs::is_regular_file(f, ec)) continue;  // FIFOs, devices and sockets are not read
+        switch (walk_elements(f, s.layouts[f])) {
+        case Walk::complete: files.push_back(f); break;
+        case Walk::truncated: throw InputError(f + ": truncated DICOM file (a data element runs past its end)");
+        case Walk::bad_vr: throw InputError(f + ": malformed DICOM file (an element with an unknown VR)");
+        case Walk::no_preamble:
+            // README, LICENSE, DIRFILE, ...: not DICOM, not ours. A .dcm that is not DICOM is.
+            if (dicom_extension(f))
+                throw InputError(f + ": not a readable DICOM file (no DICOM Part 10 \"DICM\" preamble)");
+            break;
+        }
+    }
     if (!is_dir) {
         // Match the given file however it was spelled.
         for (const std::string& f : files)
             if (fs::equivalent(f, path, ec)) s.selected = f;
     }
-    for (const std::string& f : files)
-        if (!elements_complete(f)) throw InputError(f + ": truncated DICOM file (a data element runs past its end)");
     for (const gdcm::Tag& t : {tag_series_uid, tag_position, tag_orientation, tag_pixel_spacing, tag_rows, tag_columns,
-                               tag_slope, tag_intercept, tag_description, tag_frames, tag_thickness})
+                               tag_slope, tag_intercept, tag_description, tag_frames, tag_thickness, tag_bits,
+                               tag_samples, tag_bits_stored, tag_high_bit})
         s.scanner.AddTag(t);
     if (!s.scanner.Scan(files)) throw InputError(s.dir + ": cannot scan the DICOM files");
     std::sort(files.begin(), files.end(), natural_less);
@@ -193,8 +230,8 @@ void scan(Scan& s, const std::string& path) {
         if (se.description.empty()) se.description = trimmed(s.scanner.GetValue(f.c_str(), tag_description));
         const std::vector<double> rows = numbers(s.scanner.GetValue(f.c_str(), tag_rows));
         const std::vector<double> cols = numbers(s.scanner.GetValue(f.c_str(), tag_columns));
-        se.rows = rows.empty() ? 0 : std::size_t(rows[0]);
-        se.columns = cols.empty() ? 0 : std::size_t(cols[0]);
+        se.rows = rows.empty() || !(rows[0] >= 0 && rows[0] <= 65535) ? 0 : std::size_t(rows[0]);
+        se.columns = cols.empty() || !(cols[0] >= 0 && cols[0] <= 65535) ? 0 : std::size_t(cols[0]);
     }
     if (s.series.empty()) throw InputError(s.dir + ": no DICOM files in the directory");
 }
@@ -316,11 +353,12 @@ public:
         }
         const std::vector<double> rows = numbers(sc.GetValue(first.c_str(), tag_rows));
         const std::vector<double> cols = numbers(sc.GetValue(first.c_str(), tag_columns));
-        if (rows.empty() || cols.empty() || rows[0] < 1 || cols[0] < 1)
-            throw InputError(first + ": no Rows/Columns: not an image");
+        if (rows.empty() || cols.empty() || !(rows[0] >= 1 && rows[0] <= 65535) || !(cols[0] >= 1 && cols[0] <= 65535))
+            throw InputError(first + ": no Rows/Columns (1 to 65535): not an image");
         dims = Dims{std::size_t(cols[0]), std::size_t(rows[0]), slices_.size()};
         check_dims(dims, s.dir);
         dir_ = s.dir;
+        for (const Slice& sl : slices_) check_pixel_data(s, sl.file);
 
         // The stored kind from the first slice; every slice is checked against it.
         decode(0);
@@ -363,6 +401,35 @@ public:
 
 private:
     std::size_t slice_values() const { return dims.nx * dims.ny; }
+
+    /// Before GDCM decodes (and allocates) a slice: the pixel data its header claims
+    /// (Rows x Columns x BitsAllocated) is there (native), or can come from the bytes that
+    /// hold it (encapsulated or deflated: at most the codec's expansion).
+    void check_pixel_data(const Scan& s, const std::string& f) const {
+        const std::vector<double> bits = numbers(s.scanner.GetValue(f.c_str(), tag_bits));
+        const double b = bits.empty() ? 16 : bits[0];
+        if (!(b >= 1 && b <= 64)) throw InputError(f + ": BitsAllocated " + std::to_string(b) + " is not 1 to 64");
+        // GDCM asserts (aborts) on SamplesPerPixel above 4, BitsStored above BitsAllocated
+        // and HighBit not below BitsStored.
+        const std::vector<double> samples = numbers(s.scanner.GetValue(f.c_str(), tag_samples));
+        if (!samples.empty() && samples[0] != 1)
+            throw InputError(f + ": " + std::to_string(std::lround(std::min(samples[0], 1e9))) +
+                             " samples per pixel; only greyscale DICOM is supported");
+        const std::vector<double> stored = numbers(s.scanner.GetValue(f.c_str(), tag_bits_stored));
+        const std::vector<double> high = numbers(s.scanner.GetValue(f.c_str(), tag_high_bit));
+        const double bs = stored.empty() ? b : stored[0];
+        if (!(bs >= 1 && bs <= b) || (!high.empty() && !(high[0] >= 0 && high[0] < bs)))
+            throw InputError(f + ": BitsStored/HighBit do not fit BitsAllocated " + std::to_string(std::lround(b)));
+        const std::uint64_t claimed = std::uint64_t(slice_values()) * ((std::uint64_t(b) + 7) / 8);
+        const auto it = s.layouts.find(f);
+        const Layout l = it == s.layouts.end() ? Layout{} : it->second;
+        const std::string layout = "the pixel data (" + std::to_string(dims.nx) + "x" + std::to_string(dims.ny) + ", " +
+                                   std::to_string(std::uint64_t(b)) + " bits allocated)";
+        const std::uint64_t ratio = l.kind == Layout::native || l.kind == Layout::unknown ? 1
+                                    : l.kind == Layout::deflated                         ? ExpansionLimits::deflate
+                                                                                         : ExpansionLimits::other;
+        check_claim(f, l.kind == Layout::native ? "the pixel data element" : "the file", layout, claimed, l.pixel_bytes, ratio);
+    }
 
     void check_spacing(const std::string& dir) {
         for (std::size_t i = 1; i < slices_.size(); ++i)

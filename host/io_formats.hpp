@@ -58,6 +58,10 @@ void stored_range(const void* src, StoredKind kind, std::size_t n, double& lo, d
 /// where the content cannot tell (raw data, a NIfTI .img beside its .hdr).
 enum class Format { raw, nrrd, nifti, dicom, tiff, metaimage, directory_dicom, directory_tiff };
 Format detect_format(const std::string& path);
+
+/// The first `n` bytes of the gzip file `path`, decompressed (fewer if it is shorter; none
+/// if it cannot be opened). gzread passes data that is not gzip through unchanged.
+std::vector<unsigned char> gunzip_head(const std::string& path, std::size_t n);
 const char* format_name(Format f);
 
 /// Sorted natural file-name order ("s2" before "s10"), used for TIFF slice directories.

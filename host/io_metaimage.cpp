@@ -7,6 +7,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -14,6 +15,8 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include "input_guard.hpp"
 
 namespace fs = std::filesystem;
 
@@ -34,6 +37,7 @@ std::string trim(const std::string& s) {
 }
 
 Header read_header(const std::string& path) {
+    regular_file_size(path, path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open: " + std::strerror(errno));
     Header h;
@@ -43,7 +47,7 @@ Header read_header(const std::string& path) {
         const std::size_t eq = line.find('=');
         if (eq == std::string::npos) {
             if (trim(line).empty()) continue;
-            throw InputError(path + ": MetaImage header line without '=': '" + trim(line).substr(0, 60) + "'");
+            throw InputError(printable(path) + ": MetaImage header line without '=': " + quote_input(trim(line)));
         }
         const std::string key = trim(line.substr(0, eq));
         h.keys[key] = trim(line.substr(eq + 1));
@@ -64,7 +68,8 @@ std::vector<double> numbers(const std::string& path, const std::string& key, con
     double x;
     while (in >> x) v.push_back(x);
     if (v.size() != n || !in.eof())
-        throw InputError(path + ": MetaImage " + key + " '" + text + "': expected " + std::to_string(n) + " numbers");
+        throw InputError(printable(path) + ": MetaImage " + key + " " + quote_input(text) + ": expected " +
+                         std::to_string(n) + " numbers");
     return v;
 }
 
@@ -80,21 +85,30 @@ StoredKind element_kind(const std::string& path, const std::string& type) {
         {"MET_FLOAT", StoredKind::float32}, {"MET_DOUBLE", StoredKind::float64}};
     for (const auto& [name, kind] : kinds)
         if (type == name) return kind;
-    throw InputError(path + ": MetaImage ElementType '" + type + "' is not a scalar type clfractal reads");
+    throw InputError(printable(path) + ": MetaImage ElementType " + quote_input(type) +
+                     " is not a scalar type clfractal reads");
 }
 
-std::vector<unsigned char> read_bytes(const std::string& file, std::size_t offset, const std::string& path) {
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) throw InputError(path + ": MetaImage data file '" + file + "' does not exist");
-    const std::uintmax_t size = fs::file_size(file, ec);
-    if (ec) throw InputError(path + ": cannot read '" + file + "': " + ec.message());
-    if (size < offset) throw InputError(path + ": MetaImage data truncated (no data after the header)");
-    std::vector<unsigned char> b(std::size_t(size - offset));
+/// `count` bytes of `file` from `offset` on (the caller checked that they are there).
+std::vector<unsigned char> read_bytes(const std::string& file, std::uint64_t offset, std::uint64_t count,
+                                      const std::string& path) {
+    std::vector<unsigned char> b(static_cast<std::size_t>(count));
     std::ifstream in(file, std::ios::binary);
     in.seekg(std::streamoff(offset));
     in.read(reinterpret_cast<char*>(b.data()), std::streamsize(b.size()));
-    if (std::size_t(in.gcount()) != b.size()) throw InputError(path + ": cannot read '" + file + "'");
+    if (!in || std::size_t(in.gcount()) != b.size())
+        throw InputError(printable(path) + ": cannot read " + quote_input(file, 200));
     return b;
+}
+
+/// A whole number of bytes in a header field (HeaderSize may also be -1).
+long long byte_count(const std::string& path, const char* key, const std::string& text, long long least) {
+    long long v = 0;
+    const char* first = text.data();
+    const auto [next, ec] = std::from_chars(first, first + text.size(), v);
+    if (text.empty() || ec != std::errc() || next != first + text.size() || v < least || v > (1ll << 40))
+        throw InputError(printable(path) + ": MetaImage " + key + " " + quote_input(text) + " is not a byte count");
+    return v;
 }
 
 /// Inflates a zlib (or gzip) stream into exactly `expected` bytes.
@@ -140,51 +154,56 @@ Volume read_metaimage(const std::string& path) {
     const Header h = read_header(path);
     const std::string* ndims = find(h, "NDims");
     if (!ndims) throw InputError(path + ": MetaImage header has no NDims");
-    if (*ndims != "3") throw InputError(path + ": MetaImage NDims = " + *ndims + "; only 3D volumes are supported");
+    if (*ndims != "3")
+        throw InputError(printable(path) + ": MetaImage NDims = " + quote_input(*ndims) + "; only 3D volumes are supported");
     if (const std::string* ot = find(h, "ObjectType"); ot && *ot != "Image")
-        throw InputError(path + ": MetaImage ObjectType '" + *ot + "' is not an Image");
+        throw InputError(printable(path) + ": MetaImage ObjectType " + quote_input(*ot) + " is not an Image");
     if (const std::string* ch = find(h, "ElementNumberOfChannels"); ch && *ch != "1")
-        throw InputError(path + ": MetaImage has " + *ch + " channels per element; only scalar data is supported");
+        throw InputError(printable(path) + ": MetaImage has " + quote_input(*ch) +
+                         " channels per element; only scalar data is supported");
     const std::string* dim_text = find(h, "DimSize");
     const std::string* type_text = find(h, "ElementType");
     if (!dim_text || !type_text) throw InputError(path + ": MetaImage header lacks DimSize or ElementType");
     const std::vector<double> size = numbers(path, "DimSize", *dim_text, 3);
     for (double s : size)
         if (!(s >= 1) || s != std::floor(s) || s > 1e12)
-            throw InputError(path + ": MetaImage DimSize '" + *dim_text + "' must be positive integers");
+            throw InputError(printable(path) + ": MetaImage DimSize " + quote_input(*dim_text) +
+                             " must be positive integers");
     const Dims dims{std::size_t(size[0]), std::size_t(size[1]), std::size_t(size[2])};
     check_dims(dims, path);
     const StoredKind kind = element_kind(path, *type_text);
     const ValueType type = value_type_for(kind, path);
-    const std::size_t bytes = dims.vertices() * stored_kind_size(kind);
+    const std::uint64_t bytes = dims.vertices() * stored_kind_size(kind);
+    const std::string layout = dims_string(dims) + " " + stored_kind_name(kind);
 
     const std::string& data_name = h.keys.at("ElementDataFile");
-    if (data_name == "LIST" || data_name.find('%') != std::string::npos || data_name.find(' ') != std::string::npos)
-        throw InputError(path + ": MetaImage ElementDataFile '" + data_name + "': only LOCAL or one data file is supported");
+    if (data_name == "LIST" || data_name.find('%') != std::string::npos || data_name.find(' ') != std::string::npos ||
+        data_name.size() > 400 || data_name.empty())
+        throw InputError(printable(path) + ": MetaImage ElementDataFile " + quote_input(data_name) +
+                         ": only LOCAL or one data file is supported");
     const bool local = data_name == "LOCAL";
     const std::string data_file = local ? path : (fs::path(path).parent_path() / data_name).string();
-    std::size_t offset = local ? h.data_offset : 0;
+    const std::uint64_t file_size = regular_file_size(data_file, path);
+    std::uint64_t offset = local ? h.data_offset : 0;
     const bool compressed = truth(h, "CompressedData");
     if (const std::string* hs = find(h, "HeaderSize"); hs && !compressed) {
-        const double skip = std::atof(hs->c_str());
-        std::error_code ec;
-        if (skip == -1 && fs::exists(data_file, ec)) {
-            const std::uintmax_t file_size = fs::file_size(data_file, ec);
-            offset = file_size >= bytes ? std::size_t(file_size - bytes) : 0;  // the data ends the file
-        } else if (skip > 0) {
-            offset += std::size_t(skip);
-        }
+        const long long skip = byte_count(path, "HeaderSize", *hs, -1);
+        if (skip == -1) offset = file_size >= bytes ? file_size - bytes : 0;  // the data ends the file
+        else offset += std::uint64_t(skip);
     }
-    std::vector<unsigned char> raw = read_bytes(data_file, offset, path);
+    if (offset > file_size) throw InputError(printable(path) + ": MetaImage data truncated (no data after the header)");
+    std::vector<unsigned char> raw;
     if (compressed) {
+        std::uint64_t n = file_size - offset;
         if (const std::string* cs = find(h, "CompressedDataSize")) {
-            const double n = std::atof(cs->c_str());
-            if (n > 0 && n < double(raw.size())) raw.resize(std::size_t(n));
+            const long long given = byte_count(path, "CompressedDataSize", *cs, 0);
+            if (given > 0) n = std::min<std::uint64_t>(n, std::uint64_t(given));  // 0: not recorded
         }
-        raw = inflate_exact(raw, bytes, path);
-    } else if (raw.size() < bytes) {
-        throw InputError(path + ": MetaImage data truncated: expected " + std::to_string(bytes) + " bytes (" +
-                         dims_string(dims) + " " + stored_kind_name(kind) + "), found " + std::to_string(raw.size()));
+        check_claim(path, "the compressed data", "the MetaImage data (" + layout + ")", bytes, n, ExpansionLimits::deflate);
+        raw = inflate_exact(read_bytes(data_file, offset, n, path), bytes, path);
+    } else {
+        check_claim(path, "after the header", "the MetaImage data (" + layout + ")", bytes, file_size - offset, 1);
+        raw = read_bytes(data_file, offset, bytes, path);
     }
     const bool msb = truth(h, "BinaryDataByteOrderMSB") || truth(h, "ElementByteOrderMSB");
     const std::size_t vs = stored_kind_size(kind);

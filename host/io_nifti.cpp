@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "clfractal/output_file.hpp"
+#include "input_guard.hpp"
 
 namespace fs = std::filesystem;
 
@@ -89,7 +90,101 @@ struct NiftiName {
     }
 };
 
+/// The header and data files of `path`: x.hdr and x.img for an ANALYZE/NIfTI pair, else
+/// the file itself.
+std::pair<std::string, std::string> pair_files(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext != ".hdr" && ext != ".img") return {path, path};
+    auto with = [&](const char* lower, const char* upper) {
+        const std::string e = fs::path(path).extension().string();
+        const bool caps = !e.empty() && std::isupper(static_cast<unsigned char>(e.back()));
+        return fs::path(path).replace_extension(caps ? upper : lower).string();
+    };
+    return {with(".hdr", ".HDR"), with(".img", ".IMG")};
+}
+
+/// The first `n` bytes of `file`, gunzipped when it starts with the gzip magic (`gz`).
+std::string head_of(const std::string& file, std::size_t n, bool& gz) {
+    const std::vector<unsigned char> b = gunzip_head(file, n);  // gzread reads plain files as they are
+    unsigned char magic[2] = {0, 0};
+    if (std::FILE* f = std::fopen(file.c_str(), "rb")) {
+        if (std::fread(magic, 1, 2, f) != 2) magic[0] = 0;
+        std::fclose(f);
+    }
+    gz = magic[0] == 0x1f && magic[1] == 0x8b;
+    return std::string(b.begin(), b.end());
+}
+
+/// Checks what nifticlib is about to read, before it reads it: regular files, a NIfTI-1
+/// or NIfTI-2 header (either byte order) with 1 to 7 dimensions of at least 1 each, a 3D
+/// scalar volume of at most 2^40 vertices of a type clfractal reads, a voxel offset inside
+/// the file, and data the file can hold (uncompressed: the bytes are there; gzip: no more
+/// than deflate can expand the file to). nifticlib allocates the data size its header
+/// claims before reading a byte.
+void check_nifti(const std::string& path) {
+    const auto [header_file, data_file] = pair_files(path);
+    const std::uint64_t header_size = regular_file_size(header_file, path);
+    const std::uint64_t data_size = data_file == header_file ? header_size : regular_file_size(data_file, path);
+    bool gz = false;
+    const std::string h = head_of(header_file, 540, gz);
+    auto raw = [&](std::size_t at, std::size_t n, bool swap) {
+        unsigned char b[8] = {};
+        std::memcpy(b, h.data() + at, n);
+        if (swap) std::reverse(b, b + n);
+        return std::uint64_t(b[0]) | std::uint64_t(b[1]) << 8 | std::uint64_t(b[2]) << 16 | std::uint64_t(b[3]) << 24 |
+               std::uint64_t(b[4]) << 32 | std::uint64_t(b[5]) << 40 | std::uint64_t(b[6]) << 48 | std::uint64_t(b[7]) << 56;
+    };
+    static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "NIfTI header check assumes a little-endian host");
+    int version = 0;
+    bool swap = false;
+    for (bool s : {false, true}) {
+        if (h.size() >= 348 && raw(0, 4, s) == 348) version = 1, swap = s;
+        if (h.size() >= 540 && raw(0, 4, s) == 540) version = 2, swap = s;
+        if (version) break;
+    }
+    if (!version) throw InputError(printable(path) + ": cannot read the NIfTI header (not NIfTI, or truncated)");
+    std::int64_t dim[8];
+    for (int i = 0; i < 8; ++i)
+        dim[i] = version == 1 ? std::int64_t(std::int16_t(raw(40 + 2 * std::size_t(i), 2, swap)))
+                              : std::int64_t(raw(16 + 8 * std::size_t(i), 8, swap));
+    const int datatype = int(std::int16_t(raw(version == 1 ? 70 : 12, 2, swap)));
+    double offset = 0;
+    if (version == 1) {
+        const std::uint32_t bits = std::uint32_t(raw(108, 4, swap));
+        float f;
+        std::memcpy(&f, &bits, 4);
+        offset = f;
+    } else {
+        offset = double(std::int64_t(raw(168, 8, swap)));
+    }
+    if (dim[0] < 1 || dim[0] > 7)
+        throw InputError(printable(path) + ": NIfTI dim[0] = " + std::to_string(dim[0]) + "; must be 1 to 7");
+    for (int a = 1; a <= dim[0]; ++a) {
+        if (dim[a] < 1)
+            throw InputError(printable(path) + ": NIfTI dim[" + std::to_string(a) + "] = " + std::to_string(dim[a]));
+        if (a >= 4 && dim[a] > 1)
+            throw InputError(printable(path) + ": NIfTI has " + std::to_string(dim[0]) + " dimensions with dim[" +
+                             std::to_string(a) + "] = " + std::to_string(dim[a]) + "; only 3D scalar volumes are supported");
+    }
+    const Dims dims{std::size_t(dim[1]), std::size_t(dim[0] >= 2 ? dim[2] : 1), std::size_t(dim[0] >= 3 ? dim[3] : 1)};
+    check_dims(dims, printable(path));
+    const StoredKind kind = stored_kind_of(datatype, path);
+    if (!(offset >= 0 && offset <= double(std::uint64_t(1) << 40)))
+        throw InputError(printable(path) + ": NIfTI vox_offset " + std::to_string(offset) + " is not a file offset");
+    const std::uint64_t bytes = dims.vertices() * stored_kind_size(kind);
+    const bool single = data_file == header_file;
+    bool data_gz = gz;
+    if (!single) head_of(data_file, 2, data_gz);
+    // In a single file the data follows the header whatever vox_offset says.
+    const std::uint64_t start = std::max<std::uint64_t>(std::uint64_t(offset), single ? (version == 1 ? 348 : 540) : 0);
+    const std::string layout = dims_string(dims) + " " + stored_kind_name(kind);
+    if (data_gz) check_claim(path, "the gzip file", "the NIfTI header and data (" + layout + ")", start + bytes, data_size, ExpansionLimits::deflate);
+    else check_claim(path, single ? "the file" : "the .img file", "the NIfTI header and data (" + layout + ")", start + bytes, data_size, 1);
+}
+
 NimPtr read_header(const std::string& path, const std::string& name) {
+    check_nifti(path);
     nifti_set_debug_level(0);  // errors are ours to word, in one line
     NimPtr nim(nifti_image_read(name.c_str(), 0));
     if (!nim) throw InputError(path + ": cannot read the NIfTI header (not NIfTI, or truncated)");

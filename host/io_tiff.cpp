@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <mutex>
 
+#include "input_guard.hpp"
+
 namespace fs = std::filesystem;
 
 namespace clfractal::io {
@@ -39,6 +41,7 @@ struct TiffClose {
 using TiffPtr = std::unique_ptr<TIFF, TiffClose>;
 
 TiffPtr open_tiff(const std::string& file) {
+    regular_file_size(file, file);
     install_handlers();
     tiff_message.clear();
     TiffPtr t(TIFFOpen(file.c_str(), "r"));
@@ -57,6 +60,58 @@ std::string describe(const Page& p) {
     return std::to_string(p.width) + "x" + std::to_string(p.height) + " " + stored_kind_name(p.kind);
 }
 
+/// The most `compression` can expand its data (ExpansionLimits).
+std::uint64_t expansion(std::uint16_t compression) {
+    switch (compression) {
+    case COMPRESSION_NONE: return 1;
+    case COMPRESSION_LZW: return ExpansionLimits::lzw;
+    case COMPRESSION_PACKBITS: return ExpansionLimits::packbits;
+    case COMPRESSION_ADOBE_DEFLATE:
+    case COMPRESSION_DEFLATE: return ExpansionLimits::deflate;
+    case COMPRESSION_JPEG:
+    case COMPRESSION_OJPEG: return ExpansionLimits::jpeg;
+    default: return ExpansionLimits::other;
+    }
+}
+
+/// Before a page is allocated or decoded: its strips (or tiles) lie within the file, tiles
+/// are no larger than the page (rounded up to libtiff's 16), and the strips hold the page
+/// (uncompressed) or can expand to it (compressed: at most expansion(compression):1).
+void check_page_data(TIFF* t, const std::string& file, std::size_t page, std::uint64_t claimed, std::uint32_t width,
+                     std::uint32_t height) {
+    const std::string where = file + ": page " + std::to_string(page);
+    const std::uint64_t file_size = regular_file_size(file, file);
+    const bool tiled = TIFFIsTiled(t);
+    if (tiled) {
+        std::uint32_t tw = 0, th = 0;
+        TIFFGetField(t, TIFFTAG_TILEWIDTH, &tw);
+        TIFFGetField(t, TIFFTAG_TILELENGTH, &th);
+        if (tw == 0 || th == 0 || tw > (std::uint64_t(width) + 15) / 16 * 16 || th > (std::uint64_t(height) + 15) / 16 * 16)
+            throw InputError(where + ": tiles of " + std::to_string(tw) + "x" + std::to_string(th) + " for a page of " +
+                             std::to_string(width) + "x" + std::to_string(height));
+    }
+    const std::uint64_t pieces = tiled ? std::uint64_t(TIFFNumberOfTiles(t)) : std::uint64_t(TIFFNumberOfStrips(t));
+    std::uint64_t* offsets = nullptr;
+    std::uint64_t* counts = nullptr;
+    if (pieces == 0 || !TIFFGetField(t, tiled ? TIFFTAG_TILEOFFSETS : TIFFTAG_STRIPOFFSETS, &offsets) ||
+        !TIFFGetField(t, tiled ? TIFFTAG_TILEBYTECOUNTS : TIFFTAG_STRIPBYTECOUNTS, &counts) || !offsets || !counts)
+        throw InputError(where + ": no " + (tiled ? "tile" : "strip") + " offsets or byte counts");
+    std::uint64_t stored = 0;
+    for (std::uint64_t i = 0; i < pieces; ++i) {
+        if (offsets[i] > file_size || counts[i] > file_size - offsets[i])
+            throw InputError(where + ": " + (tiled ? "tile " : "strip ") + std::to_string(i) + " (" +
+                             std::to_string(counts[i]) + " bytes at " + std::to_string(offsets[i]) +
+                             ") lies past the end of the file (" + std::to_string(file_size) + " bytes)");
+        stored += counts[i];
+    }
+    std::uint16_t compression = COMPRESSION_NONE;
+    TIFFGetFieldDefaulted(t, TIFFTAG_COMPRESSION, &compression);
+    check_claim(where, tiled ? "tiles" : "strips",
+                "the page (" + std::to_string(width) + "x" + std::to_string(height) + ", compression " +
+                    std::to_string(compression) + ")",
+                claimed, stored, expansion(compression));
+}
+
 Page page_of(TIFF* t, const std::string& file, std::size_t page) {
     Page p;
     std::uint16_t spp = 1, bps = 1, format = SAMPLEFORMAT_UINT;
@@ -67,6 +122,7 @@ Page page_of(TIFF* t, const std::string& file, std::size_t page) {
     TIFFGetFieldDefaulted(t, TIFFTAG_SAMPLEFORMAT, &format);
     const std::string where = file + ": page " + std::to_string(page);
     if (p.width == 0 || p.height == 0) throw InputError(where + ": no image size");
+    check_dims(Dims{p.width, p.height, 1}, where);
     if (spp != 1)
         throw InputError(where + ": " + std::to_string(spp) + " samples per pixel; only greyscale (1 sample) is supported");
     const bool sign = format == SAMPLEFORMAT_INT, flt = format == SAMPLEFORMAT_IEEEFP;
@@ -78,6 +134,7 @@ Page page_of(TIFF* t, const std::string& file, std::size_t page) {
     else if (!flt && bps == 16) p.kind = sign ? StoredKind::int16 : StoredKind::uint16;
     else if (!flt && bps == 32) p.kind = sign ? StoredKind::int32 : StoredKind::uint32;
     else throw InputError(where + ": " + std::to_string(bps) + "-bit samples are not supported (8, 16 or 32 bits)");
+    check_page_data(t, file, page, std::uint64_t(p.width) * p.height * stored_kind_size(p.kind), p.width, p.height);
     return p;
 }
 

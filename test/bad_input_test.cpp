@@ -18,9 +18,13 @@
 #include "clfractal/error.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "clfractal/volume_io.hpp"
+#include "bad_input_util.hpp"
 
 using namespace clfractal;
 namespace fs = std::filesystem;
+using badinput::gzip;
+using badinput::has_control;
+using badinput::refusal;
 
 namespace {
 
@@ -43,38 +47,8 @@ struct Folder {
     }
 };
 
-std::string gzip(const std::string& raw, int window_bits = 15 + 16) {
-    z_stream z{};
-    REQUIRE(deflateInit2(&z, 9, Z_DEFLATED, window_bits, 8, Z_DEFAULT_STRATEGY) == Z_OK);
-    std::string out(deflateBound(&z, raw.size()) + 32, '\0');
-    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(raw.data()));
-    z.avail_in = uInt(raw.size());
-    z.next_out = reinterpret_cast<Bytef*>(out.data());
-    z.avail_out = uInt(out.size());
-    REQUIRE(deflate(&z, Z_FINISH) == Z_STREAM_END);
-    out.resize(z.total_out);
-    deflateEnd(&z);
-    return out;
-}
-
 std::string header(const std::string& sizes, const std::string& encoding, const std::string& extra = "") {
     return "NRRD0004\ntype: uchar\ndimension: 3\nsizes: " + sizes + "\nencoding: " + encoding + "\n" + extra;
-}
-
-/// The message of the InputError `f` throws ("" if none).
-template <class F> std::string refusal(F&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
-
-bool has_control(const std::string& s) {
-    for (unsigned char c : s)
-        if (c < 0x20 || c == 0x7f) return true;
-    return false;
 }
 
 /// Every value of a volume read slice by slice.

@@ -122,7 +122,17 @@ for n in 0 100 132 140 200 300 400 500 600 800 1000 1500 1900; do
 done
 [ $cut_ok -eq 1 ] && pass
 printf 'ObjectType = Image\nNDims = 3\nDimSize = 19 19 19\nElementType = MET_UCHAR\nElementDataFile = gone.raw\n' > gone.mhd
-bad_input "gone\.mhd: MetaImage data file '.*gone\.raw' does not exist" -- "$bin" -q filter gone.mhd --median
+bad_input "gone\.mhd: data file '.*gone\.raw' does not exist" -- "$bin" -q filter gone.mhd --median
+# Headers claiming more data than their files hold: refused before anything that size is
+# allocated; special files refused, not opened.
+printf 'ObjectType = Image\nNDims = 3\nDimSize = 1000 1000 1000\nElementType = MET_UCHAR\nElementDataFile = u8.raw\n' > claim.mhd
+bad_input 'claim\.mhd: truncated: the MetaImage data \(1000x1000x1000 uint8\) is 1000000000 bytes, but only 6859 are there' \
+  -- "$bin" -q filter claim.mhd --median
+cp med.nii claim.nii && printf '\x00\x08\x00\x08\x00\x08' | dd of=claim.nii bs=1 seek=42 conv=notrunc 2>/dev/null
+bad_input 'claim\.nii: truncated: the NIfTI header and data \(2048x2048x2048 uint8\) is 8589934944 bytes' \
+  -- "$bin" -q filter claim.nii --median
+mkfifo fifo.nii
+bad_input 'fifo\.nii: not a regular file' -- "$bin" -q filter fifo.nii --median
 expect 2 '^clfractal: error: out\.mha: cannot write \.mha files' -- "$bin" -q gen sphere --size 9 -o out.mha
 [ ! -e out.mha ] && pass || fail "gen -o out.mha wrote a file"
 

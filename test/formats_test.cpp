@@ -264,7 +264,7 @@ TEST_CASE("DICOM bad folders: a missing slice, mixed series, a non-image file") 
         TempDir dir("dicom_nonimage");
         write_series(dir, "1.2.13", 5, 4, 3, 500, 1, 0, 24);
         write_text(dir / "notes.dcm", "just text");
-        CHECK(error_of([&] { read_volume(dir.path.string()); }) == dir / "notes.dcm" + ": not a readable DICOM file");
+        CHECK(error_of([&] { read_volume(dir.path.string()); }) == dir / "notes.dcm" + ": not a readable DICOM file (no DICOM Part 10 \"DICM\" preamble)");
         fs::remove(dir / "notes.dcm");
         // A DICOM object of the series without pixel data (a report, say).
         gdcm::Writer w;
@@ -460,7 +460,7 @@ TEST_CASE("MetaImage: LOCAL raw, .mhd + .raw big-endian, zlib CompressedData; a 
 
     write_text(dir / "missing.mhd", header + "ElementDataFile = gone.raw\n");
     CHECK(error_of([&] { read_volume(dir / "missing.mhd"); }) ==
-          dir / "missing.mhd" + ": MetaImage data file '" + dir / "gone.raw" + "' does not exist");
+          dir / "missing.mhd" + ": data file '" + dir / "gone.raw" + "' does not exist");
 }
 
 }  // TEST_SUITE("formats")
