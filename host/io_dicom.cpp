@@ -99,30 +99,74 @@ enum class Walk { complete, truncated, no_preamble, bad_vr };
 /// on cut files, on unknown VRs and on data sets without the "DICM" preamble that are not
 /// what it guesses, and reads other cut files short without failing, so only files this
 /// walk accepts reach it. Deflated data sets are left to GDCM.
-Walk walk_elements(const std::string& file, Layout& layout) {
-    std::ifstream in(file, std::ios::binary);
-    in.seekg(0, std::ios::end);
-    const std::uint64_t size = std::uint64_t(in.tellg());
-    layout = Layout{Layout::unknown, size};
-    unsigned char h[12];
-    auto read_at = [&](std::uint64_t at, std::size_t n) {
+/// A DICOM file read a few bytes at a time into h.
+struct ElementReader {
+    explicit ElementReader(const std::string& file) : in(file, std::ios::binary) {}
+    bool read_at(std::uint64_t at, std::size_t n) {
         in.clear();
         in.seekg(std::streamoff(at));
         return bool(in.read(reinterpret_cast<char*>(h), std::streamsize(n)));
-    };
-    if (size < 132 || !read_at(128, 4) || std::memcmp(h, "DICM", 4) != 0) return Walk::no_preamble;
-    auto u16 = [&](int at, bool big) { return big ? unsigned(h[at] << 8 | h[at + 1]) : unsigned(h[at] | h[at + 1] << 8); };
-    auto u32 = [&](int at, bool big) {
+    }
+    unsigned u16(int at, bool big) const { return big ? unsigned(h[at] << 8 | h[at + 1]) : unsigned(h[at] | h[at + 1] << 8); }
+    std::uint32_t u32(int at, bool big) const {
         return big ? std::uint32_t(h[at]) << 24 | std::uint32_t(h[at + 1]) << 16 | std::uint32_t(h[at + 2]) << 8 | h[at + 3]
                    : std::uint32_t(h[at + 3]) << 24 | std::uint32_t(h[at + 2]) << 16 | std::uint32_t(h[at + 1]) << 8 | h[at];
-    };
+    }
+    /// A UID value of `length` (below 80) bytes at `at`, trailing spaces dropped.
+    std::string uid_at(std::uint64_t at, std::uint64_t length) {
+        char uid[80] = {};
+        in.clear();
+        in.seekg(std::streamoff(at));
+        in.read(uid, std::streamsize(length));
+        std::string text(uid, std::strlen(uid));
+        while (!text.empty() && text.back() == ' ') text.pop_back();
+        return text;
+    }
+    std::ifstream in;
+    unsigned char h[12];
+};
+
+/// The header size and value length of the explicit-VR element at p (its first 8 bytes
+/// in r.h): complete, or bad_vr for a VR DICOM does not define, or truncated.
+Walk explicit_length(ElementReader& r, std::uint64_t p, std::uint64_t size, bool big, std::uint64_t& header,
+                     std::uint64_t& length) {
+    const std::string vr(reinterpret_cast<const char*>(r.h + 4), 2);
+    static const char* long_vrs[] = {"OB", "OW", "OF", "SQ", "UT", "UN", "UC", "UR", "OD", "OL", "OV", "SV", "UV"};
+    static const char* short_vrs[] = {"AE", "AS", "AT", "CS", "DA", "DS", "DT", "FL", "FD", "IS", "LO", "LT",
+                                      "PN", "SH", "SL", "SS", "ST", "TM", "UI", "UL", "US"};
+    auto is = [&](const char* v) { return vr == v; };
+    if (std::none_of(std::begin(short_vrs), std::end(short_vrs), is) &&
+        std::none_of(std::begin(long_vrs), std::end(long_vrs), is))
+        return Walk::bad_vr;
+    if (std::any_of(std::begin(long_vrs), std::end(long_vrs), is)) {
+        if (size - p < 12 || !r.read_at(p, 12)) return Walk::truncated;
+        length = r.u32(8, big);
+        header = 12;
+    } else {
+        length = r.u16(6, big);
+    }
+    return Walk::complete;
+}
+
+/// A walk over the element headers of a DICOM Part 10 file (tag, VR, length; nested items
+/// and undefined lengths followed to their delimiters): complete when every data element
+/// lies within the file and every explicit VR is one DICOM defines. GDCM asserts (aborts)
+/// on cut files, on unknown VRs and on data sets without the "DICM" preamble that are not
+/// what it guesses, and reads other cut files short without failing, so only files this
+/// walk accepts reach it. Deflated data sets are left to GDCM.
+Walk walk_elements(const std::string& file, Layout& layout) {
+    ElementReader r(file);
+    r.in.seekg(0, std::ios::end);
+    const std::uint64_t size = std::uint64_t(r.in.tellg());
+    layout = Layout{Layout::unknown, size};
+    if (size < 132 || !r.read_at(128, 4) || std::memcmp(r.h, "DICM", 4) != 0) return Walk::no_preamble;
     std::uint64_t p = 132;
     std::string syntax;
     int depth = 0;  // open undefined-length sequences and items
     bool data_set = false;
     while (p < size) {
-        if (size - p < 8 || !read_at(p, 8)) return Walk::truncated;
-        const bool meta = u16(0, false) == 0x0002;
+        if (size - p < 8 || !r.read_at(p, 8)) return Walk::truncated;
+        const bool meta = r.u16(0, false) == 0x0002;
         data_set = data_set || !meta;
         const bool implicit = !meta && syntax == "1.2.840.10008.1.2";
         const bool big = !meta && syntax == "1.2.840.10008.1.2.2";
@@ -130,26 +174,12 @@ Walk walk_elements(const std::string& file, Layout& layout) {
             layout.kind = Layout::deflated;
             return Walk::complete;
         }
-        const unsigned group = u16(0, big), element = u16(2, big);
+        const unsigned group = r.u16(0, big), element = r.u16(2, big);
         std::uint64_t header = 8, length = 0;
         if (group == 0xfffe || implicit) {
-            length = u32(4, big);
-        } else {
-            const std::string vr(reinterpret_cast<const char*>(h + 4), 2);
-            static const char* long_vrs[] = {"OB", "OW", "OF", "SQ", "UT", "UN", "UC", "UR", "OD", "OL", "OV", "SV", "UV"};
-            static const char* short_vrs[] = {"AE", "AS", "AT", "CS", "DA", "DS", "DT", "FL", "FD", "IS", "LO", "LT",
-                                              "PN", "SH", "SL", "SS", "ST", "TM", "UI", "UL", "US"};
-            auto is = [&](const char* v) { return vr == v; };
-            if (std::none_of(std::begin(short_vrs), std::end(short_vrs), is) &&
-                std::none_of(std::begin(long_vrs), std::end(long_vrs), is))
-                return Walk::bad_vr;
-            if (std::any_of(std::begin(long_vrs), std::end(long_vrs), is)) {
-                if (size - p < 12 || !read_at(p, 12)) return Walk::truncated;
-                length = u32(8, big);
-                header = 12;
-            } else {
-                length = u16(6, big);
-            }
+            length = r.u32(4, big);
+        } else if (const Walk w = explicit_length(r, p, size, big, header, length); w != Walk::complete) {
+            return w;
         }
         if (group == 0xfffe && (element == 0xe00d || element == 0xe0dd)) {
             --depth;  // a delimiter closes an undefined length
@@ -165,18 +195,12 @@ Walk walk_elements(const std::string& file, Layout& layout) {
         }
         if (size - p - header < length) return Walk::truncated;
         if (meta && element == 0x0000 && length == 4) {  // the group length: the data set follows it
-            if (!read_at(p + header, 4)) return Walk::truncated;
-            const std::uint64_t data_set = p + header + 4 + u32(0, false);
+            if (!r.read_at(p + header, 4)) return Walk::truncated;
+            const std::uint64_t data_set = p + header + 4 + r.u32(0, false);
             if (data_set + 8 > size) return Walk::truncated;
         }
-        if (meta && element == 0x0010 && length < 80) {  // the transfer syntax of the data set
-            char uid[80] = {};
-            in.clear();
-            in.seekg(std::streamoff(p + header));
-            in.read(uid, std::streamsize(length));
-            syntax.assign(uid, std::strlen(uid));
-            while (!syntax.empty() && syntax.back() == ' ') syntax.pop_back();
-        }
+        if (meta && element == 0x0010 && length < 80)  // the transfer syntax of the data set
+            syntax = r.uid_at(p + header, length);
         p += header + length;  // a defined-length value (an item too) lies within the file: skip it
     }
     return data_set && depth <= 0 ? Walk::complete : Walk::truncated;
@@ -301,6 +325,49 @@ public:
         const std::vector<double> iop = numbers(sc.GetValue(first.c_str(), tag_orientation));
         if (iop.size() != 6 && se.files.size() > 1)
             throw InputError(first + ": no ImageOrientationPatient; the slices cannot be ordered (truncated, or not an image)");
+        const Frame frame = slice_frame(iop);
+        read_slices(sc, se, iop, frame[2]);
+        std::stable_sort(slices_.begin(), slices_.end(),
+                         [](const Slice& a, const Slice& b) { return a.position < b.position; });
+        check_spacing(s.dir);
+        read_geometry(sc, first, iop, frame);
+        check_dims(dims, s.dir);
+        dir_ = s.dir;
+        for (const Slice& sl : slices_) check_pixel_data(s, sl.file);
+
+        // The stored kind from the first slice; every slice is checked against it.
+        decode(0);
+        kind_ = slice_kind_;
+        for (const Slice& sl : slices_) maps_.push_back(sl.map);
+        if (in_core) return;
+        settle_type_from_slices();
+    }
+
+    /// The value type, from the range [lo, hi] of every stored value.
+    void settle_type(double lo, double hi) { type = rescale_type(kind_, maps_, lo, hi, slices_.front().file); }
+
+    void read_slice(std::size_t z, void* dst) override {
+        decode(z);
+        rescale_values(buffer_.data(), kind_, slice_values(), slices_[z].map, dst, type);
+    }
+
+    /// Slice z's stored values (nx*ny of stored_kind()).
+    const std::vector<unsigned char>& stored_slice(std::size_t z) {
+        decode(z);
+        return buffer_;
+    }
+    StoredKind stored_kind() const { return kind_; }
+    const Rescale& map(std::size_t z) const { return slices_[z].map; }
+
+    std::vector<std::string> notes() const;
+
+private:
+    using Frame = std::array<std::array<double, 3>, 3>;  ///< row, column and normal directions
+
+    std::size_t slice_values() const { return dims.nx * dims.ny; }
+
+    /// The row, column and normal directions from ImageOrientationPatient (identity without it).
+    static Frame slice_frame(const std::vector<double>& iop) {
         std::array<double, 3> row{1, 0, 0}, col{0, 1, 0}, normal{0, 0, 1};
         if (iop.size() == 6) {
             row = {iop[0], iop[1], iop[2]};
@@ -308,6 +375,14 @@ public:
             normal = {row[1] * col[2] - row[2] * col[1], row[2] * col[0] - row[0] * col[2],
                       row[0] * col[1] - row[1] * col[0]};
         }
+        return {row, col, normal};
+    }
+
+    /// One Slice per file of the series (unsorted), each checked against the first's size
+    /// and orientation.
+    void read_slices(const gdcm::Scanner& sc, const Series& se, const std::vector<double>& iop,
+                     const std::array<double, 3>& normal) {
+        const std::string& first = se.files.front();
         for (const std::string& f : se.files) {
             const char* name = f.c_str();
             if (numbers(sc.GetValue(name, tag_rows)) != numbers(sc.GetValue(first.c_str(), tag_rows)) ||
@@ -333,10 +408,11 @@ public:
             if (!intercept.empty()) sl.map.intercept = intercept[0];
             slices_.push_back(sl);
         }
-        std::stable_sort(slices_.begin(), slices_.end(),
-                         [](const Slice& a, const Slice& b) { return a.position < b.position; });
-        check_spacing(s.dir);
+    }
 
+    /// Spacing, origin, axes and dims from the first file and the sorted slices.
+    void read_geometry(const gdcm::Scanner& sc, const std::string& first, const std::vector<double>& iop,
+                       const Frame& frame) {
         const std::vector<double> ps = numbers(sc.GetValue(first.c_str(), tag_pixel_spacing));
         if (ps.size() == 2 && ps[0] > 0 && ps[1] > 0) spacing = {ps[1], ps[0], 1.0};  // row spacing is y
         if (slices_.size() > 1) {
@@ -349,22 +425,17 @@ public:
         if (ipp0.size() == 3 && iop.size() == 6) {
             oriented = true;
             std::copy(ipp0.begin(), ipp0.end(), this->origin.begin());
-            axes = {row, col, normal};
+            axes = frame;
         }
         const std::vector<double> rows = numbers(sc.GetValue(first.c_str(), tag_rows));
         const std::vector<double> cols = numbers(sc.GetValue(first.c_str(), tag_columns));
         if (rows.empty() || cols.empty() || !(rows[0] >= 1 && rows[0] <= 65535) || !(cols[0] >= 1 && cols[0] <= 65535))
             throw InputError(first + ": no Rows/Columns (1 to 65535): not an image");
         dims = Dims{std::size_t(cols[0]), std::size_t(rows[0]), slices_.size()};
-        check_dims(dims, s.dir);
-        dir_ = s.dir;
-        for (const Slice& sl : slices_) check_pixel_data(s, sl.file);
+    }
 
-        // The stored kind from the first slice; every slice is checked against it.
-        decode(0);
-        kind_ = slice_kind_;
-        for (const Slice& sl : slices_) maps_.push_back(sl.map);
-        if (in_core) return;
+    /// The value type, after a pass over the stored values where the type depends on their range.
+    void settle_type_from_slices() {
         const bool integer_data = kind_ != StoredKind::float32 && kind_ != StoredKind::float64;
         const bool integral = std::all_of(maps_.begin(), maps_.end(), [](const Rescale& m) { return m.integral(); });
         const bool shifts = std::any_of(maps_.begin(), maps_.end(), [](const Rescale& m) { return m.intercept != 0; });
@@ -380,27 +451,6 @@ public:
         }
         settle_type(lo, hi);
     }
-
-    /// The value type, from the range [lo, hi] of every stored value.
-    void settle_type(double lo, double hi) { type = rescale_type(kind_, maps_, lo, hi, slices_.front().file); }
-
-    void read_slice(std::size_t z, void* dst) override {
-        decode(z);
-        rescale_values(buffer_.data(), kind_, slice_values(), slices_[z].map, dst, type);
-    }
-
-    /// Slice z's stored values (nx*ny of stored_kind()).
-    const std::vector<unsigned char>& stored_slice(std::size_t z) {
-        decode(z);
-        return buffer_;
-    }
-    StoredKind stored_kind() const { return kind_; }
-    const Rescale& map(std::size_t z) const { return slices_[z].map; }
-
-    std::vector<std::string> notes() const;
-
-private:
-    std::size_t slice_values() const { return dims.nx * dims.ny; }
 
     /// Before GDCM decodes (and allocates) a slice: the pixel data its header claims
     /// (Rows x Columns x BitsAllocated) is there (native), or can come from the bytes that

@@ -148,10 +148,8 @@ std::vector<unsigned char> inflate_exact(const std::vector<unsigned char>& in, s
     return out;
 }
 
-}  // namespace
-
-Volume read_metaimage(const std::string& path) {
-    const Header h = read_header(path);
+/// NDims, ObjectType and ElementNumberOfChannels: a 3D scalar image.
+void check_image_kind(const Header& h, const std::string& path) {
     const std::string* ndims = find(h, "NDims");
     if (!ndims) throw InputError(path + ": MetaImage header has no NDims");
     if (*ndims != "3")
@@ -161,6 +159,10 @@ Volume read_metaimage(const std::string& path) {
     if (const std::string* ch = find(h, "ElementNumberOfChannels"); ch && *ch != "1")
         throw InputError(printable(path) + ": MetaImage has " + quote_input(*ch) +
                          " channels per element; only scalar data is supported");
+}
+
+/// DimSize (with ElementType present), checked against the volume limits.
+Dims image_dims(const Header& h, const std::string& path) {
     const std::string* dim_text = find(h, "DimSize");
     const std::string* type_text = find(h, "ElementType");
     if (!dim_text || !type_text) throw InputError(path + ": MetaImage header lacks DimSize or ElementType");
@@ -171,8 +173,12 @@ Volume read_metaimage(const std::string& path) {
                              " must be positive integers");
     const Dims dims{std::size_t(size[0]), std::size_t(size[1]), std::size_t(size[2])};
     check_dims(dims, path);
-    const StoredKind kind = element_kind(path, *type_text);
-    const ValueType type = value_type_for(kind, path);
+    return dims;
+}
+
+/// The stored values (in host byte order) from ElementDataFile, after the header or in a
+/// file of their own, raw or compressed.
+std::vector<unsigned char> read_values(const Header& h, const std::string& path, const Dims& dims, StoredKind kind) {
     const std::uint64_t bytes = dims.vertices() * stored_kind_size(kind);
     const std::string layout = dims_string(dims) + " " + stored_kind_name(kind);
 
@@ -209,9 +215,11 @@ Volume read_metaimage(const std::string& path) {
     const std::size_t vs = stored_kind_size(kind);
     if (msb != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__) && vs > 1)
         for (std::size_t i = 0; i < dims.vertices(); ++i) std::reverse(&raw[i * vs], &raw[i * vs] + vs);
+    return raw;
+}
 
-    Volume v(dims, type, path);
-    convert_values(raw.data(), kind, dims.vertices(), v.data(), type);
+/// Spacing, origin and axes from the header's geometry fields.
+void read_geometry(const Header& h, const std::string& path, Volume& v) {
     const std::string* spacing = find(h, "ElementSpacing");
     if (!spacing) spacing = find(h, "ElementSize");
     if (spacing) {
@@ -237,6 +245,21 @@ Volume read_metaimage(const std::string& path) {
                 for (int r = 0; r < 3; ++r) v.axes[a][r] = m[std::size_t(3 * a + r)];
         }
     }
+}
+
+}  // namespace
+
+Volume read_metaimage(const std::string& path) {
+    const Header h = read_header(path);
+    check_image_kind(h, path);
+    const Dims dims = image_dims(h, path);
+    const StoredKind kind = element_kind(path, *find(h, "ElementType"));
+    const ValueType type = value_type_for(kind, path);
+    const std::vector<unsigned char> raw = read_values(h, path, dims, kind);
+
+    Volume v(dims, type, path);
+    convert_values(raw.data(), kind, dims.vertices(), v.data(), type);
+    read_geometry(h, path, v);
     return v;
 }
 

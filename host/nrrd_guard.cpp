@@ -180,30 +180,21 @@ std::string peek(const std::string& path, std::uint64_t offset, std::size_t coun
     return bytes;
 }
 
-}  // namespace
+/// Makes the error for one problem of the named file.
+struct Fail {
+    std::string name;
+    InputError operator()(const std::string& problem) const { return InputError(name + ": " + problem); }
+};
 
-std::uint64_t NrrdHeader::values() const {
-    std::uint64_t n = 1;
-    for (std::size_t s : sizes) n *= s;  // bounded by check_nrrd (at most 2^40)
-    return n;
-}
-
-NrrdHeader check_nrrd(const std::string& path) {
-    // teem prints warnings to stderr unless told not to; the library never prints.
-    static const bool quiet_teem = (nrrdStateVerboseIO = 0, true);
-    (void)quiet_teem;
-    const std::string name = printable(path);
-    const auto fail = [&](const std::string& problem) -> InputError { return InputError(name + ": " + problem); };
-    if (path.size() > NrrdLimits::path)
-        throw fail("path of " + std::to_string(path.size()) + " characters is longer than the NRRD reader's limit of " +
-                   std::to_string(NrrdLimits::path));
-    const std::string head = read_head(path);
-    const Stat header_stat = stat_of(path);
-
-    // Lines end in \n, \r\n or \r (as teem reads them).
+/// The header's lines, read one at a time from `head`. Lines end in \n, \r\n or \r (as teem
+/// reads them).
+struct HeaderLines {
+    const std::string& head;
+    const Fail& fail;
     std::size_t pos = 0;
     bool ended = false;  // a blank line ended the header
-    const auto next_line = [&](std::string& line, std::size_t limit) -> bool {
+
+    bool next(std::string& line, std::size_t limit) {
         if (pos >= head.size()) return false;
         std::size_t end = pos;
         while (end < head.size() && head[end] != '\n' && head[end] != '\r') {
@@ -225,24 +216,139 @@ NrrdHeader check_nrrd(const std::string& path) {
         pos = end;
         if (pos < head.size()) pos += (head[pos] == '\r' && pos + 1 < head.size() && head[pos + 1] == '\n') ? 2 : 1;
         return true;
-    };
+    }
+};
 
-    std::string line;
-    if (!next_line(line, 64) || line.compare(0, 6, "NRRD00") != 0 || line.size() != 8 || line[6] != '0' ||
-        line[7] < '1' || line[7] > '5')
-        throw fail("not a NRRD file (no NRRD0001..NRRD0005 magic on the first line)");
-
-    NrrdHeader h;
+/// What the field lines have set so far, beyond the header itself.
+struct FieldState {
     bool have_type = false, have_sizes = false, have_encoding = false, list_files = false;
     std::size_t key_values = 0;
     std::vector<std::string> seen;
     std::string data_file_text;
-    while (next_line(line, list_files ? NrrdLimits::path : NrrdLimits::key_value_line)) {
+};
+
+/// The "sizes" field: one positive size per axis, at most 2^40 values in all.
+void parse_sizes(const std::string& value, NrrdHeader& h, const Fail& fail) {
+    if (!h.dimension) throw fail("'sizes' comes before 'dimension'");
+    const std::vector<std::string> w = words(value);
+    if (w.size() != h.dimension)
+        throw fail("sizes " + quote(value) + " must give " + std::to_string(h.dimension) + " axis sizes");
+    std::uint64_t product = 1;
+    for (const std::string& s : w) {
+        std::size_t n = 0;
+        if (!parse_int(s, n) || n < 1) throw fail("sizes " + quote(value) + ": each must be a positive integer");
+        if (n > max_vertices || product > max_vertices / n)
+            throw fail("sizes " + quote(value) + " exceed the maximum of 2^40 values");
+        product *= n;
+        h.sizes.push_back(n);
+    }
+}
+
+/// The "encoding" field, by its canonical name.
+void parse_encoding(const std::string& value, NrrdHeader& h, const Fail& fail) {
+    const std::string e = lower(value);
+    if (e == "raw") h.encoding = "raw";
+    else if (e == "gzip" || e == "gz") h.encoding = "gzip";
+    else if (e == "ascii" || e == "text" || e == "txt") h.encoding = "ascii";
+    else if (e == "hex") h.encoding = "hex";
+    else if (e == "bzip2" || e == "bz2") throw fail("bzip2 encoding is not supported (use raw or gzip)");
+    else throw fail("unknown encoding " + quote(value));
+}
+
+/// The "space directions" field: one vector or 'none' per axis.
+void check_space_directions(const std::string& value, const NrrdHeader& h, const Fail& fail) {
+    if (!h.dimension) throw fail("'space directions' comes before 'dimension'");
+    std::size_t vectors = 0, depth = 0;
+    for (const std::string& w : words(value)) {
+        if (w == "none") {
+            ++vectors;
+            continue;
+        }
+        for (char c : w) {
+            if (c == '(') ++depth;
+            if (c == ')' && depth-- == 0) depth = 99;
+        }
+        if (depth == 0) ++vectors;
+        if (depth > 1) break;
+    }
+    if (depth != 0 || vectors != h.dimension)
+        throw fail("space directions " + quote(value) + " must give " + std::to_string(h.dimension) +
+                   " vectors or 'none'");
+}
+
+/// The "data file" field: one file, a pattern of files, or LIST (the names follow).
+void parse_data_file(const std::string& value, NrrdHeader& h, FieldState& st, const Fail& fail) {
+    st.data_file_text = value;
+    const std::vector<std::string> w = words(value);
+    if (value.empty()) throw fail("'data file' names no file");
+    if (w[0] == "LIST") {
+        st.list_files = true;
+    } else if (w.size() >= 4 && w.size() <= 5 && w[0].find('%') != std::string::npos) {
+        long long first = 0, last = 0, step = 0;
+        std::string file;
+        const long long bound = 1000000000;
+        if (!parse_int(w[1], first) || !parse_int(w[2], last) || !parse_int(w[3], step) || step == 0 ||
+            std::max({std::llabs(first), std::llabs(last), std::llabs(step)}) > bound ||
+            (last - first) / step < 0 || !expand_pattern(w[0], first, file))
+            throw fail("data file pattern " + quote(value) + " is not 'FORMAT MIN MAX STEP [SUBDIM]'");
+        const long long count = (last - first) / step + 1;
+        if (count > static_cast<long long>(NrrdLimits::data_files))
+            throw fail("data file pattern " + quote(value) + " names more than " +
+                       std::to_string(NrrdLimits::data_files) + " files");
+        for (long long i = first; step > 0 ? i <= last : i >= last; i += step) {
+            expand_pattern(w[0], i, file);
+            h.data_files.push_back(file);
+        }
+    } else {
+        h.data_files.push_back(value);
+    }
+}
+
+/// One known field's value, checked and stored in h.
+void parse_field(const std::string& field, const std::string& value, NrrdHeader& h, FieldState& st,
+                 const Fail& fail) {
+    if (field == "dimension") {
+        if (!parse_int(value, h.dimension) || h.dimension < 1 || h.dimension > 16)
+            throw fail("dimension " + quote(value) + " must be an integer from 1 to 16");
+    } else if (field == "type") {
+        if (!nrrd_type(value, h.type, h.value_bytes))
+            throw fail("unknown NRRD type " + quote(value) +
+                       (lower(value) == "block" ? " (block data is not a scalar volume)" : ""));
+        st.have_type = true;
+    } else if (field == "sizes") {
+        parse_sizes(value, h, fail);
+        st.have_sizes = true;
+    } else if (field == "encoding") {
+        parse_encoding(value, h, fail);
+        st.have_encoding = true;
+    } else if (field == "endian") {
+        const std::string e = lower(value);
+        if (e != "little" && e != "big") throw fail("endian " + quote(value) + " must be little or big");
+        h.big_endian = e == "big";
+    } else if (field == "line skip" || field == "lineskip") {
+        if (!parse_int(value, h.line_skip) || h.line_skip < 0 || h.line_skip > 1000000)
+            throw fail("line skip " + quote(value) + " must be an integer from 0 to 10^6");
+    } else if (field == "byte skip" || field == "byteskip") {
+        if (!parse_int(value, h.byte_skip) || h.byte_skip < -1 || h.byte_skip > (1ll << 40))
+            throw fail("byte skip " + quote(value) + " must be -1 or a non-negative integer");
+    } else if (field == "space directions") {
+        check_space_directions(value, h, fail);
+    } else if (field == "data file" || field == "datafile") {
+        parse_data_file(value, h, st, fail);
+    }
+}
+
+/// The lines after the magic up to the blank line (or the end): fields, comments,
+/// key:=value lines and listed data files; then the fields every header needs.
+void read_fields(HeaderLines& lines, NrrdHeader& h, const Fail& fail) {
+    FieldState st;
+    std::string line;
+    while (lines.next(line, st.list_files ? NrrdLimits::path : NrrdLimits::key_value_line)) {
         if (line.empty()) {
-            ended = true;
+            lines.ended = true;
             break;
         }
-        if (list_files) {
+        if (st.list_files) {
             h.data_files.push_back(line);
             if (h.data_files.size() > NrrdLimits::data_files)
                 throw fail("more than " + std::to_string(NrrdLimits::data_files) + " data files");
@@ -250,7 +356,7 @@ NrrdHeader check_nrrd(const std::string& path) {
         }
         const std::size_t kv = line.find(":="), colon = line.find(": ");
         if (line[0] == '#' || (kv != std::string::npos && (colon == std::string::npos || kv < colon))) {
-            if (++key_values > NrrdLimits::key_values)
+            if (++st.key_values > NrrdLimits::key_values)
                 throw fail("more than " + std::to_string(NrrdLimits::key_values) + " comment and key:=value lines");
             continue;
         }
@@ -261,109 +367,26 @@ NrrdHeader check_nrrd(const std::string& path) {
         const std::string field = lower(line.substr(0, colon));
         const std::string value = trim(line.substr(colon + 2));
         if (!known_field(field)) throw fail("unknown header field " + quote(field));
-        if (std::find(seen.begin(), seen.end(), field) != seen.end())
+        if (std::find(st.seen.begin(), st.seen.end(), field) != st.seen.end())
             throw fail("header field " + quote(field) + " appears twice");
-        seen.push_back(field);
-
-        if (field == "dimension") {
-            if (!parse_int(value, h.dimension) || h.dimension < 1 || h.dimension > 16)
-                throw fail("dimension " + quote(value) + " must be an integer from 1 to 16");
-        } else if (field == "type") {
-            if (!nrrd_type(value, h.type, h.value_bytes))
-                throw fail("unknown NRRD type " + quote(value) +
-                           (lower(value) == "block" ? " (block data is not a scalar volume)" : ""));
-            have_type = true;
-        } else if (field == "sizes") {
-            if (!h.dimension) throw fail("'sizes' comes before 'dimension'");
-            const std::vector<std::string> w = words(value);
-            if (w.size() != h.dimension)
-                throw fail("sizes " + quote(value) + " must give " + std::to_string(h.dimension) + " axis sizes");
-            std::uint64_t product = 1;
-            for (const std::string& s : w) {
-                std::size_t n = 0;
-                if (!parse_int(s, n) || n < 1) throw fail("sizes " + quote(value) + ": each must be a positive integer");
-                if (n > max_vertices || product > max_vertices / n)
-                    throw fail("sizes " + quote(value) + " exceed the maximum of 2^40 values");
-                product *= n;
-                h.sizes.push_back(n);
-            }
-            have_sizes = true;
-        } else if (field == "encoding") {
-            const std::string e = lower(value);
-            if (e == "raw") h.encoding = "raw";
-            else if (e == "gzip" || e == "gz") h.encoding = "gzip";
-            else if (e == "ascii" || e == "text" || e == "txt") h.encoding = "ascii";
-            else if (e == "hex") h.encoding = "hex";
-            else if (e == "bzip2" || e == "bz2") throw fail("bzip2 encoding is not supported (use raw or gzip)");
-            else throw fail("unknown encoding " + quote(value));
-            have_encoding = true;
-        } else if (field == "endian") {
-            const std::string e = lower(value);
-            if (e != "little" && e != "big") throw fail("endian " + quote(value) + " must be little or big");
-            h.big_endian = e == "big";
-        } else if (field == "line skip" || field == "lineskip") {
-            if (!parse_int(value, h.line_skip) || h.line_skip < 0 || h.line_skip > 1000000)
-                throw fail("line skip " + quote(value) + " must be an integer from 0 to 10^6");
-        } else if (field == "byte skip" || field == "byteskip") {
-            if (!parse_int(value, h.byte_skip) || h.byte_skip < -1 || h.byte_skip > (1ll << 40))
-                throw fail("byte skip " + quote(value) + " must be -1 or a non-negative integer");
-        } else if (field == "space directions") {
-            if (!h.dimension) throw fail("'space directions' comes before 'dimension'");
-            std::size_t vectors = 0, depth = 0;
-            for (const std::string& w : words(value)) {
-                if (w == "none") {
-                    ++vectors;
-                    continue;
-                }
-                for (char c : w) {
-                    if (c == '(') ++depth;
-                    if (c == ')' && depth-- == 0) depth = 99;
-                }
-                if (depth == 0) ++vectors;
-                if (depth > 1) break;
-            }
-            if (depth != 0 || vectors != h.dimension)
-                throw fail("space directions " + quote(value) + " must give " + std::to_string(h.dimension) +
-                           " vectors or 'none'");
-        } else if (field == "data file" || field == "datafile") {
-            data_file_text = value;
-            const std::vector<std::string> w = words(value);
-            if (value.empty()) throw fail("'data file' names no file");
-            if (w[0] == "LIST") {
-                list_files = true;
-            } else if (w.size() >= 4 && w.size() <= 5 && w[0].find('%') != std::string::npos) {
-                long long first = 0, last = 0, step = 0;
-                std::string file;
-                const long long bound = 1000000000;
-                if (!parse_int(w[1], first) || !parse_int(w[2], last) || !parse_int(w[3], step) || step == 0 ||
-                    std::max({std::llabs(first), std::llabs(last), std::llabs(step)}) > bound ||
-                    (last - first) / step < 0 || !expand_pattern(w[0], first, file))
-                    throw fail("data file pattern " + quote(value) + " is not 'FORMAT MIN MAX STEP [SUBDIM]'");
-                const long long count = (last - first) / step + 1;
-                if (count > static_cast<long long>(NrrdLimits::data_files))
-                    throw fail("data file pattern " + quote(value) + " names more than " +
-                               std::to_string(NrrdLimits::data_files) + " files");
-                for (long long i = first; step > 0 ? i <= last : i >= last; i += step) {
-                    expand_pattern(w[0], i, file);
-                    h.data_files.push_back(file);
-                }
-            } else {
-                h.data_files.push_back(value);
-            }
-        }
+        st.seen.push_back(field);
+        parse_field(field, value, h, st, fail);
     }
-    if (pos >= head.size() && head.size() > NrrdLimits::header_bytes)
+    if (lines.pos >= lines.head.size() && lines.head.size() > NrrdLimits::header_bytes)
         throw fail("header is longer than " + std::to_string(NrrdLimits::header_bytes >> 20) + " MiB");
-    if (!have_type) throw fail("header has no 'type' field");
+    if (!st.have_type) throw fail("header has no 'type' field");
     if (!h.dimension) throw fail("header has no 'dimension' field");
-    if (!have_sizes) throw fail("header has no 'sizes' field");
-    if (!have_encoding) throw fail("header has no 'encoding' field");
-    if (list_files && h.data_files.empty()) throw fail("'data file: LIST' is followed by no file names");
+    if (!st.have_sizes) throw fail("header has no 'sizes' field");
+    if (!st.have_encoding) throw fail("header has no 'encoding' field");
+    if (st.list_files && h.data_files.empty()) throw fail("'data file: LIST' is followed by no file names");
+}
 
+/// Attached data (after the header of `path`) or detached files, relative to its folder.
+void place_data(NrrdHeader& h, const std::string& path, const HeaderLines& lines, const Fail& fail) {
     h.attached = h.data_files.empty();
     if (h.attached) {
-        if (!ended) throw fail("header has no blank line before the data");
-        h.data_offset = pos;
+        if (!lines.ended) throw fail("header has no blank line before the data");
+        h.data_offset = lines.pos;
         h.data_files.push_back(path);
     } else {
         const fs::path folder = fs::path(path).parent_path();
@@ -376,9 +399,12 @@ NrrdHeader check_nrrd(const std::string& path) {
                            " characters is longer than the NRRD reader's limit of " + std::to_string(NrrdLimits::path));
         }
     }
+}
 
-    // The data the header implies, against what the files hold.
-    const std::uint64_t bytes = h.values() * h.value_bytes;
+/// The bytes the data files hold after the data offset; each must be a regular file, and
+/// gzip data must start with the gzip magic.
+std::uint64_t data_available(const NrrdHeader& h, const std::string& path, const Stat& header_stat,
+                             const Fail& fail) {
     std::uint64_t available = 0;
     for (const std::string& f : h.data_files) {
         const Stat s = f == path ? header_stat : stat_of(f);
@@ -394,6 +420,12 @@ NrrdHeader check_nrrd(const std::string& path) {
                            " is declared gzip but is not gzip (no gzip header)");
         }
     }
+    return available;
+}
+
+/// The data the header implies, against the `available` bytes, by encoding.
+void check_data_claim(const NrrdHeader& h, std::uint64_t available, const Fail& fail) {
+    const std::uint64_t bytes = h.values() * h.value_bytes;
     const std::string claim = std::to_string(bytes) + " bytes (" + std::to_string(h.values()) + " values of " +
                               h.type + ")";
     if (h.encoding == "raw") {
@@ -412,6 +444,38 @@ NrrdHeader check_nrrd(const std::string& path) {
         if (available < 2 * bytes) throw fail("truncated: the header claims " + claim + " as hex, the data holds " +
                                               std::to_string(available) + " characters");
     }
+}
+
+}  // namespace
+
+std::uint64_t NrrdHeader::values() const {
+    std::uint64_t n = 1;
+    for (std::size_t s : sizes) n *= s;  // bounded by check_nrrd (at most 2^40)
+    return n;
+}
+
+NrrdHeader check_nrrd(const std::string& path) {
+    // teem prints warnings to stderr unless told not to; the library never prints.
+    static const bool quiet_teem = (nrrdStateVerboseIO = 0, true);
+    (void)quiet_teem;
+    const Fail fail{printable(path)};
+    if (path.size() > NrrdLimits::path)
+        throw fail("path of " + std::to_string(path.size()) + " characters is longer than the NRRD reader's limit of " +
+                   std::to_string(NrrdLimits::path));
+    const std::string head = read_head(path);
+    const Stat header_stat = stat_of(path);
+
+    HeaderLines lines{head, fail};
+    std::string line;
+    if (!lines.next(line, 64) || line.compare(0, 6, "NRRD00") != 0 || line.size() != 8 || line[6] != '0' ||
+        line[7] < '1' || line[7] > '5')
+        throw fail("not a NRRD file (no NRRD0001..NRRD0005 magic on the first line)");
+
+    NrrdHeader h;
+    read_fields(lines, h, fail);
+    place_data(h, path, lines, fail);
+    // The data the header implies, against what the files hold.
+    check_data_claim(h, data_available(h, path, header_stat, fail), fail);
     return h;
 }
 

@@ -80,7 +80,10 @@ std::vector<SyntheticInfo> synthetic_catalog() {
     };
 }
 
-Volume make_synthetic(const std::string& name, const SyntheticOptions& opt) {
+namespace {
+
+/// Rejects an unknown name and out-of-range options, in that order.
+void check_synthetic(const std::string& name, const SyntheticOptions& opt) {
     const std::string what = "synthetic:" + name;
     const std::vector<SyntheticInfo> catalog = synthetic_catalog();
     if (std::none_of(catalog.begin(), catalog.end(),
@@ -94,57 +97,76 @@ Volume make_synthetic(const std::string& name, const SyntheticOptions& opt) {
     if (!(opt.noise >= 0) || !std::isfinite(opt.noise))
         throw InputError(what + ": noise amplitude must be a finite number >= 0");
     if (opt.points < 1) throw InputError(what + ": number of points must be at least 1");
+}
 
+/// "sphere" and "noisy-sphere".
+Volume make_sphere(const std::string& name, const SyntheticOptions& opt) {
+    const std::size_t n = opt.size;
     const double c = (n - 1) / 2.0;  // centre on every axis
     const double mu = opt.noise;
     const auto constant_noise = [mu](std::size_t) { return mu; };
+    const double radius = n / 2.0;
+    const auto sphere = [c, radius](std::size_t x, std::size_t y, std::size_t z) {
+        const double dx = x - c, dy = y - c, dz = z - c;
+        const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+        return 255.0 * std::clamp(1.0 - d / radius, 0.0, 1.0);
+    };
+    const ValueType type = opt.type.value_or(ValueType::uint8);
+    if (name == "sphere") return generate(name, n, type, opt.seed, sphere, constant_noise);
+    // Noise on one side only, so that local-dimension maps show a clean and a noisy half.
+    const double max_amplitude = mu > 0 ? mu : 8.0;
+    const auto growing_noise = [max_amplitude, n](std::size_t x) {
+        return max_amplitude * static_cast<double>(x) / static_cast<double>(n - 1);
+    };
+    return generate(name, n, type, opt.seed, sphere, growing_noise);
+}
 
-    if (name == "sphere" || name == "noisy-sphere") {
-        const double radius = n / 2.0;
-        const auto sphere = [c, radius](std::size_t x, std::size_t y, std::size_t z) {
-            const double dx = x - c, dy = y - c, dz = z - c;
-            const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
-            return 255.0 * std::clamp(1.0 - d / radius, 0.0, 1.0);
-        };
-        const ValueType type = opt.type.value_or(ValueType::uint8);
-        if (name == "sphere") return generate(name, n, type, opt.seed, sphere, constant_noise);
-        // Noise on one side only, so that local-dimension maps show a clean and a noisy half.
-        const double max_amplitude = mu > 0 ? mu : 8.0;
-        const auto growing_noise = [max_amplitude, n](std::size_t x) {
-            return max_amplitude * static_cast<double>(x) / static_cast<double>(n - 1);
-        };
-        return generate(name, n, type, opt.seed, sphere, growing_noise);
-    }
-
+/// "torus".
+Volume make_torus(const std::string& name, const SyntheticOptions& opt) {
+    const std::size_t n = opt.size;
+    const double c = (n - 1) / 2.0;  // centre on every axis
+    const double mu = opt.noise;
+    const auto constant_noise = [mu](std::size_t) { return mu; };
     const ValueType type = opt.type.value_or(ValueType::float32);
-    if (name == "torus") {
-        const double ring = n / 4.0;
-        const auto torus = [c, ring](std::size_t x, std::size_t y, std::size_t z) {
-            const double dx = x - c, dy = y - c, dz = z - c;
-            const double q = std::sqrt(dx * dx + dy * dy) - ring;
-            return std::sqrt(q * q + dz * dz);
-        };
-        return generate(name, n, type, opt.seed, torus, constant_noise);
-    }
+    const double ring = n / 4.0;
+    const auto torus = [c, ring](std::size_t x, std::size_t y, std::size_t z) {
+        const double dx = x - c, dy = y - c, dz = z - c;
+        const double q = std::sqrt(dx * dx + dy * dy) - ring;
+        return std::sqrt(q * q + dz * dz);
+    };
+    return generate(name, n, type, opt.seed, torus, constant_noise);
+}
 
-    if (name == "points") {
-        // Positions use the same seed but counters from the top of the range, which vertex
-        // indices never reach, so they are independent of the noise added to the vertices.
-        std::vector<double> pos(3 * static_cast<std::size_t>(opt.points));
-        for (std::size_t k = 0; k < pos.size(); ++k)
-            pos[k] = c + c * uniform_noise(opt.seed, ~std::uint64_t(k));
-        const auto points = [&pos](std::size_t x, std::size_t y, std::size_t z) {
-            double best = std::numeric_limits<double>::infinity();
-            for (std::size_t k = 0; k < pos.size(); k += 3) {
-                const double dx = x - pos[k], dy = y - pos[k + 1], dz = z - pos[k + 2];
-                best = std::min(best, dx * dx + dy * dy + dz * dz);
-            }
-            return std::sqrt(best);
-        };
-        return generate(name, n, type, opt.seed, points, constant_noise);
-    }
+/// "points".
+Volume make_points(const std::string& name, const SyntheticOptions& opt) {
+    const std::size_t n = opt.size;
+    const double c = (n - 1) / 2.0;  // centre on every axis
+    const double mu = opt.noise;
+    const auto constant_noise = [mu](std::size_t) { return mu; };
+    const ValueType type = opt.type.value_or(ValueType::float32);
+    // Positions use the same seed but counters from the top of the range, which vertex
+    // indices never reach, so they are independent of the noise added to the vertices.
+    std::vector<double> pos(3 * static_cast<std::size_t>(opt.points));
+    for (std::size_t k = 0; k < pos.size(); ++k)
+        pos[k] = c + c * uniform_noise(opt.seed, ~std::uint64_t(k));
+    const auto points = [&pos](std::size_t x, std::size_t y, std::size_t z) {
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < pos.size(); k += 3) {
+            const double dx = x - pos[k], dy = y - pos[k + 1], dz = z - pos[k + 2];
+            best = std::min(best, dx * dx + dy * dy + dz * dz);
+        }
+        return std::sqrt(best);
+    };
+    return generate(name, n, type, opt.seed, points, constant_noise);
+}
 
-    // marschner-lobb, the only name left: f = (1 - sin(pi z/2) + alpha (1 + rho(r))) / (2 (1 + alpha)),
+/// "marschner-lobb".
+Volume make_marschner_lobb(const std::string& name, const SyntheticOptions& opt) {
+    const std::size_t n = opt.size;
+    const double mu = opt.noise;
+    const auto constant_noise = [mu](std::size_t) { return mu; };
+    const ValueType type = opt.type.value_or(ValueType::float32);
+    // f = (1 - sin(pi z/2) + alpha (1 + rho(r))) / (2 (1 + alpha)),
     // rho(r) = cos(2 pi fM cos(pi r / 2)), r = sqrt(x^2 + y^2), coordinates in [-1, 1].
     // The xy and z terms are tabulated once: per vertex only a few additions remain.
     const double fm = 6.0, alpha = 0.25;
@@ -161,6 +183,16 @@ Volume make_synthetic(const std::string& name, const SyntheticOptions& opt) {
         return (z_term[z] + xy_term[y * n + x]) * scale;
     };
     return generate(name, n, type, opt.seed, marschner_lobb, constant_noise);
+}
+
+}  // namespace
+
+Volume make_synthetic(const std::string& name, const SyntheticOptions& opt) {
+    check_synthetic(name, opt);
+    if (name == "sphere" || name == "noisy-sphere") return make_sphere(name, opt);
+    if (name == "torus") return make_torus(name, opt);
+    if (name == "points") return make_points(name, opt);
+    return make_marschner_lobb(name, opt);  // the only name left
 }
 
 }  // namespace clfractal
