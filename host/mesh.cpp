@@ -150,6 +150,77 @@ void triangulate_annulus(const std::vector<Slot>& slots, const std::vector<int>&
     out.insert(out.end(), best.begin(), best.end());
 }
 
+// Directed contour segments of one cube case on the six faces: next[slot] is the slot the
+// contour goes to (-1: none).
+std::vector<int> face_segments(int cube_case, const int (&slot_of)[8][8]) {
+    auto neg = [&](int c) { return !positive(cube_case, c); };
+    std::vector<int> next(12, -1);
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+            // Corners counter-clockwise seen from +axis; reversed for the face at side 0.
+            int corners[4];
+            const int uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            for (int k = 0; k < 4; ++k)
+                corners[k] = side << axis | uv[k][0] << b | uv[k][1] << c;
+            if (side == 0) std::swap(corners[1], corners[3]);
+            // Side k runs from corners[k] to corners[k + 1]; the boundary of the negative
+            // part leaves the face's rim where a side goes negative -> positive (a start)
+            // and returns where it goes positive -> negative (an end).
+            for (int k = 0; k < 4; ++k) {
+                const int c0 = corners[k], c1 = corners[(k + 1) % 4];
+                if (!(neg(c0) && !neg(c1))) continue;
+                // Separating negatives: the start joins the nearest end before it,
+                // so the segment cuts off corners[k] (and any negatives behind it).
+                for (int back = 1; back < 4; ++back) {
+                    const int j = (k - back + 4) % 4;
+                    const int d0 = corners[j], d1 = corners[(j + 1) % 4];
+                    if (!neg(d0) && neg(d1)) {
+                        next[slot_of[c0][c1]] = slot_of[d0][d1];
+                        break;
+                    }
+                }
+            }
+        }
+    return next;
+}
+
+// Triangulate one cube case from its contour segments, appending to table.tris.
+void triangulate_case(CaseTable& table, int cube_case, const std::vector<int>& next) {
+    auto neg = [&](int c) { return !positive(cube_case, c); };
+
+    // Groups of negative corners joined by cube edges (union-find on 8 corners).
+    int group[8];
+    std::iota(group, group + 8, 0);
+    auto find = [&](int c) {
+        while (group[c] != c) c = group[c] = group[group[c]];
+        return c;
+    };
+    for (const Slot& s : table.slots)
+        if (neg(s.corner) && neg(s.corner | s.dir)) group[find(s.corner)] = find(s.corner | s.dir);
+
+    // Loops, collected per negative group.
+    std::vector<std::vector<std::vector<int>>> loops_of(8);
+    std::vector<bool> seen(12, false);
+    for (int s0 = 0; s0 < 12; ++s0) {
+        if (next[s0] < 0 || seen[s0]) continue;
+        std::vector<int> loop;
+        for (int s = s0; !seen[s]; s = next[s]) {
+            if (next[s] < 0) throw std::logic_error("marching cubes table: open contour");
+            seen[s] = true;
+            loop.push_back(s);
+        }
+        const Slot& first = table.slots[loop[0]];
+        const int negative_corner = neg(first.corner) ? first.corner : first.corner | first.dir;
+        loops_of[find(negative_corner)].push_back(loop);
+    }
+    for (auto& loops : loops_of) {
+        if (loops.size() == 1) triangulate_disc(table.slots, loops[0], table.tris);
+        else if (loops.size() == 2) triangulate_annulus(table.slots, loops[0], loops[1], table.tris);
+        else if (!loops.empty()) throw std::logic_error("marching cubes table: more than two loops");
+    }
+}
+
 CaseTable build_marching_cubes_table() {
     CaseTable table;
     int slot_of[8][8];  // slot_of[corner][other corner] for the 12 cube edges
@@ -162,68 +233,7 @@ CaseTable build_marching_cubes_table() {
 
     for (int cube_case = 0; cube_case < 256; ++cube_case) {
         table.first[cube_case] = table.tris.size();
-        auto neg = [&](int c) { return !positive(cube_case, c); };
-
-        // Directed contour segments: next[slot] is the slot the contour goes to.
-        std::vector<int> next(12, -1);
-        for (int axis = 0; axis < 3; ++axis)
-            for (int side = 0; side < 2; ++side) {
-                const int b = (axis + 1) % 3, c = (axis + 2) % 3;
-                // Corners counter-clockwise seen from +axis; reversed for the face at side 0.
-                int corners[4];
-                const int uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-                for (int k = 0; k < 4; ++k)
-                    corners[k] = side << axis | uv[k][0] << b | uv[k][1] << c;
-                if (side == 0) std::swap(corners[1], corners[3]);
-                // Side k runs from corners[k] to corners[k + 1]; the boundary of the negative
-                // part leaves the face's rim where a side goes negative -> positive (a start)
-                // and returns where it goes positive -> negative (an end).
-                for (int k = 0; k < 4; ++k) {
-                    const int c0 = corners[k], c1 = corners[(k + 1) % 4];
-                    if (!(neg(c0) && !neg(c1))) continue;
-                    // Separating negatives: the start joins the nearest end before it,
-                    // so the segment cuts off corners[k] (and any negatives behind it).
-                    for (int back = 1; back < 4; ++back) {
-                        const int j = (k - back + 4) % 4;
-                        const int d0 = corners[j], d1 = corners[(j + 1) % 4];
-                        if (!neg(d0) && neg(d1)) {
-                            next[slot_of[c0][c1]] = slot_of[d0][d1];
-                            break;
-                        }
-                    }
-                }
-            }
-
-        // Groups of negative corners joined by cube edges (union-find on 8 corners).
-        int group[8];
-        std::iota(group, group + 8, 0);
-        auto find = [&](int c) {
-            while (group[c] != c) c = group[c] = group[group[c]];
-            return c;
-        };
-        for (const Slot& s : table.slots)
-            if (neg(s.corner) && neg(s.corner | s.dir)) group[find(s.corner)] = find(s.corner | s.dir);
-
-        // Loops, collected per negative group.
-        std::vector<std::vector<std::vector<int>>> loops_of(8);
-        std::vector<bool> seen(12, false);
-        for (int s0 = 0; s0 < 12; ++s0) {
-            if (next[s0] < 0 || seen[s0]) continue;
-            std::vector<int> loop;
-            for (int s = s0; !seen[s]; s = next[s]) {
-                if (next[s] < 0) throw std::logic_error("marching cubes table: open contour");
-                seen[s] = true;
-                loop.push_back(s);
-            }
-            const Slot& first = table.slots[loop[0]];
-            const int negative_corner = neg(first.corner) ? first.corner : first.corner | first.dir;
-            loops_of[find(negative_corner)].push_back(loop);
-        }
-        for (auto& loops : loops_of) {
-            if (loops.size() == 1) triangulate_disc(table.slots, loops[0], table.tris);
-            else if (loops.size() == 2) triangulate_annulus(table.slots, loops[0], loops[1], table.tris);
-            else if (!loops.empty()) throw std::logic_error("marching cubes table: more than two loops");
-        }
+        triangulate_case(table, cube_case, face_segments(cube_case, slot_of));
     }
     table.first[256] = table.tris.size();
     return table;
@@ -458,11 +468,21 @@ void write_ply(const Mesh& mesh, const std::string& path) {
     rename_into_place(tmp, path);
 }
 
-Mesh read_ply(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open");
-    auto bad = [&](const std::string& what) { return InputError(path + ": not a clfractal PLY file: " + what); };
+namespace {
 
+// What a clfractal PLY header declares.
+struct PlyHeader {
+    std::size_t nv = 0, nf = 0;
+    bool colors = false, ld = false;
+};
+
+InputError not_clfractal_ply(const std::string& path, const std::string& what) {
+    return InputError(path + ": not a clfractal PLY file: " + what);
+}
+
+// Read and check the header up to end_header; `in` is left at the first data byte.
+PlyHeader read_ply_header(std::istream& in, const std::string& path) {
+    auto bad = [&](const std::string& what) { return not_clfractal_ply(path, what); };
     std::vector<std::string> lines;
     for (std::string line; std::getline(in, line) && line != "end_header";) {
         if (line.rfind("comment", 0) != 0) lines.push_back(line);
@@ -482,38 +502,32 @@ Mesh read_ply(const std::string& path) {
             throw bad("bad count '" + n + "'");
         return std::size_t(std::stoull(n));
     };
+    PlyHeader h;
     expect("ply");
     expect("format binary_little_endian 1.0");
-    Mesh mesh;
-    const std::size_t nv = element("vertex");
+    h.nv = element("vertex");
     expect("property float x");
     expect("property float y");
     expect("property float z");
-    const bool colors = k < lines.size() && lines[k] == "property uchar red";
-    if (colors) {
+    h.colors = k < lines.size() && lines[k] == "property uchar red";
+    if (h.colors) {
         expect("property uchar red");
         expect("property uchar green");
         expect("property uchar blue");
     }
-    const bool ld = k < lines.size() && lines[k] == "property float ld";
-    if (ld) expect("property float ld");
-    const std::size_t nf = element("face");
+    h.ld = k < lines.size() && lines[k] == "property float ld";
+    if (h.ld) expect("property float ld");
+    h.nf = element("face");
     expect("property list uchar int vertex_indices");
     if (k != lines.size()) throw bad("unexpected '" + lines[k] + "'");
+    return h;
+}
 
-    // Check the sizes against the file before allocating anything.
-    const std::size_t vertex_bytes = 12 + (colors ? 3 : 0) + (ld ? 4 : 0), face_bytes = 13;
-    const auto start = in.tellg();
-    in.seekg(0, std::ios::end);
-    const std::size_t available = std::size_t(in.tellg() - start);
-    in.seekg(start);
-    if (nv * vertex_bytes + nf * face_bytes != available)
-        throw InputError(path + ": truncated or oversized PLY (" + std::to_string(available) + " data bytes, header says " +
-                         std::to_string(nv * vertex_bytes + nf * face_bytes) + ")");
-    std::vector<unsigned char> data(available);
-    in.read(reinterpret_cast<char*>(data.data()), std::streamsize(available));
-    if (!in) throw InputError(path + ": read error");
-
+// Decode the vertex and face records the header declares.
+Mesh decode_ply_data(const std::vector<unsigned char>& data, const PlyHeader& h, const std::string& path) {
+    const std::size_t nv = h.nv, nf = h.nf;
+    const bool colors = h.colors, ld = h.ld;
+    Mesh mesh;
     const unsigned char* p = data.data();
     mesh.positions.resize(nv);
     if (colors) mesh.colors.resize(nv);
@@ -539,6 +553,29 @@ Mesh read_ply(const std::string& path) {
         }
     }
     return mesh;
+}
+
+}  // namespace
+
+Mesh read_ply(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open");
+    const PlyHeader h = read_ply_header(in, path);
+    const std::size_t nv = h.nv, nf = h.nf;
+
+    // Check the sizes against the file before allocating anything.
+    const std::size_t vertex_bytes = 12 + (h.colors ? 3 : 0) + (h.ld ? 4 : 0), face_bytes = 13;
+    const auto start = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::size_t available = std::size_t(in.tellg() - start);
+    in.seekg(start);
+    if (nv * vertex_bytes + nf * face_bytes != available)
+        throw InputError(path + ": truncated or oversized PLY (" + std::to_string(available) + " data bytes, header says " +
+                         std::to_string(nv * vertex_bytes + nf * face_bytes) + ")");
+    std::vector<unsigned char> data(available);
+    in.read(reinterpret_cast<char*>(data.data()), std::streamsize(available));
+    if (!in) throw InputError(path + ": read error");
+    return decode_ply_data(data, h, path);
 }
 
 Mesh extract_isosurface(const DeviceVolume& v, double s, MeshMethod method) {

@@ -27,18 +27,13 @@ std::vector<double> slice_values(const Volume& v, std::size_t z) {
     return out;
 }
 
-}  // namespace
+// Grey levels from the slice's 0.5% and 99.5% quantiles, so that a few extreme values
+// do not wash the picture out.
+struct GreyLevels {
+    double lo, span;
+};
 
-SliceView render_slice(const Volume& v, std::size_t z, double iso, const Volume* ld, double alpha) {
-    const Dims d = v.dims();
-    if (z >= d.nz) throw InputError("slice " + std::to_string(z) + ": the volume has " + std::to_string(d.nz) + " slices");
-    if (ld && (ld->type() != ValueType::float32 || !(ld->dims() == d)))
-        throw InputError("slice: the LD field must be float32 with the volume's dimensions");
-    const std::vector<double> f = slice_values(v, z);
-    const double s = compared_isovalue(v, iso);
-
-    // Grey levels from the slice's 0.5% and 99.5% quantiles, so that a few extreme values
-    // do not wash the picture out.
+GreyLevels grey_levels(const std::vector<double>& f) {
     std::vector<double> sorted = f;
     const std::size_t q0 = sorted.size() / 200, q1 = sorted.size() - 1 - sorted.size() / 200;
     std::nth_element(sorted.begin(), sorted.begin() + q0, sorted.end());
@@ -46,11 +41,17 @@ SliceView render_slice(const Volume& v, std::size_t z, double iso, const Volume*
     std::nth_element(sorted.begin(), sorted.begin() + q1, sorted.end());
     const double hi = sorted[q1];
     const double span = hi > lo ? hi - lo : 1;
+    return {lo, span};
+}
 
-    SliceView out;
-    out.image.width = d.nx;
-    out.image.height = d.ny;
-    out.image.rgb.resize(3 * d.nx * d.ny);
+// The slice in grey, with the LD field of slice z (if any) blended in with weight alpha.
+Image paint_slice(const std::vector<double>& f, const Dims& d, const Volume* ld, std::size_t z, double alpha) {
+    const GreyLevels g0 = grey_levels(f);
+    const double lo = g0.lo, span = g0.span;
+    Image image;
+    image.width = d.nx;
+    image.height = d.ny;
+    image.rgb.resize(3 * d.nx * d.ny);
     const float* field = ld ? ld->as<float>() + z * d.nx * d.ny : nullptr;
     for (std::size_t y = 0; y < d.ny; ++y)
         for (std::size_t x = 0; x < d.nx; ++x) {
@@ -62,55 +63,74 @@ SliceView render_slice(const Volume& v, std::size_t z, double iso, const Volume*
                 const double over[3] = {double(c.r), double(c.g), double(c.b)};
                 for (int e = 0; e < 3; ++e) rgb[e] = (1 - alpha) * rgb[e] + alpha * over[e];
             }
-            std::uint8_t* px = &out.image.rgb[3 * ((d.ny - 1 - y) * d.nx + x)];
+            std::uint8_t* px = &image.rgb[3 * ((d.ny - 1 - y) * d.nx + x)];
             for (int e = 0; e < 3; ++e) px[e] = std::uint8_t(std::lround(rgb[e]));
         }
+    return image;
+}
 
-    // Marching squares. Corners 0..3 counter-clockwise from (x, y); edge e joins corner e
-    // and corner e + 1.
-    const double sx = v.spacing[0], sy = v.spacing[1];
-    static const int cx[4] = {0, 1, 1, 0}, cy[4] = {0, 0, 1, 1};
-    for (std::size_t y = 0; y + 1 < d.ny; ++y)
-        for (std::size_t x = 0; x + 1 < d.nx; ++x) {
-            double val[4];
-            bool neg[4];
-            int negatives = 0;
-            for (int c = 0; c < 4; ++c) {
-                val[c] = f[(y + cy[c]) * d.nx + x + cx[c]];
-                neg[c] = val[c] < s;
-                negatives += neg[c];
+// Marching squares. Corners 0..3 counter-clockwise from (x, y); edge e joins corner e
+// and corner e + 1.
+const int cx[4] = {0, 1, 1, 0}, cy[4] = {0, 0, 1, 1};
+
+// The contour segments of the cell at (x, y), appended to `contour`.
+void contour_cell(const std::vector<double>& f, const Dims& d, double s, double sx, double sy, std::size_t x,
+                  std::size_t y, std::vector<std::array<float, 4>>& contour) {
+    double val[4];
+    bool neg[4];
+    int negatives = 0;
+    for (int c = 0; c < 4; ++c) {
+        val[c] = f[(y + cy[c]) * d.nx + x + cx[c]];
+        neg[c] = val[c] < s;
+        negatives += neg[c];
+    }
+    if (negatives == 0 || negatives == 4) return;
+    std::array<float, 2> at[4];
+    bool crossed[4];
+    for (int e = 0; e < 4; ++e) {
+        const int a = e, b = (e + 1) % 4;
+        crossed[e] = neg[a] != neg[b];
+        if (!crossed[e]) continue;
+        const double t = (s - val[a]) / (val[b] - val[a]);
+        at[e] = {float((double(x) + cx[a] + t * (cx[b] - cx[a])) * sx),
+                 float((double(y) + cy[a] + t * (cy[b] - cy[a])) * sy)};
+    }
+    if (negatives == 2 && neg[0] == neg[2]) {
+        // Saddle: cut off each negative corner (its two edges).
+        for (int c = 0; c < 4; ++c)
+            if (neg[c]) {
+                const int e0 = (c + 3) % 4, e1 = c;
+                contour.push_back({at[e0][0], at[e0][1], at[e1][0], at[e1][1]});
             }
-            if (negatives == 0 || negatives == 4) continue;
-            std::array<float, 2> at[4];
-            bool crossed[4];
-            for (int e = 0; e < 4; ++e) {
-                const int a = e, b = (e + 1) % 4;
-                crossed[e] = neg[a] != neg[b];
-                if (!crossed[e]) continue;
-                const double t = (s - val[a]) / (val[b] - val[a]);
-                at[e] = {float((double(x) + cx[a] + t * (cx[b] - cx[a])) * sx),
-                         float((double(y) + cy[a] + t * (cy[b] - cy[a])) * sy)};
+        return;
+    }
+    int first = -1;
+    for (int e = 0; e < 4; ++e)
+        if (crossed[e]) {
+            if (first < 0) {
+                first = e;
+            } else {
+                contour.push_back({at[first][0], at[first][1], at[e][0], at[e][1]});
+                break;
             }
-            if (negatives == 2 && neg[0] == neg[2]) {
-                // Saddle: cut off each negative corner (its two edges).
-                for (int c = 0; c < 4; ++c)
-                    if (neg[c]) {
-                        const int e0 = (c + 3) % 4, e1 = c;
-                        out.contour.push_back({at[e0][0], at[e0][1], at[e1][0], at[e1][1]});
-                    }
-                continue;
-            }
-            int first = -1;
-            for (int e = 0; e < 4; ++e)
-                if (crossed[e]) {
-                    if (first < 0) {
-                        first = e;
-                    } else {
-                        out.contour.push_back({at[first][0], at[first][1], at[e][0], at[e][1]});
-                        break;
-                    }
-                }
         }
+}
+
+}  // namespace
+
+SliceView render_slice(const Volume& v, std::size_t z, double iso, const Volume* ld, double alpha) {
+    const Dims d = v.dims();
+    if (z >= d.nz) throw InputError("slice " + std::to_string(z) + ": the volume has " + std::to_string(d.nz) + " slices");
+    if (ld && (ld->type() != ValueType::float32 || !(ld->dims() == d)))
+        throw InputError("slice: the LD field must be float32 with the volume's dimensions");
+    const std::vector<double> f = slice_values(v, z);
+    const double s = compared_isovalue(v, iso);
+
+    SliceView out;
+    out.image = paint_slice(f, d, ld, z, alpha);
+    const double sx = v.spacing[0], sy = v.spacing[1];
+    for (std::size_t y = 0; y + 1 < d.ny; ++y)
+        for (std::size_t x = 0; x + 1 < d.nx; ++x) contour_cell(f, d, s, sx, sy, x, y, out.contour);
     return out;
 }
 

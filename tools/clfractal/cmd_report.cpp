@@ -105,20 +105,11 @@ std::string cells(const json& data, const std::vector<std::pair<std::string, int
     return row;
 }
 
-std::string build_html(const json& j, const std::string& fd_png, const std::string& comp_png,
-                       const std::vector<View>& views) {
+// The volume's facts as a table.
+std::string volume_section(const json& j, const std::string& name) {
     using html::escape;
     using html::number;
-    std::ostringstream b;
-    const std::string name = j["volume"]["file"].get<std::string>();
-    b << "<h1>clfractal report: " << escape(std::filesystem::path(name).filename().string()) << "</h1>\n"
-      << "<p class=\"note\">Isosurface fractal dimension for every isovalue (<i>The Nature of the Isosurface Fractal "
-         "Dimension</i>). D(s) about 2: a clean surface; towards 3: noise. Clean band: consecutive isovalues with "
-         "D(s) &le; "
-      << number(j, "/clean_fd", 4) << " on a surface of at least " << number(j, "/clean_share", 4)
-      << " &times; the largest.</p>\n";
-
-    std::ostringstream s_volume, s_answer, s_recommended, s_bands, s_fd, s_components, s_d4;
+    std::ostringstream s_volume;
     s_volume << "<section id=\"volume\"><h2>Volume</h2><table>\n"
       << "<tr><th class=\"l\">file</th><td class=\"l\">" << escape(name) << "</td></tr>\n"
       << "<tr><th class=\"l\">format</th><td class=\"l\">";
@@ -134,7 +125,13 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
       << "<tr><th class=\"l\">isovalues</th><td class=\"l\">" << number(j, "/isovalues/count") << " ("
       << number(j, "/isovalues/first", 8) << " .. " << number(j, "/isovalues/last", 8) << ")</td></tr>\n"
       << "</table></section>\n";
+    return s_volume.str();
+}
 
+// The answer: the isovalue to use, the noise and D4.
+std::string answer_section(const json& j) {
+    using html::number;
+    std::ostringstream s_answer;
     s_answer << "<section id=\"answer\"><h2>Answer</h2>\n";
     if (j["recommended"].empty()) {
         s_answer << "<p class=\"big\">No clean band: every well-populated isovalue is rough (D(s) above "
@@ -155,7 +152,12 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
           << number(j, "/noise/ratio", 4) << ", median over " << number(j, "/noise/isovalues_used")
           << " isovalues (Theorem 1 inverted)";
     s_answer << ". 4D dimension D4 = " << number(j, "/d4", 5) << " (3: a smooth field, towards 4: noise).</p></section>\n";
+    return s_answer.str();
+}
 
+// The recommended isovalues as a table.
+std::string recommended_section(const json& j) {
+    std::ostringstream s_recommended;
     s_recommended << "<section id=\"recommended\"><h2>Recommended isovalues</h2>\n"
       << "<p class=\"note\">The middle isovalue of each clean band, best band first (widest, then largest "
          "surface). noise ratio: r = &mu;/&gamma; from the edge dimension at that isovalue (Theorem 1 inverted).</p>\n"
@@ -169,7 +171,12 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
           << "</tr>\n";
     }
     s_recommended << "</table></section>\n";
+    return s_recommended.str();
+}
 
+// The clean bands as a table.
+std::string bands_section(const json& j) {
+    std::ostringstream s_bands;
     s_bands << "<section id=\"bands\"><h2>Clean bands</h2>\n<table><tr><th>first</th><th>last</th><th>width</th>"
          "<th>use</th><th>mean D</th><th>max D</th><th>largest I(s)</th></tr>\n";
     for (std::size_t i = 0; i < j["clean_bands"].size(); ++i) {
@@ -181,7 +188,13 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
     }
     if (j["clean_bands"].empty()) s_bands << "<tr><td colspan=\"7\" class=\"l\">none</td></tr>\n";
     s_bands << "</table></section>\n";
+    return s_bands.str();
+}
 
+// D(s): its summary, the noisiest isovalue and the curve.
+std::string fd_section(const json& j, const std::string& fd_png) {
+    using html::number;
+    std::ostringstream s_fd;
     s_fd << "<section id=\"fd\"><h2>Fractal dimension D(s)</h2>\n"
       << "<p>mean D " << number(j, "/fd/mean", 4) << ", std " << number(j, "/fd/std", 4) << ", count-weighted mean "
       << number(j, "/fd/weighted_mean", 4) << " over " << number(j, "/fd/defined") << " isovalues. Noisiest well-populated "
@@ -192,39 +205,116 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
           << number(j, "/noisiest/count") << " cubes, " << number(j, "/noisiest/components") << " components, r = "
           << number(j, "/noisiest/noise_ratio", 3) << ")";
     s_fd << ".</p>\n" << html::png_image(fd_png, "fractal dimension curve") << "</section>\n";
+    return s_fd.str();
+}
 
-    s_components << "<section id=\"components\"><h2>Isosurface components</h2>\n"
-      << html::png_image(comp_png, "component curve") << "</section>\n";
-
+// The 4D dimension.
+std::string d4_section(const json& j) {
+    using html::number;
+    std::ostringstream s_d4;
     s_d4 << "<section id=\"d4\"><h2>4D dimension</h2>\n<p>D4 = " << number(j, "/d4", 5) << " from I4(G, q) = "
       << number(j, "/fd4/i4_l0") << " and I4(G', 2q) = " << number(j, "/fd4/i4_l1") << ", bin width q = "
       << number(j, "/fd4/q", 6) << ": one number for the whole field, no isovalue (3: smooth, towards 4: noise).</p>"
       << "</section>\n";
+    return s_d4.str();
+}
 
+// View i: its numbers, the mesh and the slice side by side.
+std::string view_section(const json& j, const View& w, std::size_t i) {
+    using html::escape;
+    using html::number;
+    std::ostringstream s_view;
+    const std::string p = "/views/" + std::to_string(i);
+    s_view << "<section id=\"view-" << i << "\" class=\"view\"><h2>" << escape(w.role) << ": isovalue "
+      << number(j, p + "/isovalue", 8) << "</h2>\n<p>LD defined at " << number(j, p + "/ld_defined")
+      << " vertices, mean LD " << number(j, p + "/ld_mean", 4) << ", share above 2.5 (red) "
+      << number(j, p + "/ld_above_red", 3) << ".</p>\n<div class=\"pair\"><figure>"
+      << html::png_image(w.mesh_png, w.role + " mesh") << "<figcaption>isosurface coloured by LD</figcaption>"
+      << "</figure><figure>" << html::png_image(w.slice_png, w.role + " slice")
+      << "<figcaption>axial slice " << number(j, p + "/slice_z")
+      << ", the contour in yellow, LD blended where defined</figcaption></figure></div></section>\n";
+    return s_view.str();
+}
+
+std::string build_html(const json& j, const std::string& fd_png, const std::string& comp_png,
+                       const std::vector<View>& views) {
+    using html::escape;
+    using html::number;
+    std::ostringstream b;
+    const std::string name = j["volume"]["file"].get<std::string>();
+    b << "<h1>clfractal report: " << escape(std::filesystem::path(name).filename().string()) << "</h1>\n"
+      << "<p class=\"note\">Isosurface fractal dimension for every isovalue (<i>The Nature of the Isosurface Fractal "
+         "Dimension</i>). D(s) about 2: a clean surface; towards 3: noise. Clean band: consecutive isovalues with "
+         "D(s) &le; "
+      << number(j, "/clean_fd", 4) << " on a surface of at least " << number(j, "/clean_share", 4)
+      << " &times; the largest.</p>\n";
+
+    const std::string s_components = "<section id=\"components\"><h2>Isosurface components</h2>\n" +
+                                     html::png_image(comp_png, "component curve") + "</section>\n";
     std::vector<std::string> s_views;
-    for (std::size_t i = 0; i < views.size(); ++i) {
-        std::ostringstream s_view;
-        const View& w = views[i];
-        const std::string p = "/views/" + std::to_string(i);
-        s_view << "<section id=\"view-" << i << "\" class=\"view\"><h2>" << escape(w.role) << ": isovalue "
-          << number(j, p + "/isovalue", 8) << "</h2>\n<p>LD defined at " << number(j, p + "/ld_defined")
-          << " vertices, mean LD " << number(j, p + "/ld_mean", 4) << ", share above 2.5 (red) "
-          << number(j, p + "/ld_above_red", 3) << ".</p>\n<div class=\"pair\"><figure>"
-          << html::png_image(w.mesh_png, w.role + " mesh") << "<figcaption>isosurface coloured by LD</figcaption>"
-          << "</figure><figure>" << html::png_image(w.slice_png, w.role + " slice")
-          << "<figcaption>axial slice " << number(j, p + "/slice_z")
-          << ", the contour in yellow, LD blended where defined</figcaption></figure></div></section>\n";
-        s_views.push_back(s_view.str());
-    }
+    for (std::size_t i = 0; i < views.size(); ++i) s_views.push_back(view_section(j, views[i], i));
     // The answer and the pictures first (what a screenshot shows), the tables after.
-    b << s_volume.str() << s_answer.str() << "<div class=\"pair\">" << s_fd.str() << s_components.str() << "</div>\n";
+    b << volume_section(j, name) << answer_section(j) << "<div class=\"pair\">" << fd_section(j, fd_png)
+      << s_components << "</div>\n";
     if (!s_views.empty()) b << s_views[0];
-    b << s_recommended.str();
+    b << recommended_section(j);
     for (std::size_t i = 1; i < s_views.size(); ++i) b << s_views[i];
-    b << s_bands.str() << s_d4.str();
+    b << bands_section(j) << d4_section(j);
     b << "<p class=\"note\">" << escape(j["device"].get<std::string>()) << "; " << number(j, "/seconds", 3)
       << " s.</p>\n";
     return html::page("clfractal report: " + name, b.str());
+}
+
+// The volume's shape, type, spacing and value range into j["volume"].
+void describe_volume(json& j, const Volume& v) {
+    const Dims d = v.dims();
+    const ValueRange range = value_range(v);
+    j["volume"]["dims"] = {d.nx, d.ny, d.nz};
+    j["volume"]["vertices"] = v.vertices();
+    j["volume"]["type"] = value_type_name(v.type());
+    j["volume"]["spacing"] = {v.spacing[0], v.spacing[1], v.spacing[2]};
+    j["volume"]["value_range"] = {range.min, range.max};
+}
+
+// One isovalue's numbers. The noise ratio is Theorem 1 inverted at the isovalue's edge
+// dimension (0 at D_E <= 2), trusted inside [noise_fd_min, noise_fd_max] only.
+json isovalue_json(std::size_t k, const IsovalueSet& iso, const FdCurve& f, const ComponentCurve& comp,
+                   const NoiseEstimate& noise) {
+    const double de = noise.edge_fd[k];
+    return json{{"isovalue", iso.value(k)},
+                {"fd", fd_json(f.fd[k])},
+                {"count", f.counts[0][k]},
+                {"count_sub", f.counts[1][k]},
+                {"components", comp.components[k]},
+                {"edge_fd", fd_json(de)},
+                {"noise_ratio", finite_json(std::isnan(de) ? NAN : noise_ratio_from_edge_dimension(de))},
+                {"noise_ratio_trusted", !std::isnan(de) && de >= noise_fd_min && de <= noise_fd_max}};
+}
+
+// The noisiest well-populated isovalue: the largest D(s) among the isovalues whose
+// surface passes the clean bands' size floor; iso.size() if none.
+std::size_t noisiest_isovalue(const IsovalueSet& iso, const FdCurve& f, double clean_share) {
+    const std::uint64_t largest = iso.size() ? *std::max_element(f.counts[0].begin(), f.counts[0].end()) : 0;
+    const double floor_count = std::max(1.0, clean_share * double(largest));
+    std::size_t noisiest = iso.size();
+    for (std::size_t k = 0; k < iso.size(); ++k)
+        if (!std::isnan(f.fd[k]) && double(f.counts[0][k]) >= floor_count &&
+            (noisiest == iso.size() || f.fd[k] > f.fd[noisiest]))
+            noisiest = k;
+    return noisiest;
+}
+
+// The summary on stdout: the volume, the clean bands, the noise, D4, the files written and the time taken.
+void print_summary(const ReportArgs& a, const Volume& v, const FdCurve& f, const std::vector<CleanBand>& bands,
+                   const NoiseEstimate& noise, const Fd4Result& r4, std::size_t page_bytes, double seconds) {
+    std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n";
+    print_bands(std::cout, f, bands, a.clean_fd, a.clean_share);
+    print_noise(std::cout, noise);
+    std::cout << std::setprecision(4) << "D4          " << (std::isnan(r4.d4) ? "n/a" : fd_string(r4.d4).substr(0, 6))
+              << "\n"
+              << "wrote       " << a.output << " (" << page_bytes / 1024 << " KiB, self-contained)"
+              << (a.json_path.empty() ? "" : " and " + a.json_path) << "\n"
+              << "time        " << seconds << " s\n";
 }
 
 int run_report(const ReportArgs& a) {
@@ -236,12 +326,7 @@ int run_report(const ReportArgs& a) {
     if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue");
     const Dims d = v.dims();
-    const ValueRange range = value_range(v);
-    j["volume"]["dims"] = {d.nx, d.ny, d.nz};
-    j["volume"]["vertices"] = v.vertices();
-    j["volume"]["type"] = value_type_name(v.type());
-    j["volume"]["spacing"] = {v.spacing[0], v.spacing[1], v.spacing[2]};
-    j["volume"]["value_range"] = {range.min, range.max};
+    describe_volume(j, v);
     j["clean_fd"] = a.clean_fd;
     j["clean_share"] = a.clean_share;
 
@@ -269,30 +354,10 @@ int run_report(const ReportArgs& a) {
     j["d4"] = fd_json(r4.d4);
     j["fd4"] = {{"q", r4.q}, {"vmin", r4.vmin}, {"i4_l0", r4.i4}, {"i4_l1", r4.i4_sub}, {"d4", fd_json(r4.d4)}};
 
-    // One isovalue's numbers. The noise ratio is Theorem 1 inverted at the isovalue's edge
-    // dimension (0 at D_E <= 2), trusted inside [noise_fd_min, noise_fd_max] only.
-    auto point = [&](std::size_t k) {
-        const double de = noise.edge_fd[k];
-        return json{{"isovalue", iso.value(k)},
-                    {"fd", fd_json(f.fd[k])},
-                    {"count", f.counts[0][k]},
-                    {"count_sub", f.counts[1][k]},
-                    {"components", comp.components[k]},
-                    {"edge_fd", fd_json(de)},
-                    {"noise_ratio", finite_json(std::isnan(de) ? NAN : noise_ratio_from_edge_dimension(de))},
-                    {"noise_ratio_trusted", !std::isnan(de) && de >= noise_fd_min && de <= noise_fd_max}};
-    };
+    auto point = [&](std::size_t k) { return isovalue_json(k, iso, f, comp, noise); };
     j["recommended"] = json::array();
     for (const CleanBand& b : bands) j["recommended"].push_back(point(b.representative));
-    // The noisiest well-populated isovalue: the largest D(s) among the isovalues whose
-    // surface passes the clean bands' size floor.
-    const std::uint64_t largest = iso.size() ? *std::max_element(f.counts[0].begin(), f.counts[0].end()) : 0;
-    const double floor_count = std::max(1.0, a.clean_share * double(largest));
-    std::size_t noisiest = iso.size();
-    for (std::size_t k = 0; k < iso.size(); ++k)
-        if (!std::isnan(f.fd[k]) && double(f.counts[0][k]) >= floor_count &&
-            (noisiest == iso.size() || f.fd[k] > f.fd[noisiest]))
-            noisiest = k;
+    const std::size_t noisiest = noisiest_isovalue(iso, f, a.clean_share);
     j["noisiest"] = noisiest < iso.size() ? point(noisiest) : json(nullptr);
 
     progress("plots");
@@ -316,14 +381,7 @@ int run_report(const ReportArgs& a) {
     write_file_atomic(a.output, page);
     if (!a.json_path.empty()) write_file_atomic(a.json_path, j.dump(1) + "\n");
 
-    std::cout << "volume      " << a.volume << "  " << dims_string(d) << " " << value_type_name(v.type()) << "\n";
-    print_bands(std::cout, f, bands, a.clean_fd, a.clean_share);
-    print_noise(std::cout, noise);
-    std::cout << std::setprecision(4) << "D4          " << (std::isnan(r4.d4) ? "n/a" : fd_string(r4.d4).substr(0, 6))
-              << "\n"
-              << "wrote       " << a.output << " (" << page.size() / 1024 << " KiB, self-contained)"
-              << (a.json_path.empty() ? "" : " and " + a.json_path) << "\n"
-              << "time        " << j["seconds"].get<double>() << " s\n";
+    print_summary(a, v, f, bands, noise, r4, page.size(), j["seconds"].get<double>());
     return 0;
 }
 
