@@ -3,7 +3,7 @@
 # in fuzz/corpus/<target> plus what earlier runs kept in BUILD/fuzz-corpus/<target>, at the
 # lowest priority. Prints per target the CPU seconds, executions, corpus size and findings
 # (crash, leak, timeout or out-of-memory inputs, saved in BUILD/fuzz-findings/<target>/);
-# exits 1 if there is any finding.
+# exits 1 if there is any finding. FUZZ_NICE sets the niceness (19 by default).
 # Usage: bench/fuzz_campaign.sh [BUILD_DIR (build-fuzz)] [SECONDS per target (600)] [TARGET...]
 # The build: CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCLFRACTAL_FUZZ=ON
 #            cmake --build build-fuzz --target nrrd_fuzz raw_name_fuzz capi_fuzz nifti_fuzz dicom_fuzz \
@@ -23,7 +23,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$build/fuzz-corpus/$t" "$build/fuzz-findings/$t"
   log=$build/fuzz-findings/$t.log
   TIMEFORMAT='%U %S'
-  cpu=$( { time ASAN_OPTIONS=allocator_may_return_null=1 nice -n 19 "$bin" -max_total_time="$seconds" -timeout=20 \
+  cpu=$( { time ASAN_OPTIONS=allocator_may_return_null=1 nice -n "${FUZZ_NICE:-19}" "$bin" -max_total_time="$seconds" -timeout=20 \
       -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/fuzz-findings/$t/" \
       "$build/fuzz-corpus/$t" "fuzz/corpus/$t" >"$log" 2>&1; } 2>&1 | awk '{printf "%.0f", $1 + $2}')
   execs=$(awk '/stat::number_of_executed_units/ {print $2}' "$log")
