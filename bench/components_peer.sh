@@ -1,7 +1,14 @@
 #!/usr/bin/env bash
 # The component curve end to end: `clfractal components FILE` (process wall), and Wenger's
-# `ijkscalarinfo -components` on the same data when it is installed (not a Debian package:
-# build it from rafewenger/ijkPublic and pass --ijk PATH), interleaved A B A B, medians.
+# `ijkscalarinfo -components` on the same data when it is installed, interleaved A B A B,
+# medians; then both curves are compared count for count (ijkscalarinfo's row t counts the
+# crossings of [t, t+1), clfractal's isovalue t+1).
+# ijkscalarinfo is not a Debian package. It builds from github.com/isojenkode/ijk (LGPL; v0.6.0
+# at commit fe430f8): src/ijkscalarinfo/ijkscalarinfo.cpp with include/ (ijk.tpp and the grid,
+# coord, cube, contour-tree, data-table, interpolate, print and nrrd templates), against teem:
+#   printf '#include <teem/nrrd.h>\n' > shim/NrrdIO.h
+#   g++ -O3 -march=native -std=c++20 -Iinclude -Ishim src/ijkscalarinfo/ijkscalarinfo.cpp \
+#     -o bin/ijkscalarinfo -lteem -lz
 #
 #   bench/components_peer.sh [--build DIR] [--volume F] [--ijk PATH] [--runs R]
 #
@@ -35,6 +42,11 @@ echo "clfractal components    wall ${ours[*]} s (median $(median "${ours[@]}"))"
 if [ -n "$ijk" ]; then
   echo "ijkscalarinfo           wall ${peer[*]} s (median $(median "${peer[@]}"))"
   awk -v a="$(median "${ours[@]}")" -v b="$(median "${peer[@]}")" 'BEGIN { printf "ijkscalarinfo / clfractal: %.1fx\n", b / a }'
+  (cd "$work" && rm -f ./*.num_components.gplt && "$ijk" -components -plot "$volume" >/dev/null)
+  awk -F'[ ,]+' 'FNR == 1 { file++; next } file == 1 { ijk[$1 + 1] = $2; next }
+    ($1 in ijk) { n++; if (ijk[$1] != $2) { bad++; if (bad <= 5) print "  differs at isovalue " $1 ": " ijk[$1] " vs " $2 } }
+    END { printf "counts: %d isovalues compared, %d differ\n", n, bad; exit (n == 0 || bad > 0) }' \
+    "$work"/*.num_components.gplt "$work/components.csv"
 else
   echo "ijkscalarinfo           not installed (pass --ijk PATH): clfractal only"
 fi
