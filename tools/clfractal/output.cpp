@@ -40,7 +40,9 @@ void require_gnuplot(const std::string& path) {
 // single-quoted string a quote is written twice. gnuplot's own stdout is discarded: it
 // would get the image if the output could not be opened.
 bool run_gnuplot(const std::string& script, const std::string& data, const std::string& png) {
-    const std::string text = "$DATA << EOD\n" + data + "EOD\nset output " + gnuplot_string(png) + "\n" + script;
+    std::string quoted;
+    for (char c : png) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+    const std::string text = "$DATA << EOD\n" + data + "EOD\nset output '" + quoted + "'\n" + script;
     FILE* p = popen("gnuplot >/dev/null", "w");
     int status = -1;
     if (p) {
