@@ -394,8 +394,14 @@ ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet
     need.memory_divisor = 1;
     const bool fits = v.vertices() > 0 && int_axes(d) && slab_fit(ctx, need) >= d.nz;
     if (!fits || iso.size() == 0) return components_of(ctx, v, nullptr, iso, mode);
-    const DeviceVolume dv(ctx, v);
-    return components_of(ctx, v, &dv, iso, mode);
+    try {
+        const DeviceVolume dv(ctx, v);
+        return components_of(ctx, v, &dv, iso, mode);
+    } catch (const DeviceError& e) {
+        // Out of device memory: the host steps, as for a volume larger than the device.
+        if (!e.out_of_memory()) throw;
+        return components_of(ctx, v, nullptr, iso, mode);
+    }
 }
 
 ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, Connectivity mode) {

@@ -1,5 +1,6 @@
 // What the format readers share: stored types, the rescale rule, detection by content.
 #include "io_formats.hpp"
+#include "input_guard.hpp"
 
 #include <zlib.h>
 
@@ -263,6 +264,8 @@ std::vector<unsigned char> gunzip_head(const std::string& path, std::size_t n) {
 
 Format detect_format(const std::string& path) {
     std::error_code ec;
+    // Only regular files are opened: a FIFO blocks the reader, a device never ends.
+    if (!fs::is_directory(path, ec)) regular_file_size(path, path);
     if (fs::is_directory(path, ec)) {
         // TIFF slices by their magic, DICOM files by their preamble or extension.
         bool tiff = false, dicom = false;

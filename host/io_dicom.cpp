@@ -31,7 +31,8 @@ const gdcm::Tag tag_series_uid(0x0020, 0x000e), tag_position(0x0020, 0x0032), ta
     tag_pixel_spacing(0x0028, 0x0030), tag_rows(0x0028, 0x0010), tag_columns(0x0028, 0x0011),
     tag_slope(0x0028, 0x1053), tag_intercept(0x0028, 0x1052), tag_description(0x0008, 0x103e),
     tag_frames(0x0028, 0x0008), tag_thickness(0x0018, 0x0050), tag_bits(0x0028, 0x0100),
-    tag_samples(0x0028, 0x0002), tag_bits_stored(0x0028, 0x0101), tag_high_bit(0x0028, 0x0102);
+    tag_samples(0x0028, 0x0002), tag_bits_stored(0x0028, 0x0101), tag_high_bit(0x0028, 0x0102),
+    tag_photometric(0x0028, 0x0004);
 
 std::vector<double> numbers(const char* text) {
     std::vector<double> v;
@@ -91,7 +92,7 @@ void quiet_gdcm() {
     gdcm::Trace::SetError(false);
 }
 
-enum class Walk { complete, truncated, no_preamble, bad_vr };
+enum class Walk { complete, truncated, no_preamble, bad_vr, bad_meta };
 
 /// A walk over the element headers of a DICOM Part 10 file (tag, VR, length; nested items
 /// and undefined lengths followed to their delimiters): complete when every data element
@@ -153,7 +154,10 @@ Walk explicit_length(ElementReader& r, std::uint64_t p, std::uint64_t size, bool
 /// lies within the file and every explicit VR is one DICOM defines. GDCM asserts (aborts)
 /// on cut files, on unknown VRs and on data sets without the "DICM" preamble that are not
 /// what it guesses, and reads other cut files short without failing, so only files this
-/// walk accepts reach it. Deflated data sets are left to GDCM.
+/// walk accepts reach it. Deflated data sets are left to GDCM. The file meta information
+/// (group 0002, explicit VR, no sequences) must come first and name the transfer syntax:
+/// GDCM guesses the encoding of a file without it, and a wrong guess reads values as
+/// lengths (a 900-byte file made its scanner allocate 0.8 GB) or asserts.
 Walk walk_elements(const std::string& file, Layout& layout) {
     ElementReader r(file);
     r.in.seekg(0, std::ios::end);
@@ -167,6 +171,8 @@ Walk walk_elements(const std::string& file, Layout& layout) {
     while (p < size) {
         if (size - p < 8 || !r.read_at(p, 8)) return Walk::truncated;
         const bool meta = r.u16(0, false) == 0x0002;
+        if ((meta && data_set && depth <= 0) || (!meta && p == 132)) return Walk::bad_meta;  // not first
+        if (!meta && !data_set && syntax.empty()) return Walk::bad_meta;  // no transfer syntax
         data_set = data_set || !meta;
         const bool implicit = !meta && syntax == "1.2.840.10008.1.2";
         const bool big = !meta && syntax == "1.2.840.10008.1.2.2";
@@ -181,6 +187,7 @@ Walk walk_elements(const std::string& file, Layout& layout) {
         } else if (const Walk w = explicit_length(r, p, size, big, header, length); w != Walk::complete) {
             return w;
         }
+        if (meta && (length == 0xffffffffu || (r.h[4] == 'S' && r.h[5] == 'Q'))) return Walk::bad_meta;
         if (group == 0xfffe && (element == 0xe00d || element == 0xe0dd)) {
             --depth;  // a delimiter closes an undefined length
             p += header;
@@ -222,6 +229,9 @@ void scan(Scan& s, const std::string& path) {
         case Walk::complete: files.push_back(f); break;
         case Walk::truncated: throw InputError(f + ": truncated DICOM file (a data element runs past its end)");
         case Walk::bad_vr: throw InputError(f + ": malformed DICOM file (an element with an unknown VR)");
+        case Walk::bad_meta:
+            throw InputError(f + ": malformed DICOM file (the file meta information, group 0002 with the transfer "
+                                 "syntax, must come first and hold no sequences)");
         case Walk::no_preamble:
             // README, LICENSE, DIRFILE, ...: not DICOM, not ours. A .dcm that is not DICOM is.
             if (dicom_extension(f))
@@ -236,7 +246,7 @@ void scan(Scan& s, const std::string& path) {
     }
     for (const gdcm::Tag& t : {tag_series_uid, tag_position, tag_orientation, tag_pixel_spacing, tag_rows, tag_columns,
                                tag_slope, tag_intercept, tag_description, tag_frames, tag_thickness, tag_bits,
-                               tag_samples, tag_bits_stored, tag_high_bit})
+                               tag_samples, tag_bits_stored, tag_high_bit, tag_photometric})
         s.scanner.AddTag(t);
     if (!s.scanner.Scan(files)) throw InputError(s.dir + ": cannot scan the DICOM files");
     std::sort(files.begin(), files.end(), natural_less);
@@ -465,6 +475,11 @@ private:
         if (!samples.empty() && samples[0] != 1)
             throw InputError(f + ": " + std::to_string(std::lround(std::min(samples[0], 1e9))) +
                              " samples per pixel; only greyscale DICOM is supported");
+        // GDCM asserts on a palette image without its lookup tables: greyscale only.
+        const std::string photometric = trimmed(s.scanner.GetValue(f.c_str(), tag_photometric));
+        if (!photometric.empty() && photometric != "MONOCHROME1" && photometric != "MONOCHROME2")
+            throw InputError(f + ": PhotometricInterpretation " + quote_input(photometric) +
+                             "; only greyscale (MONOCHROME1, MONOCHROME2) DICOM is supported");
         const std::vector<double> stored = numbers(s.scanner.GetValue(f.c_str(), tag_bits_stored));
         const std::vector<double> high = numbers(s.scanner.GetValue(f.c_str(), tag_high_bit));
         const double bs = stored.empty() ? b : stored[0];

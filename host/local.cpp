@@ -339,12 +339,11 @@ Volume local_in_core(Context& ctx, const Volume& v, double iso, int window);
 // down to even (so the slab's level-1 slices are the volume's) and hi = b + k/2: every
 // window of those slices lies inside the slab, or meets the volume's ends where the slab
 // ends too, so each slab gives exactly the whole-volume values.
-Volume local_in_slabs(Context& ctx, const Volume& v, double iso, int window) {
+// The input slab of `depth` output slices: k/2 more on each side, one more where the start
+// is rounded down to even.
+Volume local_in_slabs(Context& ctx, const Volume& v, double iso, int window, std::size_t depth) {
     const Dims d = v.dims();
     const std::size_t half = std::size_t(window / 2), plane = d.nx * d.ny, slice_bytes = plane * value_size(v.type());
-    // The input slab of `depth` output slices: k/2 more on each side, one more where the
-    // start is rounded down to even.
-    const std::size_t depth = plan_slab(ctx, local_need(ctx, d, v.type(), half + 1), d);
     Volume out(d, ValueType::float32, v.name);
     out.spacing = v.spacing;
     for (std::size_t a = 0; a < d.nz; a += depth) {
@@ -362,9 +361,18 @@ Volume local_in_slabs(Context& ctx, const Volume& v, double iso, int window) {
 
 Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int window) {
     check_local_arguments(iso, window);
-    if (v.dims().nz > 1 && slab_fit(ctx, local_need(ctx, v.dims(), v.type(), 0)) < v.dims().nz)
-        return local_in_slabs(ctx, v, iso, window);
-    return local_in_core(ctx, v, iso, window);
+    const Dims d = v.dims();
+    std::size_t depth = d.nz;  // output slices per pass: all of them in core
+    if (d.nz > 1 && slab_fit(ctx, local_need(ctx, d, v.type(), 0)) < d.nz)
+        depth = plan_slab(ctx, local_need(ctx, d, v.type(), std::size_t(window / 2) + 1), d);
+    // When the device runs out of memory, again in slabs of half the depth, down to one slice.
+    for (;; depth = (depth + 1) / 2) {
+        try {
+            return depth >= d.nz ? local_in_core(ctx, v, iso, window) : local_in_slabs(ctx, v, iso, window, depth);
+        } catch (const DeviceError& e) {
+            if (!e.out_of_memory() || depth <= 1) throw;
+        }
+    }
 }
 
 namespace {

@@ -281,6 +281,7 @@ expect 2 "clfractal: error: .*bad.tsv.*column 'dims'" -- "$bin" survey bad.tsv
 expect 2 'clfractal: error: .*no_such_dir' -- "$bin" survey no_such_dir
 mkdir -p empty_dir
 expect 2 'clfractal: error: .*empty_dir' -- "$bin" survey empty_dir
+expect 2 'clfractal: error: /dev/zero: not a regular file' -- timeout 20 "$bin" survey /dev/zero
 
 # Isovalue advice: clean bands in fd (text and JSON), the noise level, --iso auto.
 expect 0 'best 1 \.\. [0-9]+ .* use [0-9]+' -- "$bin" -q fd synthetic:sphere:40 --json adv.json --noise-level
@@ -463,6 +464,17 @@ wait $writer
 "$bin" -q local synthetic:sphere:20 --iso 100 -o - > ld_stdout2.nrrd 2>/dev/null && pass || fail "local -o -"
 for f in ld_stdout.nrrd ld_stdout2.nrrd; do
   [ "$(head -c 4 $f)" = "NRRD" ] && [ "$(stat -c %s $f)" -gt 32000 ] && pass || fail "$f: not the LD NRRD"
+done
+
+# A volume's name reaches gnuplot's titles as text only: a backquoted command in it is not
+# run, a newline in it does not end the title's command.
+"$bin" -q gen sphere --size 12 -o plain.nrrd
+evil=$'x`touch injected.mark`\ny.nrrd'
+cp plain.nrrd "$evil"
+for sub in "fd --plot evil_fd.png" "components --plot evil_c.png" "mesh --iso 100 -o evil.ply --preview evil_m.png"; do
+  rm -f injected.mark
+  "$bin" -q ${sub%% *} "$evil" ${sub#* } > /dev/null 2> evil.err && [ ! -e injected.mark ] && [ ! -s evil.err ] &&
+    pass || fail "gnuplot title from the name ($sub): $(ls injected.mark 2>/dev/null) $(head -c 300 evil.err)"
 done
 
 echo "$passes passed, $failures failed"

@@ -1,8 +1,9 @@
 // Device faults (FaultPlan): the N-th buffer allocation, kernel enqueue or program build
-// fails; walked over every step of fd, local, filter, components and a stream. Each run ends
-// with a clean DeviceError (or InputError) or with the fault-free result (fd and the
-// filters' slab path retry with smaller slabs when an allocation fails); never a crash or
-// another exception. Leaks are left to the sanitizer build, which runs this suite too.
+// fails; walked over every step of fd, local, filter, components, noise and a stream. Each
+// run ends with a clean DeviceError (or InputError) or with the fault-free result; never a
+// crash or another exception. A failed allocation is recovered from: fd, local, noise and
+// the filters' slab path retry with smaller slabs, components with its host steps. Leaks are
+// left to the sanitizer build, which runs this suite too.
 #include <doctest/doctest.h>
 
 #include <cstring>
@@ -13,6 +14,7 @@
 #include "clfractal/components.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
+#include "clfractal/noise.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
 #include "test_util.hpp"
@@ -87,10 +89,12 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
         c.set_fault_plan(FaultPlan{});
         CHECK(run(c) == want);
     }
-    // fd and the slab path of the filters fall back to smaller slabs when an allocation
-    // fails; every other fault is an error.
-    if ((what == "fd" || what == "filter") && site == FaultSite::allocation) CHECK(recovered > 0);
-    else CHECK(failed == steps);
+    // Every failed allocation of fd, local, components and noise is recovered from (smaller
+    // slabs, or the host steps), as are those of the filters' slab path; every other fault
+    // is an error.
+    if (site != FaultSite::allocation || what == "stream") CHECK(failed == steps);
+    else if (what == "filter") CHECK(recovered > 0);
+    else CHECK(recovered == steps);
     MESSAGE(what << ": " << site_text << " faults 1.." << steps << ", " << failed << " clean errors, " << recovered
                  << " correct results");
 }
@@ -99,7 +103,7 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
 
 TEST_SUITE("faults") {
 
-TEST_CASE("every device step of fd, local, filter, components and a stream fails cleanly") {
+TEST_CASE("every device step of fd, local, filter, components, noise and a stream fails cleanly or recovers") {
     const Volume v = testutil::random_volume({11, 9, 7}, ValueType::uint8, 0, 20, 31);
     const IsovalueSet iso = IsovalueSet::for_volume(v);
     const std::vector<std::pair<std::string, Run>> runs = {
@@ -118,6 +122,12 @@ TEST_CASE("every device step of fd, local, filter, components and a stream fails
         {"components", [&](Context& c) {
              const ComponentCurve k = count_components(c, v, iso);
              return bytes_of(k.components.data(), k.components.size());
+         }},
+        {"noise", [&](Context& c) {
+             NoiseOptions opt;
+             opt.amplitude = 3;
+             opt.keep_type = true;
+             return bytes_of(add_noise(c, v, opt));
          }},
         {"stream", [&](Context& c) {
              SpanStream s(c, v.dims().nx, v.dims().ny, v.type(), iso, 2);

@@ -53,7 +53,7 @@ void write_plot(const std::vector<NoisePoint>& pts, NoiseKind kind, const std::s
     s << "set terminal pngcairo size 900,600 font 'sans,11'\n"
       << "set xlabel 'r = " << (kind == NoiseKind::uniform ? "mu" : "sigma") << " / gamma'\n"
       << "set ylabel 'fractal dimension'\nset yrange [1.9:3.05]\nset xrange [0:" << std::max(rmax, 0.01) << "]\n"
-      << "set grid\nset key bottom right\nset title " << std::quoted(title) << " noenhanced\n"
+      << "set grid\nset key bottom right\nset title " << gnuplot_string(title) << " noenhanced\n"
       << "plot '$DATA' index 1 using 1:2 with lines lw 2 lc rgb '#222222' title '"
       << (kind == NoiseKind::uniform ? "formula (Theorem 1)" : "edge model, Gaussian noise (numerical integration)")
       << "', \\\n"

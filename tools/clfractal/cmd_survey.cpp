@@ -44,6 +44,10 @@ std::vector<std::string> split(const std::string& line, char sep) {
 }
 
 std::vector<Entry> read_manifest(const std::string& path) {
+    std::error_code ec;
+    // A FIFO would block, a device never end.
+    if (!fs::is_regular_file(path, ec))
+        throw InputError(path + ": not a regular file (survey reads a manifest file or a directory)");
     std::ifstream in(path);
     if (!in) throw InputError(path + ": cannot read the manifest");
     std::string line;

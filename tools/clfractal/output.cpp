@@ -62,6 +62,12 @@ std::string read_bytes(const std::string& path) {
 
 }  // namespace
 
+std::string gnuplot_string(const std::string& text) {
+    std::string quoted = "'";
+    for (char c : printable(text)) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+    return quoted + "'";
+}
+
 void plot_png(const std::string& script, const std::string& data, const std::string& path) {
     require_gnuplot(path);
     // gnuplot writes a regular file: the temporary beside the target, or for a FIFO, a

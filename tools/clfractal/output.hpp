@@ -10,6 +10,11 @@
 /// Writes `content` to `path` (see above); throws clfractal::InputError naming the path.
 void write_file_atomic(const std::string& path, const std::string& content);
 
+/// `text` as a gnuplot single-quoted string: nothing is substituted inside one (in a
+/// double-quoted one gnuplot runs `backquoted` text as a shell command), control characters
+/// become '?' (a newline would end the command), a quote is written twice.
+std::string gnuplot_string(const std::string& text);
+
 /// Renders a gnuplot `script` (which plots the datablock $DATA, filled with `data`) to
 /// the PNG `path`. Throws InputError with a clear message when gnuplot is not installed.
 void plot_png(const std::string& script, const std::string& data, const std::string& path);

@@ -112,14 +112,14 @@ Figure curve_plot(const CurveAxis& axis, const std::vector<CurvePanel>& panels, 
     std::ostringstream script;
     script << "set terminal pngcairo size 900," << 560 * panels.size() << " font 'sans,11'\n";
     if (panels.size() > 1)
-        script << "set multiplot layout " << panels.size() << ",1 title " << std::quoted(title) << " noenhanced\n";
+        script << "set multiplot layout " << panels.size() << ",1 title " << gnuplot_string(title) << " noenhanced\n";
     for (std::size_t p = 0; p < panels.size(); ++p) {
         const CurvePanel& c = panels[p];
         script << "unset arrow\nunset object\nunset logscale\n"
                << "set xlabel 'isovalue' offset 0,0.3\nset ylabel '" << c.ylabel << "'\nset y2label '" << axis.count_label
                << "'\nset y2tics\nset ytics nomirror\nset y2range [0:*]\nset autoscale xfix\nset grid\n"
                << "set key below horizontal maxrows 2 spacing 1.2\nset lmargin 11\nset rmargin 12\n"
-               << "set title " << std::quoted(panels.size() > 1 ? std::string() : title) << " noenhanced\n";
+               << "set title " << gnuplot_string(panels.size() > 1 ? std::string() : title) << " noenhanced\n";
         const bool empty = !(lo[p] <= hi[p]);  // nothing to draw: a fixed range (gnuplot cannot autoscale)
         if (c.log_scale) {
             script << "set logscale y\nset yrange [" << (std::isnan(c.range_lo) ? std::string("*") : number(c.range_lo))
@@ -198,12 +198,12 @@ Figure image_figure(const ImageFigure& fig) {
     const double w = double(img.width) * fig.dx, h = double(img.height) * fig.dy;
     std::ostringstream script;
     script << "set terminal pngcairo size " << fig.width << "," << fig.height << " font 'sans,11'\n"
-           << "set title " << std::quoted(fig.title) << " noenhanced\n"
+           << "set title " << gnuplot_string(fig.title) << " noenhanced\n"
            << "set size ratio -1\nset xrange [" << -fig.dx / 2 << ":" << w - fig.dx / 2 << "]\nset yrange ["
            << -fig.dy / 2 << ":" << h - fig.dy / 2 << "]\n"
            << "set lmargin at screen " << (fig.axes ? 0.1 : 0.02) << "\nset rmargin at screen 0.78\n"
            << "set colorbox vertical user origin screen 0.81, screen 0.15 size screen 0.03, screen 0.7\n"
-           << ld_palette() << "set label 1 " << std::quoted(fig.label)
+           << ld_palette() << "set label 1 " << gnuplot_string(fig.label)
            << " at graph 0.02, graph 0.96 front noenhanced font ',15' tc rgb '#000000' boxed\n"
            << "set style textbox opaque fc rgb '#ffffff' noborder\n";
     if (fig.axes)
