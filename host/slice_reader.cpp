@@ -250,16 +250,6 @@ struct SliceReader::Impl {
         }
     }
 
-    // `p` holds count slices of file values.
-    void check_finite_slices(const void* p, std::size_t count) {
-        const NonFinite nf = count_non_finite(p, file_type, count * slice_values());
-        if (nf.nan + nf.inf == 0) return;
-        const double f = visit_type(file_type, [&](auto zero) { return double(static_cast<const decltype(zero)*>(p)[nf.first]); });
-        throw InputError(non_finite_message(spec + " (slices " + std::to_string(next) + ".." +
-                                                std::to_string(next + count - 1) + ")",
-                                            nf, f, dims, next * slice_values()));
-    }
-
     void read(void* dst, std::size_t count) {
         if (next + count > dims.nz) throw std::logic_error("SliceReader::read past the last slice");
         if (count == 0) return;
@@ -278,7 +268,7 @@ struct SliceReader::Impl {
                 read_file_bytes(file_values, count);
                 if (swap) swap_bytes(file_values, count * slice_values(), file_value_size);
             }
-            check_finite_slices(file_values, count);
+            check_finite(file_values, file_type, count * slice_values(), dims, next * slice_values(), spec);
             if (convert) convert_values(file_values, file_type, out, type, count * slice_values());
         }
         next += count;

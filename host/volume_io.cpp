@@ -402,21 +402,27 @@ NonFinite count_non_finite(const void* data, ValueType t, std::size_t n) {
     return r;
 }
 
-std::string non_finite_message(const std::string& what, const NonFinite& nf, double first_value, const Dims& d,
-                               std::size_t offset) {
+void check_finite(const void* data, ValueType t, std::size_t n, const Dims& d, std::size_t offset,
+                  const std::string& what) {
+    const NonFinite nf = count_non_finite(data, t, n);
+    if (nf.nan + nf.inf == 0) return;
     std::string counts;
     if (nf.nan) counts = std::to_string(nf.nan) + " NaN";
     if (nf.inf) counts += (counts.empty() ? "" : " and ") + std::to_string(nf.inf) + " infinite";
+    counts += nf.nan + nf.inf > 1 ? " values" : " value";
+    const std::size_t plane = d.nx * d.ny, z0 = offset / plane, z1 = (offset + n - 1) / plane;
+    if (offset != 0 || n != d.vertices())
+        counts += z0 == z1 ? " in slice " + std::to_string(z0) : " in slices " + std::to_string(z0) + ".." + std::to_string(z1);
+    const double f = visit_type(t, [&](auto zero) { return double(static_cast<const decltype(zero)*>(data)[nf.first]); });
     const std::size_t i = offset + nf.first;
-    return what + ": float data contains " + counts + " value" + (nf.nan + nf.inf > 1 ? "s" : "") + " (the first, " +
-           (std::isnan(first_value) ? "NaN" : first_value > 0 ? "Inf" : "-Inf") + ", at vertex (" +
-           std::to_string(i % d.nx) + "," + std::to_string(i / d.nx % d.ny) + "," + std::to_string(i / (d.nx * d.ny)) +
-           ")); counting, filtering and meshing need finite values";
+    throw InputError(what + ": float data contains " + counts + " (the first, " +
+                     (std::isnan(f) ? "NaN" : f > 0 ? "Inf" : "-Inf") + ", at vertex (" + std::to_string(i % d.nx) + "," +
+                     std::to_string(i / d.nx % d.ny) + "," + std::to_string(i / plane) +
+                     ")); counting, filtering and meshing need finite values");
 }
 
 void check_finite(const Volume& v, const std::string& what) {
-    const NonFinite nf = count_non_finite(v.data(), v.type(), v.vertices());
-    if (nf.nan + nf.inf) throw InputError(non_finite_message(what, nf, v.value(nf.first), v.dims(), 0));
+    check_finite(v.data(), v.type(), v.vertices(), v.dims(), 0, what);
 }
 
 }  // namespace clfractal
