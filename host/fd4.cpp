@@ -161,7 +161,7 @@ Fd4Result fractal_dimension_4d(Context& ctx, const Volume& v, double q) {
         res.i4 = sum_bins(ctx, levels, 0);
         res.i4_sub = sum_bins(ctx, levels, 1);
     });
-    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    res.seconds = seconds_since(t0);
     res.d4 = res.i4 && res.i4_sub ? std::log2(double(res.i4) / double(res.i4_sub))
                                   : std::numeric_limits<double>::quiet_NaN();
     return res;

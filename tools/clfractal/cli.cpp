@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "clfractal/error.hpp"
+#include "clfractal/local.hpp"
 #include "clfractal/volume.hpp"
 
 using namespace clfractal;
@@ -84,9 +85,8 @@ CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& wh
         ->add_option("--window", window, what + " (even, >= 2)")
         ->check(CLI::Validator(
             [](std::string& text) -> std::string {
-                const int k = std::atoi(text.c_str());
-                if (k < 2 || k % 2) return "the window must be even and at least 2, not " + text;
-                return {};
+                const std::string problem = window_problem(std::atoi(text.c_str()));
+                return problem.empty() ? problem : problem + ", not " + text;
             },
             "EVEN>=2"))
         ->capture_default_str();
@@ -184,6 +184,33 @@ RawOptions RawArgs::options() const {
 CLI::Option* add_volume_argument(CLI::App* app, std::string& volume) {
     return app->add_option("VOLUME", volume, "a volume file (raw, NRRD, NIfTI, DICOM, TIFF, MetaImage) or synthetic:NAME[:N]")
         ->required();
+}
+
+void add_volume_and_iso(CLI::App* app, std::string& volume, double& iso, const std::string& what) {
+    add_volume_argument(app, volume);
+    add_iso_option(app, iso, what)->required();
+}
+
+Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso) {
+    Volume v = read_volume(volume, raw.options());
+    iso = checked_isovalue(v, iso);
+    return v;
+}
+
+CLI::Option* add_output_option(CLI::App* app, std::string& output, const std::string& what) {
+    return app->add_option("-o,--output", output, what)->required();
+}
+
+CLI::Option* add_mesh_option(CLI::App* app, std::string& mesh, const std::string& what) {
+    return app->add_option("--mesh", mesh, what);
+}
+
+CLI::Option* add_preview_option(CLI::App* app, std::string& preview, const std::string& what) {
+    return app->add_option("--preview", preview, what);
+}
+
+CLI::Option* add_bins_option(CLI::App* app, std::size_t& bins) {
+    return app->add_option("--bins", bins, "number of uniform isovalues for float data (0: 256)");
 }
 
 std::vector<double> parse_list(const std::string& option, const std::string& spec) {

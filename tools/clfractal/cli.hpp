@@ -66,6 +66,25 @@ struct RawArgs {
 /// The VOLUME argument of the commands that read one volume.
 CLI::Option* add_volume_argument(CLI::App* app, std::string& volume);
 
+/// VOLUME and --iso S (required; `what` says how S is compared): the input of the commands
+/// that work on one isosurface of one volume (local, mesh, smooth).
+void add_volume_and_iso(CLI::App* app, std::string& volume, double& iso, const std::string& what);
+
+/// Reads `volume` as `raw` says and resolves `iso` for it (checked_isovalue: auto, warnings).
+clfractal::Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso);
+
+/// -o/--output FILE (required): the file a command writes; `what` says which formats.
+CLI::Option* add_output_option(CLI::App* app, std::string& output, const std::string& what);
+
+/// --mesh FILE: also write an isosurface as PLY (`what` says which one).
+CLI::Option* add_mesh_option(CLI::App* app, std::string& mesh, const std::string& what);
+
+/// --preview FILE: render an isosurface to a PNG (`what` says which one).
+CLI::Option* add_preview_option(CLI::App* app, std::string& preview, const std::string& what);
+
+/// --bins K: the number of uniform isovalues for float data (0: 256).
+CLI::Option* add_bins_option(CLI::App* app, std::size_t& bins);
+
 /// --dims X,Y,Z or XxYxZ: three positive integers (`option` names them in errors).
 clfractal::Dims parse_dims(const std::string& option, const std::string& text);
 

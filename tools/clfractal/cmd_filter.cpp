@@ -98,7 +98,7 @@ int run_filter_stream(const FilterArgs& a, const FilterSpec& spec) {
     }
     stream.finish();
     writer.close();
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = seconds_since(t0);
     const auto at = [](const SpanStream& s) {
         AtIso m;
         const SpanResult r = s.counts();
@@ -217,7 +217,7 @@ void filter_once(Context& ctx, const FilterArgs& a, const FilterSpec& spec, cons
     if (a.fractal4) {
         const auto t = clock::now();
         const Volume ld4 = local_fractal_dimension_4d(ctx, in, a.q, a.window);
-        const double field_seconds = std::chrono::duration<double>(clock::now() - t).count();
+        const double field_seconds = seconds_since(t);
         r.tr = targeted_filter(ctx, in, spec, ld4, a.threshold);
         r.tr.ld_seconds = field_seconds;
     } else if (a.fractal) r.tr = targeted_filter(ctx, in, spec, a.iso, a.threshold, a.window);
@@ -232,7 +232,7 @@ FilterRun timed_filter(Context& ctx, const FilterArgs& a, const FilterSpec& spec
     const double compiled_before = ctx.compile_seconds();
     const auto t0 = std::chrono::steady_clock::now();
     filter_once(ctx, a, spec, v, r);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.seconds = seconds_since(t0);
     // Compute only: the call's time less any kernel compiled during it (no file I/O is in it).
     r.compiled = ctx.compile_seconds() - compiled_before;
     if (r.masked) r.out = std::move(r.tr.volume);
@@ -315,7 +315,7 @@ void setup_filter(CLI::App* c, FilterArgs& a) {
     cli::add_iso_option(c, a.iso, "isovalue S of the LD field, needed by --fractal and --ld-guided; also reports cubes and FD at S before/after");
     c->add_option("--threshold", a.threshold, "LD threshold H of --fractal (LD4 threshold H4 of --fractal4), needed by both");
     cli::add_window_option(c, a.window);
-    c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
+    cli::add_output_option(c, a.output, "output .nrrd, .nii or .nii.gz (the input's type)");
     c->add_option("--json", a.json_path,
                   "write the times (seconds_compute: no file I/O, no compilation; seconds_ld, seconds_filter) and "
                   "the fractions selected and changed as JSON");

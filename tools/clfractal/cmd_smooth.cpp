@@ -27,8 +27,7 @@ struct SmoothArgs {
 int run_smooth(SmoothArgs a) {
     const SmoothVariant variant = parse_smooth_variant(a.variant);
     if (!std::isfinite(a.threshold)) throw InputError("--threshold: must be a finite number");
-    Volume v = read_volume(a.volume, a.raw.options());
-    a.iso = checked_isovalue(v, a.iso);
+    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso);
     Context& ctx = Context::shared();
     progress("smooth isosurface of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " (" +
              smooth_variant_name(variant) + "), window " + std::to_string(a.window) + ", on " + ctx.description());
@@ -74,17 +73,16 @@ int run_smooth(SmoothArgs a) {
 }
 
 void setup_smooth(CLI::App* c, SmoothArgs& a) {
-    add_volume_argument(c, a.volume);
-    add_iso_option(c, a.iso, "isovalue S (edges with a < S <= b are intersected)")->required();
+    add_volume_and_iso(c, a.volume, a.iso, "isovalue S (edges with a < S <= b are intersected)");
     c->add_option("--threshold", a.threshold, "h: an intersected edge is high fractal when LD > h at an end")
         ->required();
     add_window_option(c, a.window);
     c->add_option("--variant", a.variant, "plain (f(v) := f(u)) or gaussian (neighbours lowered too)")
         ->check(CLI::IsMember({"plain", "gaussian"}));
     c->add_option("--tau", a.tau, "width of the gaussian variant's lowering, in grid steps");
-    c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz (same type as the input)")->required();
-    c->add_option("--mesh", a.mesh, "also write the smoothed isosurface as PLY, coloured by the input's LD");
-    c->add_option("--preview", a.preview, "render the smoothed isosurface to a PNG");
+    add_output_option(c, a.output, "output .nrrd, .nii or .nii.gz (same type as the input)");
+    add_mesh_option(c, a.mesh, "also write the smoothed isosurface as PLY, coloured by the input's LD");
+    add_preview_option(c, a.preview, "render the smoothed isosurface to a PNG");
     a.raw.add(c);
 }
 

@@ -153,7 +153,7 @@ Row survey_one(Context& ctx, const Entry& e) {
     r.corr = cc.components;
     r.corr_area = cc.components_per_area;
     r.corr_used = cc.used;
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.seconds = seconds_since(t0);
     return r;
 }
 
