@@ -10,6 +10,7 @@
 
 #include "clfractal/error.hpp"
 #include "clfractal/local.hpp"
+#include "clfractal/slab_plan.hpp"
 #include "clfractal/volume.hpp"
 
 using namespace clfractal;
@@ -300,6 +301,30 @@ std::string fd_csv(const FdCurve& f, const std::vector<std::int64_t>* components
         out << "\n";
     }
     return out.str();
+}
+
+ReportVolume::ReportVolume(Context& ctx, const Volume& v) : ctx_(ctx), host_(v) {
+    SlabNeed need;
+    need.nz = v.dims().nz;
+    need.input_slice_bytes = v.dims().nx * v.dims().ny * value_size(v.type());
+    need.memory_divisor = 2;
+    if (v.vertices() > 0 && int_axes(v.dims()) && slab_fit(ctx, need) >= need.nz) device_.emplace(ctx, v);
+}
+
+ReportVolume::ReportVolume(const Volume& v, DeviceVolume&& on_device)
+    : ctx_(on_device.context()), host_(v), device_(std::move(on_device)) {}
+
+SpanResult ReportVolume::spans_at(double s) const {
+    const IsovalueSet iso = IsovalueSet::single(host_.type(), s);
+    return device_ ? count_spans(*device_, iso) : count_spans(ctx_, host_, iso);
+}
+
+IsoCounts ReportVolume::counts_at(double s) const {
+    return device_ ? intersected_counts(*device_, s) : intersected_counts(ctx_, host_, s);
+}
+
+std::int64_t ReportVolume::components_at(double s) const {
+    return device_ ? count_components_at(*device_, s) : count_components_at(ctx_, host_, s);
 }
 
 }  // namespace cli

@@ -6,10 +6,14 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "clfractal/advice.hpp"
+#include "clfractal/components.hpp"
+#include "clfractal/device_volume.hpp"
+#include "clfractal/smooth.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
@@ -152,6 +156,27 @@ Command survey_command();
 Command fd4_command();
 Command local4_command();
 Command report_command();
+
+/// A volume that filter and smooth report on before and after: uploaded once when it fits
+/// the device in one piece (slab_fit), and every report reads that copy; else each report
+/// uploads it as the Volume overloads do (by slabs where needed). `v` must outlive it.
+class ReportVolume {
+public:
+    ReportVolume(clfractal::Context& ctx, const clfractal::Volume& v);
+    /// A result already on the device, with its host copy `v` (no upload).
+    ReportVolume(const clfractal::Volume& v, clfractal::DeviceVolume&& on_device);
+    /// The device copy, or nullptr when the volume does not fit in one piece.
+    const clfractal::DeviceVolume* device() const { return device_ ? &*device_ : nullptr; }
+    /// count_spans at one isovalue (cubes, levels 0 and 1).
+    clfractal::SpanResult spans_at(double s) const;
+    clfractal::IsoCounts counts_at(double s) const;
+    std::int64_t components_at(double s) const;
+
+private:
+    clfractal::Context& ctx_;
+    const clfractal::Volume& host_;
+    std::optional<clfractal::DeviceVolume> device_;
+};
 
 /// The span counts of one kind of a volume file read slice by slice (fd --stream), with
 /// the isovalues given (A:B:STEP), or the default set from a first pass over the file.

@@ -32,8 +32,14 @@ int run_smooth(SmoothArgs a) {
     progress("smooth isosurface of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " (" +
              smooth_variant_name(variant) + "), window " + std::to_string(a.window) + ", on " + ctx.description());
     const bool want_mesh = !a.mesh.empty() || !a.preview.empty();
-    const SmoothResult r = smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
-    const IsoCounts before = intersected_counts(ctx, v, a.iso), after = intersected_counts(ctx, r.volume, a.iso);
+    // The input on the device once (the smoothing and the reports before read it), the
+    // result once (the reports after).
+    const ReportVolume input(ctx, v);
+    const SmoothResult r = input.device()
+                               ? smooth_isosurface(*input.device(), a.iso, a.threshold, a.window, variant, a.tau, want_mesh)
+                               : smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
+    const ReportVolume output(ctx, r.volume);
+    const IsoCounts before = input.counts_at(a.iso), after = output.counts_at(a.iso);
     write_volume(r.volume, a.output, &v);
 
     const double n = double(std::max<std::size_t>(1, v.vertices()));
@@ -50,7 +56,7 @@ int run_smooth(SmoothArgs a) {
               << 100.0 * double(r.vertices_changed) / n << "%)\n"
               << std::defaultfloat << "cubes       " << before.cubes << " -> " << after.cubes << " intersected\n"
               << "grid edges  " << before.edges << " -> " << after.edges << " intersected\n";
-    std::cout << "components  " << count_components_at(ctx, v, a.iso) << " -> " << count_components_at(ctx, r.volume, a.iso)
+    std::cout << "components  " << input.components_at(a.iso) << " -> " << output.components_at(a.iso)
               << " (cube connectivity: 6 below, 26 above)\n";
     std::cout << std::setprecision(4) << "time        " << r.device_seconds << " s device (LD field, edge scan), "
               << r.queue_seconds << " s queue, kernels compiled in " << ctx.compile_seconds() << " s\n"
