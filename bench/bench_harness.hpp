@@ -23,7 +23,7 @@ template <class F> double best_of(int repeats, F f) {
     for (int i = 0; i < repeats; ++i) {
         auto t0 = std::chrono::steady_clock::now();
         f();
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        best = std::min(best, seconds_since(t0));
     }
     return best;
 }

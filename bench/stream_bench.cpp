@@ -54,7 +54,6 @@ void make_slice(std::size_t n, std::size_t z, std::uint8_t* out) {
 }
 
 using clock_type = std::chrono::steady_clock;
-double since(clock_type::time_point t) { return std::chrono::duration<double>(clock_type::now() - t).count(); }
 
 }  // namespace
 
@@ -103,14 +102,14 @@ int main(int argc, char** argv) {
                 for (std::size_t z = 0; z < n; ++z) {
                     auto t = clock_type::now();
                     make_slice(n, z, slice.data());
-                    gen += since(t);
+                    gen += seconds_since(t);
                     t = clock_type::now();
                     stream.push_slice(slice.data());
-                    push += since(t);
+                    push += seconds_since(t);
                 }
                 auto t = clock_type::now();
                 streamed = stream.counts();
-                push += since(t);
+                push += seconds_since(t);
                 if (r == 0 || push < stream_s) stream_s = push, stream_gen_s = gen;
                 if (r == 0)
                     std::printf("batch         %zu slices per launch (%.1f MiB of input)\n", stream.batch_slices(),
@@ -126,7 +125,7 @@ int main(int argc, char** argv) {
             for (int r = 0; r < repeats; ++r) {
                 const auto t = clock_type::now();
                 whole = count_spans(ctx, v, iso, opt);
-                const double s = since(t);
+                const double s = seconds_since(t);
                 if (r == 0 || s < incore_s) incore_s = s;
             }
             std::printf("in-core       %.3f s (%.2f Gvoxel/s), %zu slab(s); peak RSS %.0f MiB\n", incore_s,

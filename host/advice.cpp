@@ -155,9 +155,15 @@ double median(std::vector<double> x) {
 
 }  // namespace
 
-NoiseEstimate estimate_noise(Context& ctx, const Volume& v, const IsovalueSet& iso, double min_share) {
+namespace {
+
+void check_share(double min_share) {
     if (!(min_share >= 0 && min_share <= 1)) throw InputError("the noise estimate's count share must be in [0, 1]");
-    const SpanResult spans = count_spans(ctx, v, iso, SpanOptions{{SpanKind::edges}, 2, 0});
+}
+
+// The estimate from the edge counts of levels 0 and 1 and the host values of `v`.
+NoiseEstimate noise_from(Context& ctx, const Volume& v, const SpanResult& spans, const IsovalueSet& iso,
+                         double min_share) {
     const FdCurve f = fd_curve(ctx, spans, SpanKind::edges);
     const EdgeSpanSums sums = intersected_edge_spans(v, iso);
     const std::size_t k = iso.size();
@@ -189,6 +195,20 @@ NoiseEstimate estimate_noise(Context& ctx, const Volume& v, const IsovalueSet& i
     e.median_ratio = median(ratios);
     e.median_amplitude = median(amplitudes);
     return e;
+}
+
+const SpanOptions noise_spans{{SpanKind::edges}, 2, 0};
+
+}  // namespace
+
+NoiseEstimate estimate_noise(Context& ctx, const Volume& v, const IsovalueSet& iso, double min_share) {
+    check_share(min_share);
+    return noise_from(ctx, v, count_spans(ctx, v, iso, noise_spans), iso, min_share);
+}
+
+NoiseEstimate estimate_noise(const DeviceVolume& v, const IsovalueSet& iso, double min_share) {
+    check_share(min_share);
+    return noise_from(v.context(), v.download(), count_spans(v, iso, noise_spans), iso, min_share);
 }
 
 }  // namespace clfractal

@@ -414,6 +414,11 @@ std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue,
     return count_components(ctx, v, IsovalueSet::single(v.type(), isovalue), mode).components[0];
 }
 
+std::int64_t count_components_at(const DeviceVolume& v, double isovalue, Connectivity mode) {
+    if (!std::isfinite(isovalue)) throw InputError("isovalue must be finite");
+    return count_components(v, IsovalueSet::single(v.type(), isovalue), mode).components[0];
+}
+
 namespace {
 
 template <class T>

@@ -293,7 +293,7 @@ const cl::Program& Context::program(const std::string& family, const std::string
                               cl_error_name(err) + "\n" + log,
                           err);
     }
-    compile_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    compile_seconds_ += seconds_since(t0);
     return programs_.emplace(key, std::move(program)).first->second;
 }
 

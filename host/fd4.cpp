@@ -54,15 +54,17 @@ double bin_width(const Volume& v, const ValueRange& r, double q) {
 // in double, else the host's bin indices (cl_long, -DBIN_INDEX). See fd4.hpp.
 class BinnedLevels {
 public:
-    BinnedLevels(Context& ctx, const Volume& v, double vmin, double q)
+    // `uploaded`: v on the device already (else uploaded here when the device bins it).
+    BinnedLevels(Context& ctx, const Volume& v, const DeviceVolume* uploaded, double vmin, double q)
         : device_bins_(ctx.has_fp64() && ctx.tuning.use_fp64), vmin_(vmin), q_(q) {
         dims_[0] = v.dims();
         dims_[1] = level_dims(v.dims(), 1);
         if (device_bins_) {
             options_ = type_options(v.type());
-            volume_ = DeviceVolume(ctx, v);
+            if (!uploaded) volume_ = DeviceVolume(ctx, v);
+            level0_ = uploaded ? uploaded : &volume_;
             data_[1] = Buffer<unsigned char>(ctx, dims_[1].vertices() * value_size(v.type()));
-            subsample(ctx, volume_.buffer(), v.type(), dims_[0], data_[1].get());
+            subsample(ctx, level0_->buffer(), v.type(), dims_[0], data_[1].get());
         } else {
             options_ = defines({{"T", "long"}}) + " -DBIN_INDEX";
             upload(ctx, 0, v, q);
@@ -73,7 +75,7 @@ public:
     const std::string& options() const { return options_; }
     const Dims& dims(int level) const { return dims_[level]; }
     const cl::Buffer& data(int level) const {
-        return device_bins_ && level == 0 ? volume_.buffer() : data_[level].get();
+        return device_bins_ && level == 0 ? level0_->buffer() : data_[level].get();
     }
     // The kernel arguments vmin and q (BIN_T) of `level`.
     ScalarArg bin_vmin() const { return device_bins_ ? ScalarArg::of(cl_double(vmin_)) : ScalarArg::of(cl_long(0)); }
@@ -97,7 +99,8 @@ private:
     double vmin_, q_;
     std::string options_;
     Dims dims_[2];
-    DeviceVolume volume_;  // level 0 when the device computes the bins
+    DeviceVolume volume_;                  // level 0 uploaded here
+    const DeviceVolume* level0_ = nullptr;  // level 0 when the device computes the bins
     Buffer<unsigned char> data_[2];
 };
 
@@ -149,7 +152,10 @@ void field4(Context& ctx, const BinnedLevels& levels, ValueType type, int window
 
 void check_bin_width(const Volume& v, double q) { check_bin_width(v, value_range(v), q); }
 
-Fd4Result fractal_dimension_4d(Context& ctx, const Volume& v, double q) {
+namespace {
+
+// D4 of `v` (host values), read on the device from `uploaded` when given.
+Fd4Result fd4_of(Context& ctx, const Volume& v, const DeviceVolume* uploaded, double q) {
     check_input(v);
     const ValueRange r = value_range(v);
     Fd4Result res;
@@ -157,32 +163,69 @@ Fd4Result fractal_dimension_4d(Context& ctx, const Volume& v, double q) {
     res.vmin = r.min;
     const auto t0 = std::chrono::steady_clock::now();
     with_cl_errors([&] {
-        const BinnedLevels levels(ctx, v, r.min, res.q);
+        const BinnedLevels levels(ctx, v, uploaded, r.min, res.q);
         res.i4 = sum_bins(ctx, levels, 0);
         res.i4_sub = sum_bins(ctx, levels, 1);
     });
-    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    res.seconds = seconds_since(t0);
     res.d4 = res.i4 && res.i4_sub ? std::log2(double(res.i4) / double(res.i4_sub))
                                   : std::numeric_limits<double>::quiet_NaN();
     return res;
 }
 
-Volume local_fractal_dimension_4d(Context& ctx, const Volume& v, double q, int window) {
+// The checked inputs of an LD4 field: the value range and the bin width.
+struct Ld4Bins {
+    ValueRange r;
+    double q = 0;
+};
+Ld4Bins ld4_bins(const Volume& v, double q, int window) {
     check_input(v);
     local_windows(1, window);  // checks the window before any work
     const ValueRange r = value_range(v);
-    q = bin_width(v, r, q);
+    return {r, bin_width(v, r, q)};
+}
+
+// The LD4 field of `v` (host values; read on the device from `uploaded` when given) into
+// `out` (v.vertices() floats on the device).
+void ld4_of(Context& ctx, const Volume& v, const DeviceVolume* uploaded, const Ld4Bins& b, int window,
+            const cl::Buffer& out) {
+    const ValueRange& r = b.r;
+    const double q = b.q;
+    with_cl_errors([&] {
+        const BinnedLevels levels(ctx, v, uploaded, r.min, q);
+        if (max_bins(r, q) * double(v.dims().cubes()) > double(ctx.tuning.sat_max_32bit))
+            field4<cl_ulong>(ctx, levels, v.type(), window, out);
+        else
+            field4<cl_uint>(ctx, levels, v.type(), window, out);
+    });
+}
+
+}  // namespace
+
+Fd4Result fractal_dimension_4d(Context& ctx, const Volume& v, double q) { return fd4_of(ctx, v, nullptr, q); }
+
+Fd4Result fractal_dimension_4d(const DeviceVolume& v, double q) {
+    return fd4_of(v.context(), v.download(), &v, q);
+}
+
+Volume local_fractal_dimension_4d(Context& ctx, const Volume& v, double q, int window) {
+    const Ld4Bins bins = ld4_bins(v, q, window);
     Volume out(v.dims(), ValueType::float32, v.name);
     out.spacing = v.spacing;
     with_cl_errors([&] {
-        const BinnedLevels levels(ctx, v, r.min, q);
         Buffer<float> field(ctx, v.vertices());
-        if (max_bins(r, q) * double(v.dims().cubes()) > double(ctx.tuning.sat_max_32bit))
-            field4<cl_ulong>(ctx, levels, v.type(), window, field.get());
-        else
-            field4<cl_uint>(ctx, levels, v.type(), window, field.get());
+        ld4_of(ctx, v, nullptr, bins, window, field.get());
         field.read(ctx.queue(), out.as<float>(), out.vertices());
     });
+    return out;
+}
+
+DeviceVolume local_fractal_dimension_4d(const DeviceVolume& v, double q, int window) {
+    const Volume host = v.download();
+    const Ld4Bins bins = ld4_bins(host, q, window);
+    DeviceVolume out = allocate_like(v, ValueType::float32);
+    out.name = v.name;
+    ld4_of(v.context(), host, &v, bins, window, out.buffer());
     return out;
 }
 

@@ -202,14 +202,11 @@ private:
     std::size_t tmp_size_ = 0;
 };
 
-// Output slices per slab: all of them when the volume fits, else as many as fit with the
-// halo (Tuning::slab_bytes bounds the input slab with its halo when set).
-std::size_t slab_slices(const Context& ctx, const Dims& d, ValueType type, const FilterSpec& spec, Mask mask) {
-    check_int_axes(d);
+// What one output slice costs: input and output values, two accumulator temporaries
+// (Gaussian) and the float LD field (masked); every buffer within the largest allocation,
+// all of them within half the device's memory; the filter's radius as halo.
+SlabNeed slab_need(const Dims& d, ValueType type, const FilterSpec& spec, Mask mask) {
     const std::size_t slice = d.nx * d.ny, vs = value_size(type);
-    // Per output slice: input and output values, two accumulator temporaries (Gaussian)
-    // and the float LD field (masked); every buffer within the largest allocation, all
-    // of them within half the device's memory.
     const std::size_t temps = spec.kind == FilterKind::gaussian ? 2 : 0, lds = mask != Mask::none ? 1 : 0;
     const std::size_t acc = accumulator_size(type);
     SlabNeed need;
@@ -219,7 +216,14 @@ std::size_t slab_slices(const Context& ctx, const Dims& d, ValueType type, const
     need.largest_slice_bytes = slice * std::max({vs, temps ? acc : vs, lds ? std::size_t(4) : vs});
     need.memory_divisor = 2;
     need.halo = std::size_t(spec.radius());
-    return plan_slab(ctx, need, d);
+    return need;
+}
+
+// Output slices per slab: all of them when the volume fits, else as many as fit with the
+// halo (Tuning::slab_bytes bounds the input slab with its halo when set).
+std::size_t slab_slices(const Context& ctx, const Dims& d, ValueType type, const FilterSpec& spec, Mask mask) {
+    check_int_axes(d);
+    return plan_slab(ctx, slab_need(d, type, spec, mask), d);
 }
 
 // Filters `v` into `out` slab by slab; `ld` (float32, same dims) for the masked filters.
@@ -345,12 +349,8 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
     res.volume = like(v);
     const Dims d = v.dims();
     auto t = clock::now();
-    std::size_t S = 0;
-    try {
-        S = slab_slices(ctx, d, v.type(), spec, mask);
-    } catch (const InputError&) {
-        S = 0;
-    }
+    // Whether the filter with its mask fits one slab (0: not even one slab fits).
+    const std::size_t S = int_axes(d) ? slab_fit(ctx, slab_need(d, v.type(), spec, mask)) : 0;
     if (S < d.nz) {
         // Too large for one slab: the LD field in-core on its own, the filter by slabs.
         const Volume ld = local_fractal_dimension(ctx, v, iso, window);

@@ -101,6 +101,24 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+/// Writes a NRRD (attached header, raw encoding, native byte order) data slab by data slab
+/// to a temporary file, renamed into place by close(); removed if never closed. teem writes
+/// the header, the very header write_volume writes for the same dims, type and geometry, so
+/// a volume written in pieces is byte for byte the volume written whole.
+class NrrdWriter {
+public:
+    NrrdWriter(const std::string& path, const Dims& dims, ValueType type, const Geometry& g);
+    ~NrrdWriter();
+    NrrdWriter(const NrrdWriter&) = delete;
+    NrrdWriter& operator=(const NrrdWriter&) = delete;
+    void write(const void* data, std::size_t bytes);
+    void close();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 /// Writes a whole volume with NiftiWriter.
 void write_nifti(const Volume& v, const std::string& path);
 

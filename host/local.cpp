@@ -17,11 +17,15 @@ namespace clfractal {
 namespace {
 
 void check_window(int window) {
-    if (window < 2 || window % 2 != 0)
-        throw InputError("--window " + std::to_string(window) + ": the window must be even and at least 2");
+    const std::string problem = window_problem(window);
+    if (!problem.empty()) throw InputError("--window " + std::to_string(window) + ": " + problem);
 }
 
 }  // namespace
+
+std::string window_problem(int window) {
+    return window < 2 || window % 2 != 0 ? "the window must be even and at least 2" : "";
+}
 
 void check_local_arguments(double iso, int window) {
     check_window(window);

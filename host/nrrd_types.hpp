@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "clfractal/volume.hpp"
+#include "io_formats.hpp"
 
 namespace clfractal {
 
@@ -19,5 +20,12 @@ inline std::optional<ValueType> value_type_of_nrrd(int nrrd_type) {
         if (nrrd_type_of(t) == nrrd_type) return t;
     return std::nullopt;
 }
+
+namespace io {
+/// Where the grid of a NRRD header lies: the spacing of each axis (its scalar spacing or the
+/// length of its space direction) and, for an RAS or LPS space, the LPS origin and unit axes.
+/// The one reading, for whole volumes and SliceReader alike.
+Geometry nrrd_geometry(const Nrrd* n);
+}  // namespace io
 
 }  // namespace clfractal

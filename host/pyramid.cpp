@@ -32,4 +32,12 @@ void subsample(Context& ctx, const cl::Buffer& src, ValueType type, const Dims& 
     k(cl::NDRange(s.nx, s.ny, s.nz), cl::NullRange, src, int(d.nx), int(d.ny), dst, int(s.nx), int(s.ny));
 }
 
+DeviceVolume subsample(const DeviceVolume& v) {
+    DeviceVolume out = DeviceVolume::allocate(v.context(), level_dims(v.dims(), 1), v.type());
+    out.spacing = {2 * v.spacing[0], 2 * v.spacing[1], 2 * v.spacing[2]};
+    out.name = v.name;
+    with_cl_errors([&] { subsample(v.context(), v.buffer(), v.type(), v.dims(), out.buffer()); });
+    return out;
+}
+
 }  // namespace clfractal

@@ -163,15 +163,8 @@ struct SliceReader::Impl {
         check_dims(dims, spec);
         file_type = *value_type_of_nrrd(header->type);
         file_value_size = value_size(file_type);
-        for (unsigned a = 0; a < 3; ++a) {
-            double sp = 1.0, dir[NRRD_SPACE_DIM_MAX];
-            const int status = nrrdSpacingCalculate(header, a, &sp, dir);
-            sp = std::fabs(sp);
-            if ((status == nrrdSpacingStatusScalarNoSpace || status == nrrdSpacingStatusScalarWithSpace ||
-                 status == nrrdSpacingStatusDirection) &&
-                std::isfinite(sp) && sp > 0)
-                spacing[a] = sp;
-        }
+        geometry = io::nrrd_geometry(header);
+        spacing = geometry.spacing;
         swap = file_value_size > 1 && (nio->endian == airEndianBig) != host_big_endian;
         data_path = checked.data_files[0];
         data_offset = checked.attached ? std::size_t(checked.data_offset) : 0;
@@ -250,16 +243,6 @@ struct SliceReader::Impl {
         }
     }
 
-    // `p` holds count slices of file values.
-    void check_finite_slices(const void* p, std::size_t count) {
-        const NonFinite nf = count_non_finite(p, file_type, count * slice_values());
-        if (nf.nan + nf.inf == 0) return;
-        const double f = visit_type(file_type, [&](auto zero) { return double(static_cast<const decltype(zero)*>(p)[nf.first]); });
-        throw InputError(non_finite_message(spec + " (slices " + std::to_string(next) + ".." +
-                                                std::to_string(next + count - 1) + ")",
-                                            nf, f, dims, next * slice_values()));
-    }
-
     void read(void* dst, std::size_t count) {
         if (next + count > dims.nz) throw std::logic_error("SliceReader::read past the last slice");
         if (count == 0) return;
@@ -278,7 +261,7 @@ struct SliceReader::Impl {
                 read_file_bytes(file_values, count);
                 if (swap) swap_bytes(file_values, count * slice_values(), file_value_size);
             }
-            check_finite_slices(file_values, count);
+            check_finite(file_values, file_type, count * slice_values(), dims, next * slice_values(), spec);
             if (convert) convert_values(file_values, file_type, out, type, count * slice_values());
         }
         next += count;
@@ -318,57 +301,36 @@ void SliceReader::rewind() { impl_->rewind(); }
 void SliceReader::seek(std::size_t z) { impl_->seek(z); }
 
 struct NrrdSliceWriter::Impl {
-    std::string path, tmp;
-    Dims dims;
-    std::size_t slice_bytes = 0, written = 0;
-    std::ofstream out;
-    bool closed = false;
+    std::unique_ptr<io::NrrdWriter> out;
+    std::size_t slice_bytes = 0, nz = 0, written = 0;
 };
 
 NrrdSliceWriter::NrrdSliceWriter(const std::string& path, const Dims& dims, ValueType type,
                                  const std::array<double, 3>& spacing)
     : impl_(std::make_unique<Impl>()) {
-    check_dims(dims, path);
-    Impl& w = *impl_;
-    w.path = path;
-    w.tmp = temporary_path(path);
-    w.dims = dims;
-    w.slice_bytes = dims.nx * dims.ny * value_size(type);
-    w.out.open(w.tmp, std::ios::binary);
-    if (!w.out) discard_temporary(w.tmp, path, std::string("cannot write: ") + std::strerror(errno));
-    w.out << "NRRD0004\ntype: " << nrrd_type_name(type) << "\ndimension: 3\nsizes: " << dims.nx << " " << dims.ny
-          << " " << dims.nz << "\n";
-    w.out.precision(17);
-    w.out << "spacings: " << spacing[0] << " " << spacing[1] << " " << spacing[2] << "\n";
-    if (value_size(type) > 1) w.out << "endian: " << (host_big_endian ? "big" : "little") << "\n";
-    w.out << "encoding: raw\n\n";
+    io::Geometry g;
+    g.spacing = spacing;
+    impl_->out = std::make_unique<io::NrrdWriter>(path, dims, type, g);
+    impl_->slice_bytes = dims.nx * dims.ny * value_size(type);
+    impl_->nz = dims.nz;
 }
 
-NrrdSliceWriter::~NrrdSliceWriter() {
-    if (impl_->closed) return;
-    impl_->out.close();
-    remove_temporary(impl_->tmp);
-}
+NrrdSliceWriter::~NrrdSliceWriter() = default;
 
 void NrrdSliceWriter::write(const void* slices, std::size_t count) {
     Impl& w = *impl_;
-    if (w.closed || w.written + count > w.dims.nz) throw std::logic_error("NrrdSliceWriter::write: too many slices");
-    w.out.write(static_cast<const char*>(slices), std::streamsize(count * w.slice_bytes));
-    if (!w.out) discard_temporary(w.tmp, w.path, std::string("cannot write: ") + std::strerror(errno));
+    if (w.written + count > w.nz) throw std::logic_error("NrrdSliceWriter::write: too many slices");
+    w.out->write(slices, count * w.slice_bytes);
     w.written += count;
 }
 
 void NrrdSliceWriter::close() {
-    Impl& w = *impl_;
-    if (w.written != w.dims.nz) throw std::logic_error("NrrdSliceWriter::close: not every slice was written");
-    w.out.close();
-    if (!w.out) discard_temporary(w.tmp, w.path, std::string("cannot write: ") + std::strerror(errno));
-    w.closed = true;
-    rename_into_place(w.tmp, w.path);
+    if (impl_->written != impl_->nz) throw std::logic_error("NrrdSliceWriter::close: not every slice was written");
+    impl_->out->close();
 }
 
 struct SliceWriter::Impl {
-    std::unique_ptr<NrrdSliceWriter> nrrd;
+    std::unique_ptr<io::NrrdWriter> nrrd;
     std::unique_ptr<io::NiftiWriter> nifti;
     std::size_t slice_bytes = 0;
 };
@@ -378,12 +340,12 @@ SliceWriter::SliceWriter(const std::string& path, const Dims& dims, ValueType ty
     impl_->slice_bytes = dims.nx * dims.ny * value_size(type);
     const io::Geometry& g = grid.impl_->geometry;
     if (io::nifti_path(path)) impl_->nifti = std::make_unique<io::NiftiWriter>(path, dims, type, g);
-    else impl_->nrrd = std::make_unique<NrrdSliceWriter>(path, dims, type, g.spacing);
+    else impl_->nrrd = std::make_unique<io::NrrdWriter>(path, dims, type, g);
 }
 SliceWriter::~SliceWriter() = default;
 void SliceWriter::write(const void* slices, std::size_t count) {
     if (impl_->nifti) impl_->nifti->write(slices, count * impl_->slice_bytes);
-    else impl_->nrrd->write(slices, count);
+    else impl_->nrrd->write(slices, count * impl_->slice_bytes);
 }
 void SliceWriter::close() {
     if (impl_->nifti) impl_->nifti->close();

@@ -130,7 +130,7 @@ SpanResult count_spans_openmp(const Volume& v, const IsovalueSet& iso, const Spa
             c.counts.push_back(std::move(counts));
         }
     }
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.seconds = seconds_since(t0);
     return r;
 }
 

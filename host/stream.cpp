@@ -8,20 +8,16 @@
 
 #include "clfractal/local.hpp"
 #include "clfractal/pyramid.hpp"
+#include "clfractal/volume_io.hpp"
 
 namespace clfractal {
 
 namespace {
 
-// Float slices must be finite, like whole volumes (DESIGN §1).
+// Float slices must be finite, like whole volumes (DESIGN §1); z is the slice's index.
 void check_slice(const void* slice, ValueType type, std::size_t nx, std::size_t ny, std::size_t z) {
     if (!slice) throw std::logic_error("push_slice: null slice");
-    const std::size_t n = nx * ny, i = first_non_finite(slice, type, n);
-    if (i == n) return;
-    const double f = visit_type(type, [&](auto zero) { return double(static_cast<const decltype(zero)*>(slice)[i]); });
-    throw InputError("slice " + std::to_string(z) + ": float data contains " +
-                     (std::isnan(f) ? "NaN" : f > 0 ? "Inf" : "-Inf") + " at (" + std::to_string(i % nx) + "," +
-                     std::to_string(i / nx) + ")");
+    check_finite(slice, type, nx * ny, Dims{nx, ny, z + 1}, z * nx * ny, "stream");
 }
 
 std::size_t checked_slice_bytes(std::size_t nx, std::size_t ny, ValueType type) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -147,20 +148,29 @@ double axis_spacing(const Nrrd* n, unsigned axis) {
     return std::isfinite(spacing) && spacing > 0 ? spacing : 1.0;
 }
 
-/// A NRRD space (RAS or LPS, 3D) becomes the Volume's LPS origin and unit axes.
-void read_nrrd_orientation(const Nrrd* n, Volume& v) {
+/// A NRRD space (RAS or LPS, 3D) becomes the LPS origin and unit axes.
+void read_nrrd_orientation(const Nrrd* n, io::Geometry& g) {
     const bool ras = n->space == nrrdSpaceRightAnteriorSuperior, lps = n->space == nrrdSpaceLeftPosteriorSuperior;
     if ((!ras && !lps) || n->spaceDim != 3) return;
     const double sign[3] = {ras ? -1.0 : 1.0, ras ? -1.0 : 1.0, 1.0};
+    auto axes = g.axes;
     for (unsigned a = 0; a < 3; ++a) {
         double len = 0;
         for (int r = 0; r < 3; ++r) len += n->axis[a].spaceDirection[r] * n->axis[a].spaceDirection[r];
         len = std::sqrt(len);
         if (!(len > 0) || !std::isfinite(len)) return;
-        for (int r = 0; r < 3; ++r) v.axes[a][r] = sign[r] * n->axis[a].spaceDirection[r] / len;
+        for (int r = 0; r < 3; ++r) axes[a][r] = sign[r] * n->axis[a].spaceDirection[r] / len;
     }
-    for (int r = 0; r < 3; ++r) v.origin[r] = std::isfinite(n->spaceOrigin[r]) ? sign[r] * n->spaceOrigin[r] : 0.0;
-    v.oriented = true;
+    g.axes = axes;
+    for (int r = 0; r < 3; ++r) g.origin[r] = std::isfinite(n->spaceOrigin[r]) ? sign[r] * n->spaceOrigin[r] : 0.0;
+    g.oriented = true;
+}
+
+void set_geometry(Volume& v, const io::Geometry& g) {
+    v.spacing = g.spacing;
+    v.oriented = g.oriented;
+    v.origin = g.origin;
+    v.axes = g.axes;
 }
 
 /// synthetic:NAME[:N], N in [2, 2048] (default 128).
@@ -205,6 +215,13 @@ void read_file_data(const std::string& file, std::uint64_t offset, void* dst, st
 }
 
 }  // namespace
+
+io::Geometry io::nrrd_geometry(const Nrrd* n) {
+    io::Geometry g;
+    for (unsigned a = 0; a < 3; ++a) g.spacing[a] = axis_spacing(n, a);
+    read_nrrd_orientation(n, g);
+    return g;
+}
 
 bool parse_raw_name(const std::string& path, Dims& dims, ValueType& type) {
     Dims d;
@@ -286,8 +303,7 @@ Volume read_nrrd(const std::string& path) {
         else read_file_data(checked.data_files[0], offset, data, bytes, path);
         if (value_bytes > 1 && checked.big_endian != host_big_endian)
             for (std::size_t i = 0; i < bytes; i += value_bytes) std::reverse(data + i, data + i + value_bytes);
-        for (unsigned a = 0; a < 3; ++a) v.spacing[a] = axis_spacing(header.get(), a);
-        read_nrrd_orientation(header.get(), v);
+        set_geometry(v, io::nrrd_geometry(header.get()));
         return v;
     }
     if (nrrdLoad(nrrd.get(), path.c_str(), nullptr))
@@ -295,8 +311,7 @@ Volume read_nrrd(const std::string& path) {
 
     Volume v(dims, type, path);
     std::memcpy(v.data(), nrrd->data, v.size_bytes());
-    for (unsigned a = 0; a < 3; ++a) v.spacing[a] = axis_spacing(nrrd.get(), a);
-    read_nrrd_orientation(nrrd.get(), v);
+    set_geometry(v, io::nrrd_geometry(nrrd.get()));
     return v;
 }
 
@@ -329,29 +344,38 @@ Volume read_volume(const std::string& spec, const RawOptions& raw, FiniteCheck f
 
 namespace {
 
-void write_nrrd_grid(const Volume& v, const std::string& path, bool gzip, const io::Geometry& g) {
-    const std::string tmp = temporary_path(path);
-
-    // teem only reads the data when writing; the wrap does not take ownership.
-    std::unique_ptr<Nrrd, NrrdNix> nrrd(nrrdNew());
-    const std::size_t sizes[3] = {v.dims().nx, v.dims().ny, v.dims().nz};
-    NrrdIoPtr nio(nrrdIoStateNew());
-    nio->format = nrrdFormatNRRD;
-    nio->encoding = gzip ? nrrdEncodingGzip : nrrdEncodingRaw;
-    bool failed =
-        nrrdWrap_nva(nrrd.get(), const_cast<void*>(v.data()), nrrd_type_of(v.type()), 3, sizes);
+// Describes a grid to teem: type, sizes and the spacing, or for oriented grids the LPS
+// space directions (axis * spacing) and origin; `data` is wrapped, not owned, and read only
+// when teem writes data. Returns teem's failure flag (the message on biff's stack).
+bool describe_grid(Nrrd* nrrd, const void* data, const Dims& d, ValueType t, const io::Geometry& g) {
+    const std::size_t sizes[3] = {d.nx, d.ny, d.nz};
+    bool failed = nrrdWrap_nva(nrrd, const_cast<void*>(data), nrrd_type_of(t), 3, sizes);
     if (!failed && g.oriented) {
-        // Space directions carry the spacing: axis * spacing, in LPS.
         double directions[NRRD_DIM_MAX][NRRD_SPACE_DIM_MAX] = {};
         for (int a = 0; a < 3; ++a)
             for (int r = 0; r < 3; ++r) directions[a][r] = g.axes[a][r] * g.spacing[a];
-        failed = nrrdSpaceSet(nrrd.get(), nrrdSpaceLeftPosteriorSuperior) ||
-                 nrrdSpaceOriginSet(nrrd.get(), const_cast<double*>(g.origin.data()));
-        if (!failed) nrrdAxisInfoSet_nva(nrrd.get(), nrrdAxisInfoSpaceDirection, directions);
+        failed = nrrdSpaceSet(nrrd, nrrdSpaceLeftPosteriorSuperior) ||
+                 nrrdSpaceOriginSet(nrrd, const_cast<double*>(g.origin.data()));
+        if (!failed) nrrdAxisInfoSet_nva(nrrd, nrrdAxisInfoSpaceDirection, directions);
     } else if (!failed) {
-        nrrdAxisInfoSet_nva(nrrd.get(), nrrdAxisInfoSpacing, g.spacing.data());
+        nrrdAxisInfoSet_nva(nrrd, nrrdAxisInfoSpacing, g.spacing.data());
     }
-    if (!failed) failed = nrrdSave(tmp.c_str(), nrrd.get(), nio.get());
+    return failed;
+}
+
+NrrdIoPtr nrrd_io(bool gzip, bool skip_data) {
+    NrrdIoPtr nio(nrrdIoStateNew());
+    nio->format = nrrdFormatNRRD;
+    nio->encoding = gzip ? nrrdEncodingGzip : nrrdEncodingRaw;
+    nio->skipData = skip_data ? AIR_TRUE : AIR_FALSE;
+    return nio;
+}
+
+void write_nrrd_grid(const Volume& v, const std::string& path, bool gzip, const io::Geometry& g) {
+    const std::string tmp = temporary_path(path);
+    std::unique_ptr<Nrrd, NrrdNix> nrrd(nrrdNew());
+    const bool failed = describe_grid(nrrd.get(), v.data(), v.dims(), v.type(), g) ||
+                        nrrdSave(tmp.c_str(), nrrd.get(), nrrd_io(gzip, false).get());
     if (failed) discard_temporary(tmp, path, "cannot write NRRD: " + biff_message());
     rename_into_place(tmp, path);
 }
@@ -376,6 +400,64 @@ void write_volume(const Volume& v, const std::string& path, const Volume* grid) 
     }
     write_nrrd_grid(v, path, false, g);
 }
+
+namespace io {
+
+struct NrrdWriter::Impl {
+    std::string path, tmp;
+    std::FILE* file = nullptr;
+    std::size_t expected = 0, written = 0;
+    bool closed = false;
+
+    [[noreturn]] void fail(const std::string& message) {
+        if (file) std::fclose(file);
+        file = nullptr;
+        discard_temporary(tmp, path, message);
+    }
+};
+
+NrrdWriter::NrrdWriter(const std::string& path, const Dims& dims, ValueType type, const Geometry& g)
+    : impl_(std::make_unique<Impl>()) {
+    check_dims(dims, path);
+    Impl& w = *impl_;
+    w.path = path;
+    w.tmp = temporary_path(path);
+    w.expected = dims.vertices() * value_size(type);
+    w.file = std::fopen(w.tmp.c_str(), "wb");
+    if (!w.file) w.fail(std::string("cannot write: ") + std::strerror(errno));
+    // teem writes the header alone (skipData): it checks that the grid has data but never
+    // reads it, so one byte stands in for the slices that follow.
+    static const unsigned char stand_in = 0;
+    std::unique_ptr<Nrrd, NrrdNix> nrrd(nrrdNew());
+    if (describe_grid(nrrd.get(), &stand_in, dims, type, g) || nrrdWrite(w.file, nrrd.get(), nrrd_io(false, true).get()))
+        w.fail("cannot write NRRD: " + biff_message());
+}
+
+NrrdWriter::~NrrdWriter() {
+    if (impl_->closed) return;
+    if (impl_->file) std::fclose(impl_->file);
+    remove_temporary(impl_->tmp);
+}
+
+void NrrdWriter::write(const void* data, std::size_t bytes) {
+    Impl& w = *impl_;
+    if (w.closed || w.written + bytes > w.expected) throw std::logic_error("NrrdWriter::write: more data than the grid");
+    if (bytes && std::fwrite(data, 1, bytes, w.file) != bytes)
+        w.fail(std::string("cannot write: ") + std::strerror(errno));
+    w.written += bytes;
+}
+
+void NrrdWriter::close() {
+    Impl& w = *impl_;
+    if (w.written != w.expected) throw std::logic_error("NrrdWriter::close: not all of the data was written");
+    const int flushed = std::fclose(w.file);
+    w.file = nullptr;
+    if (flushed != 0) w.fail(std::string("cannot write: ") + std::strerror(errno));
+    w.closed = true;
+    rename_into_place(w.tmp, w.path);
+}
+
+}  // namespace io
 
 std::vector<std::string> describe_volume_file(const std::string& spec, const RawOptions& raw) {
     if (spec.rfind("synthetic:", 0) == 0) return {"format    synthetic"};
@@ -402,21 +484,27 @@ NonFinite count_non_finite(const void* data, ValueType t, std::size_t n) {
     return r;
 }
 
-std::string non_finite_message(const std::string& what, const NonFinite& nf, double first_value, const Dims& d,
-                               std::size_t offset) {
+void check_finite(const void* data, ValueType t, std::size_t n, const Dims& d, std::size_t offset,
+                  const std::string& what) {
+    const NonFinite nf = count_non_finite(data, t, n);
+    if (nf.nan + nf.inf == 0) return;
     std::string counts;
     if (nf.nan) counts = std::to_string(nf.nan) + " NaN";
     if (nf.inf) counts += (counts.empty() ? "" : " and ") + std::to_string(nf.inf) + " infinite";
+    counts += nf.nan + nf.inf > 1 ? " values" : " value";
+    const std::size_t plane = d.nx * d.ny, z0 = offset / plane, z1 = (offset + n - 1) / plane;
+    if (offset != 0 || n != d.vertices())
+        counts += z0 == z1 ? " in slice " + std::to_string(z0) : " in slices " + std::to_string(z0) + ".." + std::to_string(z1);
+    const double f = visit_type(t, [&](auto zero) { return double(static_cast<const decltype(zero)*>(data)[nf.first]); });
     const std::size_t i = offset + nf.first;
-    return what + ": float data contains " + counts + " value" + (nf.nan + nf.inf > 1 ? "s" : "") + " (the first, " +
-           (std::isnan(first_value) ? "NaN" : first_value > 0 ? "Inf" : "-Inf") + ", at vertex (" +
-           std::to_string(i % d.nx) + "," + std::to_string(i / d.nx % d.ny) + "," + std::to_string(i / (d.nx * d.ny)) +
-           ")); counting, filtering and meshing need finite values";
+    throw InputError(what + ": float data contains " + counts + " (the first, " +
+                     (std::isnan(f) ? "NaN" : f > 0 ? "Inf" : "-Inf") + ", at vertex (" + std::to_string(i % d.nx) + "," +
+                     std::to_string(i / d.nx % d.ny) + "," + std::to_string(i / plane) +
+                     ")); counting, filtering and meshing need finite values");
 }
 
 void check_finite(const Volume& v, const std::string& what) {
-    const NonFinite nf = count_non_finite(v.data(), v.type(), v.vertices());
-    if (nf.nan + nf.inf) throw InputError(non_finite_message(what, nf, v.value(nf.first), v.dims(), 0));
+    check_finite(v.data(), v.type(), v.vertices(), v.dims(), 0, what);
 }
 
 }  // namespace clfractal

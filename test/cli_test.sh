@@ -202,12 +202,7 @@ expect 2 'clfractal: error: .*no edge' -- "$bin" noise --volume pts.nrrd --iso 1
 # local --stream: the field read and written slice by slice is the same file's data.
 expect 0 'mean LD' -- "$bin" -q local st_21x17x29_uint8.raw --iso 60 --window 4 -o ld_whole.nrrd
 expect 0 'streamed, gzip' -- "$bin" -q local st.nrrd --iso 60 --window 4 --stream -o ld_stream.nrrd
-python3 - <<'PY' && pass || fail "local --stream field differs from local"
-def data(p):
-    b = open(p, 'rb').read()
-    return b[b.index(b'\n\n') + 2:]
-assert data('ld_whole.nrrd') == data('ld_stream.nrrd')
-PY
+cmp -s ld_whole.nrrd ld_stream.nrrd && pass || fail "local --stream wrote other bytes than local"
 expect 2 'clfractal: error: .*--mesh' -- "$bin" -q local st.nrrd --iso 60 --stream -o x.nrrd --mesh x.ply
 expect 2 'clfractal: error: .*window' -- "$bin" -q local st.nrrd --iso 60 --window 3 --stream -o x.nrrd
 [ ! -e x.nrrd ] && pass || fail "local --stream left an output after an error"
@@ -220,6 +215,12 @@ expect 0 'changed +0 vertices' -- "$bin" -q filter synthetic:noisy-sphere:24 --m
 expect 0 'components +[0-9]+ +[0-9]+' -- "$bin" -q filter synthetic:noisy-sphere:24 --median --iso 128 -o comp.nrrd
 expect 0 'components +[0-9]+ -> [0-9]+' -- "$bin" -q smooth synthetic:noisy-sphere:24 --iso 128 --threshold 2.4 -o sm_comp.nrrd
 expect 0 'LD-guided' -- "$bin" -q filter synthetic:noisy-sphere:24 --bilateral 1,20 --ld-guided --iso 128 -o ldb.nrrd
+# The before/after reports read the input uploaded once (CLFRACTAL_UPLOADS prints the count):
+# filter: the input once (reports and filter); targeted: the input for the reports, once more
+# inside the targeted filter, the result once; smooth: the input once, the result once.
+expect 0 'clfractal: uploads 1$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q filter synthetic:noisy-sphere:24 --median --iso 128 -o up.nrrd
+expect 0 'clfractal: uploads 3$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q filter synthetic:noisy-sphere:24 --median --fractal --iso 128 --threshold 2.4 -o up.nrrd
+expect 0 'clfractal: uploads 2$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q smooth synthetic:noisy-sphere:24 --iso 128 --threshold 2.4 -o up.nrrd
 expect 0 'float32' -- "$bin" -q filter ml.nrrd --bilateral 1,0.2 -o mlb.nrrd
 expect 0 'float32' -- "$bin" info mlb.nrrd
 expect 2 'clfractal: error: .*exactly one' -- "$bin" filter synthetic:sphere:20 -o bad.nrrd
@@ -236,10 +237,8 @@ expect 2 'clfractal: error: .*short_10x10x10_uint8.raw' -- "$bin" filter short_1
 "$bin" -q gen noisy-sphere --size 30 -o ns30.nrrd >/dev/null
 expect 0 'streamed 30 slices' -- "$bin" -q filter ns30.nrrd --median --fractal --iso 128 --threshold 2.4 -o fs.nrrd --stream
 "$bin" -q filter ns30.nrrd --median --fractal --iso 128 --threshold 2.4 -o fw.nrrd >fw.out
-/usr/bin/python3 - <<'PY' && pass || fail "filter --stream data differs from the whole-volume filter"
-a, b = (open(f, "rb").read().split(b"\n\n", 1)[1] for f in ("fs.nrrd", "fw.nrrd"))
-assert a == b and len(a) == 30 ** 3
-PY
+cmp -s fs.nrrd fw.nrrd && pass || fail "filter --stream wrote other bytes than the whole-volume filter"
+[ "$(stat -c %s fw.nrrd)" -gt $((30 ** 3)) ] && pass || fail "filter output too short"
 expect 2 'clfractal: error: --stream: only with --fractal' -- "$bin" filter ns30.nrrd --median --stream -o x.nrrd
 expect 2 'clfractal: error: filter radius 3 exceeds k/2 = 2' -- "$bin" filter ns30.nrrd --gaussian 1 --fractal --iso 128 --threshold 2 --window 4 --stream -o x.nrrd
 [ ! -e x.nrrd ] && pass || fail "a NRRD was written for a refused --stream"

@@ -2,10 +2,14 @@
 // memory and the pointer is aligned, a copy otherwise; a pipeline that uploads its volume once.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 
+#include "clfractal/advice.hpp"
 #include "clfractal/components.hpp"
+#include "clfractal/fd4.hpp"
+#include "clfractal/pyramid.hpp"
 #include "clfractal/device_volume.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
@@ -142,6 +146,49 @@ TEST_CASE("span counts and components of a DeviceVolume equal the Volume overloa
     const ComponentCurve c = count_components(dv, iso);
     CHECK(ctx().uploads() == before);
     CHECK(c.components == count_components(ctx(), v, iso).components);
+}
+
+TEST_CASE("D4, LD4, the pyramid, the noise estimate and components at S of a DeviceVolume: no upload, same results") {
+    testutil::TuningGuard guard;
+    for (ValueType t : {ValueType::uint8, ValueType::int16, ValueType::float32}) {
+        CAPTURE(value_type_name(t));
+        Volume v = testutil::random_volume({13, 10, 9}, t, -20, 60, 11);
+        v.spacing = {0.5, 1.0, 2.0};
+        const IsovalueSet iso = IsovalueSet::for_volume(v, 32);
+        for (bool fp64 : {true, false}) {  // bins on the device, or the host's bin indices
+            CAPTURE(fp64);
+            ctx().tuning.use_fp64 = fp64;
+            const DeviceVolume dv(ctx(), v);
+            const std::uint64_t before = ctx().uploads();
+            const Fd4Result d4 = fractal_dimension_4d(dv, 0);
+            const Volume ld4 = local_fractal_dimension_4d(dv, 0, 4).download();
+            const Volume sub = subsample(dv).download();
+            const NoiseEstimate noise = estimate_noise(dv, iso, 0.0);
+            const std::int64_t comp = count_components_at(dv, 20.5);
+            CHECK(ctx().uploads() == before);
+            const Fd4Result want = fractal_dimension_4d(ctx(), v, 0);
+            CHECK(d4.i4 == want.i4);
+            CHECK(d4.i4_sub == want.i4_sub);
+            CHECK(d4.q == want.q);
+            const Volume want_ld4 = local_fractal_dimension_4d(ctx(), v, 0, 4);
+            CHECK(std::memcmp(ld4.data(), want_ld4.data(), want_ld4.size_bytes()) == 0);
+            CHECK(ld4.spacing == v.spacing);
+            const Volume want_sub = subsample(v);
+            REQUIRE(sub.dims() == want_sub.dims());
+            CHECK(std::memcmp(sub.data(), want_sub.data(), want_sub.size_bytes()) == 0);
+            CHECK(sub.spacing == want_sub.spacing);
+            const NoiseEstimate want_noise = estimate_noise(ctx(), v, iso, 0.0);
+            CHECK(noise.edges == want_noise.edges);
+            CHECK(noise.used == want_noise.used);
+            for (std::size_t j = 0; j < iso.size(); ++j) {
+                CHECK((noise.ratio[j] == want_noise.ratio[j] || (std::isnan(noise.ratio[j]) && std::isnan(want_noise.ratio[j]))));
+                CHECK((noise.mean_span[j] == want_noise.mean_span[j] ||
+                       (std::isnan(noise.mean_span[j]) && std::isnan(want_noise.mean_span[j]))));
+            }
+            CHECK(comp == count_components_at(ctx(), v, 20.5));
+            CHECK(comp == count_components_by_labelling(v, 20.5));
+        }
+    }
 }
 
 }  // TEST_SUITE

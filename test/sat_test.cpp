@@ -109,4 +109,25 @@ TEST_CASE("a device buffer is transformed in place") {
     CHECK_THROWS_AS(parse_variant<SatVariant>("no-such-variant"), InputError);
 }
 
+TEST_CASE("the table of a uint32 DeviceVolume: a new device volume, no upload, the input kept") {
+    for (const Dims& d : sizes) {
+        CAPTURE(dims_string(d));
+        const auto u = random_counts<cl_uint>(d, 91);
+        Volume v(d, ValueType::uint32);
+        std::copy(u.begin(), u.end(), v.as<cl_uint>());
+        v.spacing = {1.0, 2.0, 3.0};
+        const DeviceVolume dv(ctx(), v);
+        const std::uint64_t before = ctx().uploads();
+        const DeviceVolume table = summed_area_table(dv);
+        CHECK(ctx().uploads() == before);
+        const Volume t = table.download();
+        CHECK(std::vector<cl_uint>(t.as<cl_uint>(), t.as<cl_uint>() + t.vertices()) == ref::summed_area_table(u, d));
+        CHECK(t.spacing == v.spacing);
+        const Volume kept = dv.download();
+        CHECK(std::vector<cl_uint>(kept.as<cl_uint>(), kept.as<cl_uint>() + kept.vertices()) == u);
+    }
+    const Volume bytes(Dims{2, 2, 2}, ValueType::uint8);
+    CHECK_THROWS_AS(summed_area_table(DeviceVolume(ctx(), bytes)), InputError);
+}
+
 }  // TEST_SUITE("sat")

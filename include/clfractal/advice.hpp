@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/volume.hpp"
 
@@ -78,6 +79,9 @@ struct NoiseEstimate {
 /// Estimates the noise of `v` at every isovalue of `iso` whose edge count E_G'(s) is at least
 /// min_share x the largest (the edge counts on the device, the span sums on the host).
 NoiseEstimate estimate_noise(Context& ctx, const Volume& v, const IsovalueSet& iso, double min_share = 0.01);
+/// The same for a volume already on the device: the edge counts read it there (no upload),
+/// the span sums a download.
+NoiseEstimate estimate_noise(const DeviceVolume& v, const IsovalueSet& iso, double min_share = 0.01);
 
 /// Sum of the spans b - a of the grid edges (all three axes) with a < s <= b, for every
 /// isovalue of `iso`, and their count: one pass over the edges with a difference array.

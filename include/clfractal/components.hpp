@@ -56,6 +56,9 @@ ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, C
 std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue,
                                  Connectivity mode = Connectivity::cube);
 
+/// The same for a volume already on the device (no upload).
+std::int64_t count_components_at(const DeviceVolume& v, double isovalue, Connectivity mode = Connectivity::cube);
+
 /// The same number at one isovalue by labelling: breadth-first search over A and over C
 /// with the mode's neighbourhoods, b0(A) + b0(C) - 1 (0 when either is empty). O(N) per
 /// isovalue, 1 byte per vertex: the obvious per-isovalue alternative, kept as the

@@ -29,6 +29,7 @@
 #include <cstdint>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -53,6 +54,10 @@ struct Fd4Result {
 /// I4 of G and G' and D4 of `v` with bin width `q` (0: default_bin_width). The sums are
 /// per-row reductions on the device, added on the host. Throws InputError for a bad q.
 Fd4Result fractal_dimension_4d(Context& ctx, const Volume& v, double q = 0);
+/// The same for a volume already on the device: with the bins computed on the device (fp64)
+/// the kernels read it there (no upload); the value range and the finiteness check read a
+/// download, as does the host-binned path.
+Fd4Result fractal_dimension_4d(const DeviceVolume& v, double q = 0);
 
 /// The LD4 field of `v` (float32, same dims and spacing; NaN where undefined) for bin width
 /// `q` (0: default) and even window `window` >= 2. Tables are 32-bit when the largest
@@ -60,5 +65,8 @@ Fd4Result fractal_dimension_4d(Context& ctx, const Volume& v, double q = 0);
 /// else 64-bit; the query kernels follow Tuning::local_variant. In-core only: a volume
 /// whose tables exceed the device's largest allocation is refused with InputError.
 Volume local_fractal_dimension_4d(Context& ctx, const Volume& v, double q = 0, int window = 8);
+/// The same for a volume already on the device; the field stays there (no upload; the
+/// range reads a download, as above).
+DeviceVolume local_fractal_dimension_4d(const DeviceVolume& v, double q = 0, int window = 8);
 
 }  // namespace clfractal

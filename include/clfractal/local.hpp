@@ -51,7 +51,11 @@ template <class C>
 void window_log_ratios(Context& ctx, const Buffer<C>& table, const Dims& d, const Buffer<C>& table_sub, int window,
                        const std::string& options, const cl::Buffer& out);
 
-/// Checks a window (even, at least 2) and an isovalue (finite); throws InputError naming
+/// What is wrong with a window k: "" when k is even and at least 2, else "the window must be
+/// even and at least 2" (the one window check: the library's and the CLI's messages).
+std::string window_problem(int window);
+
+/// Checks a window (window_problem) and an isovalue (finite); throws InputError naming
 /// the option (--window, --iso) otherwise.
 void check_local_arguments(double iso, int window);
 

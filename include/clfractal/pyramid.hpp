@@ -2,6 +2,7 @@
 // coordinates are multiples of 2^l; per axis n_l = (n_{l-1} - 1) / 2 + 1. G' is level 1.
 #pragma once
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -18,5 +19,9 @@ using SubsampleKernel = KernelCall<cl::Buffer, int, int, cl::Buffer, int, int>;
 /// The next pyramid level on the device: `src` holds d.vertices() values of `type`, `dst`
 /// receives level_dims(d, 1).vertices() of them.
 void subsample(Context& ctx, const cl::Buffer& src, ValueType type, const Dims& d, const cl::Buffer& dst);
+
+/// The next pyramid level of a volume on the device, left there (spacing doubled, as the
+/// host subsample's); no upload.
+DeviceVolume subsample(const DeviceVolume& v);
 
 }  // namespace clfractal

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/volume.hpp"
 
 namespace clfractal {
@@ -23,6 +24,10 @@ namespace clfractal {
 template <class C> void summed_area_table(Context& ctx, Buffer<C>& table, const Dims& d);
 
 /// The same for host values: uploads, scans on the device, downloads.
+/// The table of a uint32 volume of counts already on the device, as a new uint32 device
+/// volume (sums modulo 2^32; no upload). Throws InputError for other value types.
+DeviceVolume summed_area_table(const DeviceVolume& counts);
+
 template <class C> std::vector<C> summed_area_table(Context& ctx, const std::vector<C>& values, const Dims& d);
 
 }  // namespace clfractal

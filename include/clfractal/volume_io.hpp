@@ -69,14 +69,14 @@ struct NonFinite {
 };
 NonFinite count_non_finite(const void* data, ValueType t, std::size_t n);
 
-/// The one message for non-finite input: `what`, how many NaN / infinite values, and the
-/// first one's (value `first_value`) vertex coordinates in a grid of `d`, the data starting
-/// at vertex `offset`.
-std::string non_finite_message(const std::string& what, const NonFinite& nf, double first_value, const Dims& d,
-                               std::size_t offset);
+/// The one check for non-finite input (DESIGN §1), used by whole volumes, SliceReader and the
+/// stream API: throws InputError if the n values of type t (vertices offset.. of a grid of
+/// `d`) hold NaN or Inf, naming `what` (the file, or the API), how many of each, the slices
+/// scanned when they are not the whole grid, and the first one's value and vertex.
+void check_finite(const void* data, ValueType t, std::size_t n, const Dims& d, std::size_t offset,
+                  const std::string& what);
 
-/// Throws InputError if float data holds NaN or Inf (names `what`, the counts and the
-/// first one's coordinates).
+/// check_finite over the whole volume.
 void check_finite(const Volume& v, const std::string& what);
 
 }  // namespace clfractal

@@ -33,7 +33,7 @@ from . import _clfractal
 __version__ = "0.1.0"
 
 __all__ = [
-    "VALUE_TYPES", "FdCurve", "fd_curve", "local_fd", "fd4", "components", "median", "gaussian",
+    "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "fd4", "components", "median", "gaussian",
     "bilateral", "targeted_filter", "smooth", "mesh", "noise_dimension", "read_volume",
     "devices", "device_description",
 ]
@@ -76,8 +76,38 @@ def _lossless_type(a: np.ndarray) -> np.dtype:
         f"precision loss; convert explicitly, e.g. volume.astype(np.float32)")
 
 
-def _volume(volume) -> tuple[np.ndarray, str]:
-    """The array as the extension takes it: 3D, native byte order, a supported dtype."""
+class DeviceVolume(_clfractal.Uploaded):
+    """A volume uploaded to the device once, for several calls.
+
+    ``fd_curve``, ``local_fd``, ``components``, ``median``, ``gaussian``, ``bilateral``,
+    ``smooth`` and ``mesh`` take it in place of the array and read the device copy (no
+    upload; zero-copy where the device shares host memory); ``fd4`` and ``targeted_filter``
+    take it too but upload its array again. The array is converted as for every call, and
+    copied once: later changes to it are not seen. ``device`` as for every call; a call given
+    a DeviceVolume runs on its device.
+
+    Attributes: ``dtype`` and ``shape`` (of the converted array), ``zero_copy`` (whether the
+    device reads the host copy in place).
+    """
+
+    def __init__(self, volume, device: str | None = None):
+        a, type_name = _volume(volume)
+        super().__init__(a, type_name, device)
+        self._array, self._type_name = a, type_name
+        self.dtype, self.shape = a.dtype, a.shape
+
+
+def uploads(device: str | None = None) -> int:
+    """How many volumes went to the device so far (a DeviceVolume counts one; each call
+    given an array, at least one)."""
+    return int(_clfractal.uploads(device))
+
+
+def _volume(volume, uploaded: bool = False):
+    """The array as the extension takes it: 3D, native byte order, a supported dtype. With
+    ``uploaded``, a DeviceVolume is passed on as it is; else its array."""
+    if isinstance(volume, DeviceVolume):
+        return (volume if uploaded else volume._array), volume._type_name
     a = np.asarray(volume)
     if a.ndim != 3:
         raise ValueError(f"volume: expected a 3D array in (z, y, x) order, got shape {a.shape}")
@@ -175,7 +205,7 @@ def fd_curve(volume, kind: str = "box", levels: int = 2, isovalues=None, bins: i
     ``isovalues`` list, rounded the same way). ``min_count`` restricts the summary to
     isovalues with ``I_1(s) >= min_count``.
     """
-    a, type_name = _volume(volume)
+    a, type_name = _volume(volume, uploaded=True)
     raw = _clfractal.fd_curve(a, type_name, kind, int(levels), _isovalues(isovalues), int(bins),
                               int(min_count), device)
     return FdCurve(raw, kind, int(levels), a.dtype)
@@ -193,7 +223,7 @@ def local_fd(volume, iso: float, window: int = 8, device: str | None = None) -> 
     ``iso`` as given; float data with ``iso`` rounded to float32. Returns a float32 array of
     the volume's shape. A smooth surface gives LD near 2, noise LD towards 3.
     """
-    a, type_name = _volume(volume)
+    a, type_name = _volume(volume, uploaded=True)
     return _array(_clfractal.local_fd(a, type_name, float(iso), int(window), device))
 
 
@@ -222,7 +252,7 @@ def components(volume, connectivity: str = "cube", isovalues=None, bins: int = 2
     ±(x+z), ±(x+y+z)). Isovalues as in ``fd_curve``. Returns ``(isovalues, counts)``, counts
     int64.
     """
-    a, type_name = _volume(volume)
+    a, type_name = _volume(volume, uploaded=True)
     iso, counts = _clfractal.components(a, type_name, connectivity, _isovalues(isovalues), int(bins), device)
     return _isovalue_array(iso, a.dtype), np.asarray(counts)
 
@@ -233,7 +263,7 @@ def median(volume, device: str | None = None) -> np.ndarray:
     Equal to ``scipy.ndimage.median_filter(volume, size=3, mode="nearest")``. Returns a new
     array of the (converted) input type.
     """
-    a, type_name = _volume(volume)
+    a, type_name = _volume(volume, uploaded=True)
     return _array(_clfractal.filter(a, type_name, "median", 1.0, 1.0, 1.0, device))
 
 
@@ -241,7 +271,7 @@ def gaussian(volume, sigma: float, device: str | None = None) -> np.ndarray:
     """The separable Gaussian filter: radius ``ceil(3 sigma)``, normalised weights
     ``exp(-i**2 / (2 sigma**2))``, clamp-to-edge, float32 accumulation; integer outputs rounded
     to nearest and clamped to the type's range."""
-    a, type_name = _volume(volume)
+    a, type_name = _volume(volume, uploaded=True)
     return _array(_clfractal.filter(a, type_name, "gaussian", float(sigma), 1.0, 1.0, device))
 
 
@@ -249,7 +279,7 @@ def bilateral(volume, sigma_s: float, sigma_r: float, device: str | None = None)
     """The bilateral filter over the cube of radius ``ceil(2 sigma_s)``: weights
     ``exp(-|w - v|**2 / (2 sigma_s**2)) * exp(-(f(w) - f(v))**2 / (2 sigma_r**2))``,
     clamp-to-edge; integer outputs rounded and clamped as for the Gaussian."""
-    a, type_name = _volume(volume)
+    a, type_name = _volume(volume, uploaded=True)
     return _array(_clfractal.filter(a, type_name, "bilateral", 1.0, float(sigma_s), float(sigma_r), device))
 
 
@@ -278,7 +308,7 @@ def smooth(volume, iso: float, threshold: float, window: int = 8, variant: str =
     ``(smoothed, info)``, info counting high vertices, edges processed and lowered, and
     vertices changed.
     """
-    a, type_name = _volume(volume)
+    a, type_name = _volume(volume, uploaded=True)
     out, info = _clfractal.smooth(a, type_name, float(iso), float(threshold), int(window), variant, float(tau),
                                   device)
     return _array(out), dict(info)
@@ -298,7 +328,7 @@ def mesh(volume, iso: float, method: str = "mc", color_by_ld: bool = False, wind
     ``napari.layers.Surface((vertices, faces, ld))`` or ``trimesh.Trimesh(vertices[:, ::-1],
     faces[:, ::-1])``.
     """
-    a, type_name = _volume(volume)
+    a, type_name = _volume(volume, uploaded=True)
     verts, faces, ld = _clfractal.mesh(a, type_name, float(iso), method, bool(color_by_ld), int(window),
                                        [float(s) for s in spacing], device)
     verts = np.asarray(verts).reshape(-1, 3)

@@ -27,6 +27,7 @@
 
 #include "clfractal/components.hpp"
 #include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/fd4.hpp"
 #include "clfractal/filter.hpp"
@@ -132,6 +133,48 @@ Volume to_volume(const InArray& a, const std::string& type_name) {
     return v;
 }
 
+/// A volume uploaded once (clfractal.DeviceVolume): the host copy and the device volume that
+/// reads it (zero-copy where the device shares host memory), on the device it was uploaded
+/// to. Every call given it reads the device copy: no upload.
+struct Uploaded {
+    Device device;
+    Volume host;  // declared before `on_device`: it outlives the zero-copy buffer
+    DeviceVolume on_device;
+    Uploaded(const InArray& a, const std::string& type, const std::optional<std::string>& selector)
+        : device(device_for(selector)), host(to_volume(a, type)) {
+        nb::gil_scoped_release no_gil;
+        std::lock_guard<std::mutex> guard(*device.lock);
+        on_device = DeviceVolume(*device.ctx, host);
+    }
+};
+
+/// The volume of a call: a NumPy array (copied into a Volume; the call uploads it) or an
+/// Uploaded volume.
+struct Input {
+    Volume copy;
+    Uploaded* uploaded = nullptr;
+    const Volume& host() const { return uploaded ? uploaded->host : copy; }
+    const DeviceVolume* device() const { return uploaded ? &uploaded->on_device : nullptr; }
+};
+
+Input input_of(nb::handle volume, const std::string& type) {
+    Input in;
+    if (nb::isinstance<Uploaded>(volume)) in.uploaded = nb::inst_ptr<Uploaded>(volume);
+    else in.copy = to_volume(nb::cast<InArray>(volume), type);
+    return in;
+}
+
+/// Runs f(ctx) where the input is: an Uploaded volume's device (a device selector must
+/// not name another), else the selected one.
+template <class F> auto on_input(const Input& in, const std::optional<std::string>& selector, F&& f) {
+    if (!in.uploaded) return on_device(selector, std::forward<F>(f));
+    if (selector && device_for(selector).ctx != in.uploaded->device.ctx)
+        throw InputError("device '" + *selector + "': the DeviceVolume was uploaded to another device");
+    nb::gil_scoped_release no_gil;
+    std::lock_guard<std::mutex> guard(*in.uploaded->device.lock);
+    return f(*in.uploaded->device.ctx);
+}
+
 /// A 1D NumPy array that owns `values` (moved to the heap, freed with the array).
 template <class T> nb::ndarray<nb::numpy, T, nb::ndim<1>> owned(std::vector<T>&& values) {
     auto* heap = new std::vector<T>(std::move(values));
@@ -203,7 +246,7 @@ std::vector<double> isovalue_list(const Isovalues& iso) {
 
 // ------------------------------------------------------------------ the calls
 
-nb::dict fd_curve_call(const InArray& a, const std::string& type, const std::string& kind_name, int levels,
+nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string& kind_name, int levels,
                        const std::optional<std::vector<double>>& isovalues, std::size_t bins,
                        std::uint64_t min_count, const std::optional<std::string>& device) {
     SpanKind kind;
@@ -211,12 +254,14 @@ nb::dict fd_curve_call(const InArray& a, const std::string& type, const std::str
     else if (kind_name == "edge") kind = SpanKind::edges;
     else throw InputError("kind '" + kind_name + "': expected 'box' or 'edge'");
     if (levels < 2 || levels > 16) throw InputError("levels " + std::to_string(levels) + ": must be 2..16");
-    Volume v = to_volume(a, type);
+    const Input in = input_of(a, type);
+    const Volume& v = in.host();
     std::string description;
     double compile = 0;
-    auto [iso, f, seconds] = on_device(device, [&](Context& ctx) {
+    auto [iso, f, seconds] = on_input(in, device, [&](Context& ctx) {
         Isovalues iso = choose_isovalues(v, isovalues, bins);
-        SpanResult spans = count_spans(ctx, v, iso.set, SpanOptions{{kind}, levels});
+        const SpanOptions opt{{kind}, levels};
+        SpanResult spans = in.device() ? count_spans(*in.device(), iso.set, opt) : count_spans(ctx, v, iso.set, opt);
         FdCurve f = fd_curve(ctx, spans, kind);
         description = ctx.description();
         compile = ctx.compile_seconds();
@@ -252,10 +297,16 @@ nb::dict fd_curve_call(const InArray& a, const std::string& type, const std::str
     return out;
 }
 
-nb::tuple local_fd_call(const InArray& a, const std::string& type, double iso, int window,
+/// The LD field of the input (downloaded).
+Volume local_field(Context& ctx, const Input& in, double iso, int window) {
+    return in.device() ? local_fractal_dimension(*in.device(), iso, window).download()
+                       : local_fractal_dimension(ctx, in.host(), iso, window);
+}
+
+nb::tuple local_fd_call(nb::handle a, const std::string& type, double iso, int window,
                         const std::optional<std::string>& device) {
-    Volume v = to_volume(a, type);
-    return volume_out(on_device(device, [&](Context& ctx) { return local_fractal_dimension(ctx, v, iso, window); }));
+    const Input in = input_of(a, type);
+    return volume_out(on_input(in, device, [&](Context& ctx) { return local_field(ctx, in, iso, window); }));
 }
 
 nb::dict fd4_call(const InArray& a, const std::string& type, double q, const std::optional<std::string>& device) {
@@ -268,14 +319,16 @@ nb::dict fd4_call(const InArray& a, const std::string& type, double q, const std
                       {"d4", nb::cast(r.d4)}});
 }
 
-nb::tuple components_call(const InArray& a, const std::string& type, const std::string& connectivity,
+nb::tuple components_call(nb::handle a, const std::string& type, const std::string& connectivity,
                           const std::optional<std::vector<double>>& isovalues, std::size_t bins,
                           const std::optional<std::string>& device) {
     const Connectivity mode = parse_connectivity(connectivity);
-    Volume v = to_volume(a, type);
-    auto [iso, curve] = on_device(device, [&](Context& ctx) {
+    const Input in = input_of(a, type);
+    const Volume& v = in.host();
+    auto [iso, curve] = on_input(in, device, [&](Context& ctx) {
         Isovalues iso = choose_isovalues(v, isovalues, bins);
-        ComponentCurve c = count_components(ctx, v, iso.set, mode);
+        ComponentCurve c =
+            in.device() ? count_components(*in.device(), iso.set, mode) : count_components(ctx, v, iso.set, mode);
         return std::make_pair(std::move(iso), std::move(c));
     });
     return nb::make_tuple(owned(isovalue_list(iso)), owned(picked(curve.components, iso.pick)));
@@ -291,11 +344,13 @@ FilterSpec filter_spec(const std::string& method, double sigma, double sigma_s, 
     return spec;
 }
 
-nb::tuple filter_call(const InArray& a, const std::string& type, const std::string& method, double sigma,
+nb::tuple filter_call(nb::handle a, const std::string& type, const std::string& method, double sigma,
                       double sigma_s, double sigma_r, const std::optional<std::string>& device) {
     const FilterSpec spec = filter_spec(method, sigma, sigma_s, sigma_r);
-    Volume v = to_volume(a, type);
-    return volume_out(on_device(device, [&](Context& ctx) { return apply_filter(ctx, v, spec); }));
+    const Input in = input_of(a, type);
+    return volume_out(on_input(in, device, [&](Context& ctx) {
+        return in.device() ? apply_filter(*in.device(), spec).download() : apply_filter(ctx, in.host(), spec);
+    }));
 }
 
 nb::tuple targeted_filter_call(const InArray& a, const std::string& type, double iso, double threshold,
@@ -312,12 +367,14 @@ nb::tuple targeted_filter_call(const InArray& a, const std::string& type, double
     return nb::make_tuple(volume_out(std::move(r.volume)), info);
 }
 
-nb::tuple smooth_call(const InArray& a, const std::string& type, double iso, double threshold, int window,
+nb::tuple smooth_call(nb::handle a, const std::string& type, double iso, double threshold, int window,
                       const std::string& variant, double tau, const std::optional<std::string>& device) {
     const SmoothVariant var = parse_smooth_variant(variant);
-    Volume v = to_volume(a, type);
-    SmoothResult r = on_device(
-        device, [&](Context& ctx) { return smooth_isosurface(ctx, v, iso, threshold, window, var, tau); });
+    const Input in = input_of(a, type);
+    SmoothResult r = on_input(in, device, [&](Context& ctx) {
+        return in.device() ? smooth_isosurface(*in.device(), iso, threshold, window, var, tau)
+                           : smooth_isosurface(ctx, in.host(), iso, threshold, window, var, tau);
+    });
     nb::dict info = make_dict({{"high_vertices", nb::cast(r.high_vertices)},
                                {"initial_edges", nb::cast(r.initial_edges)},
                                {"edges_processed", nb::cast(r.edges_processed)},
@@ -329,23 +386,33 @@ nb::tuple smooth_call(const InArray& a, const std::string& type, double iso, dou
 /// Mesh vertices as (n, 3) float32 in (z, y, x) order and triangles as (m, 3) int32 with the
 /// winding reversed, so that the right-hand normals still point towards lower values after
 /// the axis swap (a reflection).
-nb::tuple mesh_call(const InArray& a, const std::string& type, double iso, const std::string& method, bool color_by_ld,
+nb::tuple mesh_call(nb::handle a, const std::string& type, double iso, const std::string& method, bool color_by_ld,
                     int window, const std::vector<double>& spacing_zyx, const std::optional<std::string>& device) {
     const MeshMethod m = parse_mesh_method(method);
     if (spacing_zyx.size() != 3) throw InputError("spacing: expected 3 values (dz, dy, dx)");
     for (double s : spacing_zyx)
         if (!(std::isfinite(s) && s > 0)) throw InputError("spacing: values must be finite and > 0");
-    Volume v = to_volume(a, type);
-    v.spacing = {spacing_zyx[2], spacing_zyx[1], spacing_zyx[0]};
+    Input in = input_of(a, type);
+    const std::array<double, 3> spacing{spacing_zyx[2], spacing_zyx[1], spacing_zyx[0]};
     Mesh mesh;
-    if (color_by_ld) {
-        Volume ld = on_device(device, [&](Context& ctx) { return local_fractal_dimension(ctx, v, iso, window); });
+    if (in.uploaded) {
+        // Extracted from the device copy (no upload), with this spacing.
+        mesh = on_input(in, device, [&](Context& ctx) {
+            in.uploaded->on_device.spacing = spacing;
+            Mesh m3 = extract_isosurface(*in.device(), iso, m);
+            if (color_by_ld) clfractal::color_by_ld(m3, local_field(ctx, in, iso, window));
+            return m3;
+        });
+    } else if (color_by_ld) {
+        in.copy.spacing = spacing;
+        Volume ld = on_device(device, [&](Context& ctx) { return local_field(ctx, in, iso, window); });
         nb::gil_scoped_release no_gil;
-        mesh = extract_isosurface(v, iso, m);
+        mesh = extract_isosurface(in.copy, iso, m);
         clfractal::color_by_ld(mesh, ld);
     } else {
+        in.copy.spacing = spacing;
         nb::gil_scoped_release no_gil;
-        mesh = extract_isosurface(v, iso, m);
+        mesh = extract_isosurface(in.copy, iso, m);
     }
     std::vector<float> vertices;
     vertices.reserve(mesh.positions.size() * 3);
@@ -398,6 +465,13 @@ NB_MODULE(_clfractal, m) {
             PyErr_Format(PyExc_RuntimeError, "%s: %s (%d)", e.what(), cl_error_name(e.err()), e.err());
         }
     });
+    nb::class_<Uploaded>(m, "Uploaded", "A volume uploaded once; see clfractal.DeviceVolume.")
+        .def(nb::init<const InArray&, const std::string&, const std::optional<std::string>&>(), "volume"_a, "type"_a,
+             "device"_a.none())
+        .def_prop_ro("zero_copy", [](const Uploaded& u) { return u.on_device.in_host_memory(); });
+    m.def("uploads", [](const std::optional<std::string>& device) {
+        return on_device(device, [](Context& ctx) { return ctx.uploads(); });
+    }, "device"_a = nb::none(), "Volumes uploaded to the device so far (DeviceVolume counts one).");
     m.def("devices", &devices_call);
     m.def("device_description", [](const std::optional<std::string>& device) {
         return on_device(device, [](Context& ctx) { return ctx.description(); });

@@ -357,3 +357,56 @@ def test_devices_and_device_choice():
     np.testing.assert_array_equal(chosen.counts, clfractal.fd_curve(v).counts)
     with pytest.raises(RuntimeError, match="no OpenCL device matches"):
         clfractal.fd_curve(v, device="no-such-device")
+
+
+# ------------------------------------------------------------------ DeviceVolume
+
+def test_device_volume_is_uploaded_once_and_gives_the_array_results(volume):
+    dv = clfractal.DeviceVolume(volume)
+    assert dv.dtype == volume.dtype and dv.shape == volume.shape
+    iso = float(np.median(volume))
+    before = clfractal.uploads()
+    curve = clfractal.fd_curve(dv, levels=3)
+    ld = clfractal.local_fd(dv, iso, window=4)
+    med = clfractal.median(dv)
+    gauss = clfractal.gaussian(dv, 1.0)
+    smoothed, info = clfractal.smooth(dv, iso, 2.3, window=4)
+    verts, faces, mesh_ld = clfractal.mesh(dv, iso, color_by_ld=True, window=4, spacing=(2.0, 1.0, 0.5))
+    iso_c, counts = clfractal.components(dv)
+    assert clfractal.uploads() == before  # every call read the device copy
+    # The same results as the calls given the array (each uploads it).
+    want = clfractal.fd_curve(volume, levels=3)
+    np.testing.assert_array_equal(curve.counts, want.counts)
+    np.testing.assert_array_equal(curve.isovalues, want.isovalues)
+    np.testing.assert_array_equal(ld, clfractal.local_fd(volume, iso, window=4))
+    np.testing.assert_array_equal(med, clfractal.median(volume))
+    np.testing.assert_array_equal(gauss, clfractal.gaussian(volume, 1.0))
+    want_s, want_info = clfractal.smooth(volume, iso, 2.3, window=4)
+    np.testing.assert_array_equal(smoothed, want_s)
+    assert info == want_info
+    w_verts, w_faces, w_ld = clfractal.mesh(volume, iso, color_by_ld=True, window=4, spacing=(2.0, 1.0, 0.5))
+    np.testing.assert_array_equal(verts, w_verts)
+    np.testing.assert_array_equal(faces, w_faces)
+    np.testing.assert_array_equal(mesh_ld, w_ld)
+    w_iso, w_counts = clfractal.components(volume)
+    np.testing.assert_array_equal(iso_c, w_iso)
+    np.testing.assert_array_equal(counts, w_counts)
+    assert clfractal.uploads() > before  # the array calls uploaded
+    # fd4 and targeted_filter take it too (uploading its array).
+    assert clfractal.fd4(dv) == clfractal.fd4(volume)
+    np.testing.assert_array_equal(clfractal.targeted_filter(dv, iso, 2.3, window=4)[0],
+                                  clfractal.targeted_filter(volume, iso, 2.3, window=4)[0])
+
+
+def test_device_volume_counts_one_upload_and_copies_the_array():
+    v = noisy_sphere((9, 10, 11), np.uint8, seed=5)
+    before = clfractal.uploads()
+    dv = clfractal.DeviceVolume(v)
+    assert clfractal.uploads() == before + 1
+    want = clfractal.median(v)
+    v[:] = 0  # the DeviceVolume holds its own copy
+    np.testing.assert_array_equal(clfractal.median(dv), want)
+    with pytest.raises(ValueError):
+        clfractal.DeviceVolume(np.zeros((2, 2)))
+    with pytest.raises(ValueError):
+        clfractal.local_fd(dv, 100, window=3)

@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "clfractal/error.hpp"
+#include "clfractal/local.hpp"
+#include "clfractal/slab_plan.hpp"
 #include "clfractal/volume.hpp"
 
 using namespace clfractal;
@@ -84,9 +86,8 @@ CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& wh
         ->add_option("--window", window, what + " (even, >= 2)")
         ->check(CLI::Validator(
             [](std::string& text) -> std::string {
-                const int k = std::atoi(text.c_str());
-                if (k < 2 || k % 2) return "the window must be even and at least 2, not " + text;
-                return {};
+                const std::string problem = window_problem(std::atoi(text.c_str()));
+                return problem.empty() ? problem : problem + ", not " + text;
             },
             "EVEN>=2"))
         ->capture_default_str();
@@ -186,6 +187,33 @@ CLI::Option* add_volume_argument(CLI::App* app, std::string& volume) {
         ->required();
 }
 
+void add_volume_and_iso(CLI::App* app, std::string& volume, double& iso, const std::string& what) {
+    add_volume_argument(app, volume);
+    add_iso_option(app, iso, what)->required();
+}
+
+Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso) {
+    Volume v = read_volume(volume, raw.options());
+    iso = checked_isovalue(v, iso);
+    return v;
+}
+
+CLI::Option* add_output_option(CLI::App* app, std::string& output, const std::string& what) {
+    return app->add_option("-o,--output", output, what)->required();
+}
+
+CLI::Option* add_mesh_option(CLI::App* app, std::string& mesh, const std::string& what) {
+    return app->add_option("--mesh", mesh, what);
+}
+
+CLI::Option* add_preview_option(CLI::App* app, std::string& preview, const std::string& what) {
+    return app->add_option("--preview", preview, what);
+}
+
+CLI::Option* add_bins_option(CLI::App* app, std::size_t& bins) {
+    return app->add_option("--bins", bins, "number of uniform isovalues for float data (0: 256)");
+}
+
 std::vector<double> parse_list(const std::string& option, const std::string& spec) {
     const auto number = [&](const std::string& s) {
         std::size_t used = 0;
@@ -273,6 +301,30 @@ std::string fd_csv(const FdCurve& f, const std::vector<std::int64_t>* components
         out << "\n";
     }
     return out.str();
+}
+
+ReportVolume::ReportVolume(Context& ctx, const Volume& v) : ctx_(ctx), host_(v) {
+    SlabNeed need;
+    need.nz = v.dims().nz;
+    need.input_slice_bytes = v.dims().nx * v.dims().ny * value_size(v.type());
+    need.memory_divisor = 2;
+    if (v.vertices() > 0 && int_axes(v.dims()) && slab_fit(ctx, need) >= need.nz) device_.emplace(ctx, v);
+}
+
+ReportVolume::ReportVolume(const Volume& v, DeviceVolume&& on_device)
+    : ctx_(on_device.context()), host_(v), device_(std::move(on_device)) {}
+
+SpanResult ReportVolume::spans_at(double s) const {
+    const IsovalueSet iso = IsovalueSet::single(host_.type(), s);
+    return device_ ? count_spans(*device_, iso) : count_spans(ctx_, host_, iso);
+}
+
+IsoCounts ReportVolume::counts_at(double s) const {
+    return device_ ? intersected_counts(*device_, s) : intersected_counts(ctx_, host_, s);
+}
+
+std::int64_t ReportVolume::components_at(double s) const {
+    return device_ ? count_components_at(*device_, s) : count_components_at(ctx_, host_, s);
 }
 
 }  // namespace cli

@@ -6,10 +6,14 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "clfractal/advice.hpp"
+#include "clfractal/components.hpp"
+#include "clfractal/device_volume.hpp"
+#include "clfractal/smooth.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
@@ -65,6 +69,25 @@ struct RawArgs {
 
 /// The VOLUME argument of the commands that read one volume.
 CLI::Option* add_volume_argument(CLI::App* app, std::string& volume);
+
+/// VOLUME and --iso S (required; `what` says how S is compared): the input of the commands
+/// that work on one isosurface of one volume (local, mesh, smooth).
+void add_volume_and_iso(CLI::App* app, std::string& volume, double& iso, const std::string& what);
+
+/// Reads `volume` as `raw` says and resolves `iso` for it (checked_isovalue: auto, warnings).
+clfractal::Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso);
+
+/// -o/--output FILE (required): the file a command writes; `what` says which formats.
+CLI::Option* add_output_option(CLI::App* app, std::string& output, const std::string& what);
+
+/// --mesh FILE: also write an isosurface as PLY (`what` says which one).
+CLI::Option* add_mesh_option(CLI::App* app, std::string& mesh, const std::string& what);
+
+/// --preview FILE: render an isosurface to a PNG (`what` says which one).
+CLI::Option* add_preview_option(CLI::App* app, std::string& preview, const std::string& what);
+
+/// --bins K: the number of uniform isovalues for float data (0: 256).
+CLI::Option* add_bins_option(CLI::App* app, std::size_t& bins);
 
 /// --dims X,Y,Z or XxYxZ: three positive integers (`option` names them in errors).
 clfractal::Dims parse_dims(const std::string& option, const std::string& text);
@@ -133,6 +156,27 @@ Command survey_command();
 Command fd4_command();
 Command local4_command();
 Command report_command();
+
+/// A volume that filter and smooth report on before and after: uploaded once when it fits
+/// the device in one piece (slab_fit), and every report reads that copy; else each report
+/// uploads it as the Volume overloads do (by slabs where needed). `v` must outlive it.
+class ReportVolume {
+public:
+    ReportVolume(clfractal::Context& ctx, const clfractal::Volume& v);
+    /// A result already on the device, with its host copy `v` (no upload).
+    ReportVolume(const clfractal::Volume& v, clfractal::DeviceVolume&& on_device);
+    /// The device copy, or nullptr when the volume does not fit in one piece.
+    const clfractal::DeviceVolume* device() const { return device_ ? &*device_ : nullptr; }
+    /// count_spans at one isovalue (cubes, levels 0 and 1).
+    clfractal::SpanResult spans_at(double s) const;
+    clfractal::IsoCounts counts_at(double s) const;
+    std::int64_t components_at(double s) const;
+
+private:
+    clfractal::Context& ctx_;
+    const clfractal::Volume& host_;
+    std::optional<clfractal::DeviceVolume> device_;
+};
 
 /// The span counts of one kind of a volume file read slice by slice (fd --stream), with
 /// the isovalues given (A:B:STEP), or the default set from a first pass over the file.

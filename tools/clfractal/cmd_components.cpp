@@ -118,7 +118,7 @@ void setup_components(CLI::App* c, ComponentsArgs& a) {
     c->add_option("--connectivity", a.connectivity,
                   "cube: {f<s} 6- and {f>=s} 26-connected (marching cubes); freudenthal: both 14-connected");
     add_isovalues_option(c, a.isovalues);
-    c->add_option("--bins", a.bins, "number of uniform isovalues for float data (0: 256)");
+    add_bins_option(c, a.bins);
     c->add_option("--csv", a.csv, "write isovalue,components");
     c->add_option("--plot", a.plot, "draw the curve (log scale) to a PNG with gnuplot");
     c->add_flag("--verify", a.verify, "check every isovalue against per-isovalue labelling (slow); exit 1 on a mismatch");

@@ -200,7 +200,7 @@ void setup_fd(CLI::App* fd, FdArgs& fa) {
     fd->add_flag("--edge", fa.edge, "edge span dimension (eq. 3.1) instead of box (eq. 2.5)");
     fd->add_option("--levels", fa.levels, "pyramid levels for the least-squares estimate (2 = eq. 2.5)");
     add_isovalues_option(fd, fa.isovalues);
-    fd->add_option("--bins", fa.bins, "number of uniform isovalues for float data (0: 256)");
+    add_bins_option(fd, fa.bins);
     fd->add_option("--min-count", fa.min_count, "summary only where the subsampled count is >= M");
     fd->add_option("--csv", fa.csv, "write isovalue,count,count_sub,fd");
     fd->add_option("--json", fa.json_path, "write the summary and curve as JSON");

@@ -62,7 +62,7 @@ int run_local4(const Fd4Args& a) {
                   ", window " + std::to_string(a.window) + ", on " + ctx.description());
     const auto t0 = std::chrono::steady_clock::now();
     Volume ld4 = local_fractal_dimension_4d(ctx, v, q, a.window);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = seconds_since(t0);
     write_volume(ld4, a.output, &v);
     const LocalSummary s = summarize_local(ld4);
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
@@ -121,7 +121,7 @@ Command local4_command() {
         add_volume_argument(l, b.volume);
         add_q_option(l, b.q);
         add_window_option(l, b.window, "window k");
-        l->add_option("-o,--output", b.output, "output .nrrd, .nii or .nii.gz (float32)")->required();
+        add_output_option(l, b.output, "output .nrrd, .nii or .nii.gz (float32)");
         b.raw.add(l);
     };
     return command<Fd4Args>("local4", "local 4D fractal dimension field LD4 (no isovalue), as NRRD/NIfTI", setup,

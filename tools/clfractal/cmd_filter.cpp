@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "clfractal/components.hpp"
@@ -55,9 +56,8 @@ struct AtIso {
     std::uint64_t cubes = 0, cubes_sub = 0;
     double fd = NAN;
 };
-AtIso measure(Context& ctx, const Volume& v, double s) {
-    const IsovalueSet iso = IsovalueSet::single(v.type(), s);
-    SpanResult r = count_spans(ctx, v, iso);
+AtIso measure(const cli::ReportVolume& v, double s) {
+    const SpanResult r = v.spans_at(s);
     AtIso m;
     m.cubes = r.get(SpanKind::cubes).counts[0][0];
     m.cubes_sub = r.get(SpanKind::cubes).counts[1][0];
@@ -98,7 +98,7 @@ int run_filter_stream(const FilterArgs& a, const FilterSpec& spec) {
     }
     stream.finish();
     writer.close();
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = seconds_since(t0);
     const auto at = [](const SpanStream& s) {
         AtIso m;
         const SpanResult r = s.counts();
@@ -180,13 +180,14 @@ void print_selected(const FilterArgs& a, const TargetedResult& tr) {
 }
 
 // Cubes, FD and components at the isovalue, before and after.
-void print_at_iso(Context& ctx, double iso, const Volume& v, const Volume& out, const AtIso& before, const AtIso& after) {
+void print_at_iso(double iso, const cli::ReportVolume& v, const cli::ReportVolume& out, const AtIso& before,
+                  const AtIso& after) {
     std::cout << "isovalue    " << iso << "     before      after\n"
               << "  cubes     " << std::setw(12) << before.cubes << " " << std::setw(10) << after.cubes << "\n"
               << "  FD        " << std::setw(12) << fd_text(before.fd) << " " << std::setw(10)
               << fd_text(after.fd) << "\n";
-    std::cout << "  components" << std::setw(12) << count_components_at(ctx, v, iso) << " " << std::setw(10)
-              << count_components_at(ctx, out, iso) << "\n";
+    std::cout << "  components" << std::setw(12) << v.components_at(iso) << " " << std::setw(10)
+              << out.components_at(iso) << "\n";
 }
 
 // A copy of the volume's corner of at most 16^3 vertices: filtered once before the timed
@@ -207,32 +208,37 @@ Volume corner_of(const Volume& v) {
 // The filter of the command line on `in`: targeted (LD or LD4), LD-guided or everywhere.
 struct FilterRun {
     Volume out;
+    std::optional<DeviceVolume> out_device;  ///< the unmasked filter of an input on the device
     TargetedResult tr;
     bool masked = false;
     double seconds = 0, compiled = 0;  ///< the timed call, and the compilation inside it
 };
 
-void filter_once(Context& ctx, const FilterArgs& a, const FilterSpec& spec, const Volume& in, FilterRun& r) {
+// `on_device`: `in` on the device (the unmasked filter reads it there), or nullptr.
+void filter_once(Context& ctx, const FilterArgs& a, const FilterSpec& spec, const Volume& in,
+                 const DeviceVolume* on_device, FilterRun& r) {
     using clock = std::chrono::steady_clock;
     if (a.fractal4) {
         const auto t = clock::now();
         const Volume ld4 = local_fractal_dimension_4d(ctx, in, a.q, a.window);
-        const double field_seconds = std::chrono::duration<double>(clock::now() - t).count();
+        const double field_seconds = seconds_since(t);
         r.tr = targeted_filter(ctx, in, spec, ld4, a.threshold);
         r.tr.ld_seconds = field_seconds;
     } else if (a.fractal) r.tr = targeted_filter(ctx, in, spec, a.iso, a.threshold, a.window);
     else if (a.ld_guided) r.tr = ld_bilateral_filter(ctx, in, spec.sigma_s, spec.sigma_r, a.iso, a.window);
+    else if (on_device) r.out = r.out_device.emplace(apply_filter(*on_device, spec)).download();
     else r.out = apply_filter(ctx, in, spec);
 }
 
-FilterRun timed_filter(Context& ctx, const FilterArgs& a, const FilterSpec& spec, const Volume& v) {
+FilterRun timed_filter(Context& ctx, const FilterArgs& a, const FilterSpec& spec, const Volume& v,
+                       const DeviceVolume* on_device) {
     FilterRun r;
     r.masked = a.fractal || a.fractal4 || a.ld_guided;
-    if (!a.json_path.empty()) filter_once(ctx, a, spec, corner_of(v), r);
+    if (!a.json_path.empty()) filter_once(ctx, a, spec, corner_of(v), nullptr, r);
     const double compiled_before = ctx.compile_seconds();
     const auto t0 = std::chrono::steady_clock::now();
-    filter_once(ctx, a, spec, v, r);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    filter_once(ctx, a, spec, v, on_device, r);
+    r.seconds = seconds_since(t0);
     // Compute only: the call's time less any kernel compiled during it (no file I/O is in it).
     r.compiled = ctx.compile_seconds() - compiled_before;
     if (r.masked) r.out = std::move(r.tr.volume);
@@ -270,14 +276,19 @@ int run_filter(FilterArgs a, CLI::App* app) {
     if (!std::isnan(a.iso)) a.iso = cli::checked_isovalue(v, a.iso);
     Context& ctx = Context::shared();
     const bool at_iso = !std::isnan(a.iso);
+    // The input on the device once: the reports before and the unmasked filter read it.
+    const cli::ReportVolume input(ctx, v);
     AtIso before, after;
-    if (at_iso) before = measure(ctx, v, a.iso);
+    if (at_iso) before = measure(input, a.iso);
 
     const std::string how = describe_filter(a, spec, v);
     cli::progress(how + " of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description());
-    const FilterRun r = timed_filter(ctx, a, spec, v);
+    FilterRun r = timed_filter(ctx, a, spec, v, input.device());
     const Volume& out = r.out;
-    if (at_iso) after = measure(ctx, out, a.iso);
+    std::optional<cli::ReportVolume> output;  // the result on the device once, for the reports after
+    if (at_iso && r.out_device) output.emplace(out, std::move(*r.out_device));
+    else if (at_iso) output.emplace(ctx, out);
+    if (at_iso) after = measure(*output, a.iso);
     write_volume(out, a.output, &v);
 
     std::size_t changed = r.masked ? r.tr.changed : 0;
@@ -291,7 +302,7 @@ int run_filter(FilterArgs a, CLI::App* app) {
     std::cout << std::fixed << std::setprecision(2);
     print_selected(a, r.tr);
     std::cout << "changed     " << changed << " vertices (" << 100 * double(changed) / n << "%)\n";
-    if (at_iso) print_at_iso(ctx, a.iso, v, out, before, after);
+    if (at_iso) print_at_iso(a.iso, input, *output, before, after);
     std::cout << std::defaultfloat << std::setprecision(4) << "time        " << r.seconds << " s";
     if (r.masked) std::cout << " (LD field " << r.tr.ld_seconds << " s, masked filter " << r.tr.filter_seconds << " s)";
     std::cout << ", kernels compiled in " << ctx.compile_seconds() << " s\n"
@@ -315,7 +326,7 @@ void setup_filter(CLI::App* c, FilterArgs& a) {
     cli::add_iso_option(c, a.iso, "isovalue S of the LD field, needed by --fractal and --ld-guided; also reports cubes and FD at S before/after");
     c->add_option("--threshold", a.threshold, "LD threshold H of --fractal (LD4 threshold H4 of --fractal4), needed by both");
     cli::add_window_option(c, a.window);
-    c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz (the input's type)")->required();
+    cli::add_output_option(c, a.output, "output .nrrd, .nii or .nii.gz (the input's type)");
     c->add_option("--json", a.json_path,
                   "write the times (seconds_compute: no file I/O, no compilation; seconds_ld, seconds_filter) and "
                   "the fractions selected and changed as JSON");

@@ -34,7 +34,7 @@ void setup_gen(CLI::App* c, GenArgs& a) {
     c->add_option("--seed", a.opt.seed, "noise / point seed");
     c->add_option("--points", a.opt.points, "number of points for 'points'");
     c->add_option("--type", a.type, "convert to " + value_type_names() + " (default: the shape's own type)");
-    c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz")->required();
+    add_output_option(c, a.output, "output .nrrd, .nii or .nii.gz");
 }
 
 }  // namespace

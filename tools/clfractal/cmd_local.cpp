@@ -30,14 +30,13 @@ int cmd_local(LocalArgs a) {
         if (is_auto_isovalue(a.iso)) throw InputError("--iso auto: not with --stream (it needs the whole curve first)");
         return cmd_local_stream(a.volume, a.raw.options(), a.iso, a.window, a.output);
     }
-    Volume v = read_volume(a.volume, a.raw.options());
-    a.iso = checked_isovalue(v, a.iso);
+    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso);
     Context& ctx = Context::shared();
     progress("local fractal dimension of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + ", window " +
              std::to_string(a.window) + ", on " + ctx.description());
     const auto t0 = std::chrono::steady_clock::now();
     Volume ld = local_fractal_dimension(ctx, v, a.iso, a.window);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = seconds_since(t0);
     write_volume(ld, a.output, &v);
     const LocalSummary s = summarize_local(ld);
 
@@ -68,11 +67,10 @@ int cmd_local(LocalArgs a) {
 }
 
 void setup_local(CLI::App* c, LocalArgs& a) {
-    add_volume_argument(c, a.volume);
-    add_iso_option(c, a.iso, "isovalue S (cubes with a < S <= b are intersected)")->required();
+    add_volume_and_iso(c, a.volume, a.iso, "isovalue S (cubes with a < S <= b are intersected)");
     add_window_option(c, a.window, "window k");
-    c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz (float32)")->required();
-    c->add_option("--mesh", a.mesh, "also write the isosurface as PLY, coloured by LD");
+    add_output_option(c, a.output, "output .nrrd, .nii or .nii.gz (float32)");
+    add_mesh_option(c, a.mesh, "also write the isosurface as PLY, coloured by LD");
     c->add_flag("--stream", a.stream, "read and write slice by slice (memory: a few slices; same field)");
     a.raw.add(c);
 }

@@ -29,10 +29,8 @@ struct MeshArgs {
 
 int cmd_mesh(MeshArgs a) {
     const MeshMethod method = parse_mesh_method(a.method);
-    Volume v = read_volume(a.volume, a.raw.options());
-    a.iso = checked_isovalue(v, a.iso);
+    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso);
     using clock = std::chrono::steady_clock;
-    const auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
 
     auto t = clock::now();
     Mesh mesh = extract_isosurface(v, a.iso, method);
@@ -84,14 +82,13 @@ int cmd_mesh(MeshArgs a) {
 }
 
 void setup_mesh(CLI::App* c, MeshArgs& a) {
-    add_volume_argument(c, a.volume);
-    add_iso_option(c, a.iso, "isovalue S (positive vertices: f >= S)")->required();
-    c->add_option("-o,--output", a.output, "output .ply (binary)")->required();
+    add_volume_and_iso(c, a.volume, a.iso, "isovalue S (positive vertices: f >= S)");
+    add_output_option(c, a.output, "output .ply (binary)");
     c->add_option("--method", a.method, "mc: marching cubes, mt: marching tetrahedra")
         ->check(CLI::IsMember({"mc", "mt"}));
     auto* color_flag = c->add_flag("--color-by-ld", a.color_by_ld, "colour vertices by local fractal dimension");
     add_window_option(c, a.window)->needs(color_flag);
-    c->add_option("--preview", a.preview, "render the mesh to a PNG (three-quarter view)");
+    add_preview_option(c, a.preview, "render the mesh to a PNG (three-quarter view)");
     a.raw.add(c);
 }
 

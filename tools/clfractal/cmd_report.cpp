@@ -37,9 +37,6 @@ struct ReportArgs {
 };
 
 using clock_type = std::chrono::steady_clock;
-double seconds_since(clock_type::time_point t) {
-    return std::chrono::duration<double>(clock_type::now() - t).count();
-}
 
 // A number for JSON: null unless finite (JSON has no infinity).
 json finite_json(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
@@ -389,9 +386,9 @@ int run_report(const ReportArgs& a) {
 
 void setup_report(CLI::App* c, ReportArgs& a) {
     add_volume_argument(c, a.volume);
-    c->add_option("-o,--output", a.output, "the HTML page to write")->required();
+    add_output_option(c, a.output, "the HTML page to write");
     c->add_option("--json", a.json_path, "write the same numbers as JSON");
-    c->add_option("--bins", a.bins, "number of uniform isovalues for float data (0: 256)");
+    add_bins_option(c, a.bins);
     c->add_option("--clean-fd", a.clean_fd, "clean bands: D(s) at most this");
     c->add_option("--clean-share", a.clean_share, "clean bands: I(s) at least this share of the largest");
     add_window_option(c, a.window, "LD window k of the pictures");

@@ -27,14 +27,19 @@ struct SmoothArgs {
 int run_smooth(SmoothArgs a) {
     const SmoothVariant variant = parse_smooth_variant(a.variant);
     if (!std::isfinite(a.threshold)) throw InputError("--threshold: must be a finite number");
-    Volume v = read_volume(a.volume, a.raw.options());
-    a.iso = checked_isovalue(v, a.iso);
+    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso);
     Context& ctx = Context::shared();
     progress("smooth isosurface of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " (" +
              smooth_variant_name(variant) + "), window " + std::to_string(a.window) + ", on " + ctx.description());
     const bool want_mesh = !a.mesh.empty() || !a.preview.empty();
-    const SmoothResult r = smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
-    const IsoCounts before = intersected_counts(ctx, v, a.iso), after = intersected_counts(ctx, r.volume, a.iso);
+    // The input on the device once (the smoothing and the reports before read it), the
+    // result once (the reports after).
+    const ReportVolume input(ctx, v);
+    const SmoothResult r = input.device()
+                               ? smooth_isosurface(*input.device(), a.iso, a.threshold, a.window, variant, a.tau, want_mesh)
+                               : smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
+    const ReportVolume output(ctx, r.volume);
+    const IsoCounts before = input.counts_at(a.iso), after = output.counts_at(a.iso);
     write_volume(r.volume, a.output, &v);
 
     const double n = double(std::max<std::size_t>(1, v.vertices()));
@@ -51,7 +56,7 @@ int run_smooth(SmoothArgs a) {
               << 100.0 * double(r.vertices_changed) / n << "%)\n"
               << std::defaultfloat << "cubes       " << before.cubes << " -> " << after.cubes << " intersected\n"
               << "grid edges  " << before.edges << " -> " << after.edges << " intersected\n";
-    std::cout << "components  " << count_components_at(ctx, v, a.iso) << " -> " << count_components_at(ctx, r.volume, a.iso)
+    std::cout << "components  " << input.components_at(a.iso) << " -> " << output.components_at(a.iso)
               << " (cube connectivity: 6 below, 26 above)\n";
     std::cout << std::setprecision(4) << "time        " << r.device_seconds << " s device (LD field, edge scan), "
               << r.queue_seconds << " s queue, kernels compiled in " << ctx.compile_seconds() << " s\n"
@@ -74,17 +79,16 @@ int run_smooth(SmoothArgs a) {
 }
 
 void setup_smooth(CLI::App* c, SmoothArgs& a) {
-    add_volume_argument(c, a.volume);
-    add_iso_option(c, a.iso, "isovalue S (edges with a < S <= b are intersected)")->required();
+    add_volume_and_iso(c, a.volume, a.iso, "isovalue S (edges with a < S <= b are intersected)");
     c->add_option("--threshold", a.threshold, "h: an intersected edge is high fractal when LD > h at an end")
         ->required();
     add_window_option(c, a.window);
     c->add_option("--variant", a.variant, "plain (f(v) := f(u)) or gaussian (neighbours lowered too)")
         ->check(CLI::IsMember({"plain", "gaussian"}));
     c->add_option("--tau", a.tau, "width of the gaussian variant's lowering, in grid steps");
-    c->add_option("-o,--output", a.output, "output .nrrd, .nii or .nii.gz (same type as the input)")->required();
-    c->add_option("--mesh", a.mesh, "also write the smoothed isosurface as PLY, coloured by the input's LD");
-    c->add_option("--preview", a.preview, "render the smoothed isosurface to a PNG");
+    add_output_option(c, a.output, "output .nrrd, .nii or .nii.gz (same type as the input)");
+    add_mesh_option(c, a.mesh, "also write the smoothed isosurface as PLY, coloured by the input's LD");
+    add_preview_option(c, a.preview, "render the smoothed isosurface to a PNG");
     a.raw.add(c);
 }
 

@@ -126,7 +126,10 @@ Row survey_one(Context& ctx, const Entry& e) {
     IsovalueSet iso = IsovalueSet::for_volume(v, 256);
     r.isovalues = iso.size();
     // Levels 0, 1, 2: D_full from G/G', D_sub from G'/G''; E at level 0 for the correlation.
-    SpanResult spans = count_spans(ctx, v, iso, SpanOptions{{SpanKind::cubes, SpanKind::edges}, 3, 0});
+    // The volume on the device once, for the spans and the components.
+    const ReportVolume input(ctx, v);
+    const SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 3, 0};
+    SpanResult spans = input.device() ? count_spans(*input.device(), iso, opt) : count_spans(ctx, v, iso, opt);
     const auto& I = spans.get(SpanKind::cubes).counts;
     const auto& E = spans.get(SpanKind::edges).counts;
     const std::size_t K = iso.size();
@@ -152,12 +155,13 @@ Row survey_one(Context& ctx, const Entry& e) {
     }
     r.mean_sub = n_sub ? sum_sub / double(n_sub) : NAN;
     r.full_sub = n_diff ? sum_diff / double(n_diff) : NAN;
-    ComponentCurve c = count_components(ctx, v, iso, Connectivity::cube);
+    ComponentCurve c = input.device() ? count_components(*input.device(), iso, Connectivity::cube)
+                                      : count_components(ctx, v, iso, Connectivity::cube);
     ComponentCorrelation cc = correlate_components(ctx, full, E[0], c.components, v.dims());
     r.corr = cc.components;
     r.corr_area = cc.components_per_area;
     r.corr_used = cc.used;
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.seconds = seconds_since(t0);
     return r;
 }
 

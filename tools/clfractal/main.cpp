@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <new>
 #include <vector>
@@ -79,6 +80,10 @@ int run(const CLI::App& app, const Chosen& chosen) {
         OutputRun outputs;
         const int rc = chosen.run();
         if (rc == 0) outputs.commit();
+        // CLFRACTAL_UPLOADS set: how many volumes went to the device (tests check that a
+        // command uploads its input once).
+        if (std::getenv("CLFRACTAL_UPLOADS"))
+            std::cerr << "clfractal: uploads " << Context::shared().uploads() << "\n";
         return rc;
     } catch (const InputError& e) {
         std::cerr << "clfractal: error: " << printable(e.what()) << "\n";

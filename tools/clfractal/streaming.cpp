@@ -101,7 +101,7 @@ int cmd_local_stream(const std::string& volume, const RawOptions& raw, double is
     }
     stream.finish();
     writer.close();
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = seconds_since(t0);
 
     const double vertices = double(d.vertices());
     std::cout << "volume      " << volume << "  " << dims_string(d) << " " << value_type_name(reader.type()) << "\n"
