@@ -269,14 +269,24 @@ void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const D
     }
     Buffer<LocalWindow> window_table(ctx, windows.size(), CL_MEM_READ_ONLY);
     window_table.write(ctx.queue(), windows.data(), windows.size());
-    // block_dimension(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, ld).
-    KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, cl::Buffer> query(
-        ctx, "local", "block_dimension", options);
-    // A fixed work-group size: PoCL compiles a kernel once per work-group size.
-    const std::size_t wg = std::min<std::size_t>(16, ctx.max_work_group());
-    query(cl::NDRange((hb.nx + wg - 1) / wg * wg, hb.ny, hb.nz), cl::NDRange(wg, 1, 1), counts.get(), sub.get(),
-          int(ds.nx), int(ds.ny), window_table.get(), int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx),
-          int(hb.ny), ld);
+    if (ctx.tuning.local_variant == LocalVariant::rows) {
+        // block_dimension_rows(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, bnz, ld, scratch).
+        const std::size_t items = row_items(ctx);
+        Buffer<C> scratch(ctx, items * 2 * ds.nx);
+        KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, int, cl::Buffer, cl::Buffer>
+            query(ctx, "local", "block_dimension_rows", options);
+        query(cl::NDRange(items), cl::NDRange(1), counts.get(), sub.get(), int(ds.nx), int(ds.ny), window_table.get(),
+              int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx), int(hb.ny), int(hb.nz), ld, scratch.get());
+    } else {
+        // block_dimension(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, ld).
+        KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, cl::Buffer> query(
+            ctx, "local", "block_dimension", options);
+        // A fixed work-group size: PoCL compiles a kernel once per work-group size.
+        const std::size_t wg = std::min<std::size_t>(16, ctx.max_work_group());
+        query(cl::NDRange((hb.nx + wg - 1) / wg * wg, hb.ny, hb.nz), cl::NDRange(wg, 1, 1), counts.get(), sub.get(),
+              int(ds.nx), int(ds.ny), window_table.get(), int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx),
+              int(hb.ny), ld);
+    }
 }
 
 }  // namespace
