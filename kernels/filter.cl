@@ -103,7 +103,19 @@ inline int clamp_index(int i, int n) { return clamp(i, 0, n - 1); }
 // median_rows only: the LD of blocks of 2×2×2 vertices (block_local_dimension, hx × hy ×
 // hz, x fastest, phase p); vertex (x, y, z) of the whole volume is selected when the LD of
 // block ((x + p) / 2, (y + p) / 2, (z + p) / 2) is > h. The slab is the whole volume.
-#define ROW_MASK_ARGS , __global const float* restrict ld, int hx, int hy, int p, float h
+// Work-item i writes tally[2 i] and tally[2 i + 1]: its selected vertices and, of those, the
+// ones whose median differs from the input (no pass over the volume afterwards).
+#define ROW_MASK_ARGS , __global const float* restrict ld, int hx, int hy, int p, float h, __global ulong* restrict tally
+// Vertex x of the row: the median where its block is selected, counted, else the input.
+#define BLOCK_MASKED_STORE(x, median_expr)                 \
+    if (mb[((x) + p) >> 1] > h) {                          \
+        const T m_ = (median_expr);                        \
+        o[x] = m_;                                         \
+        ++selected;                                        \
+        changed += m_ != c[x];                             \
+    } else {                                               \
+        o[x] = c[x];                                       \
+    }
 #else
 #define ROW_MASK_ARGS MASK_ARGS
 #endif
@@ -197,6 +209,9 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t nrows = (size_t)ny * (size_t)nz_out;
     const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
+#ifdef BLOCK_MASKED
+    ulong selected = 0, changed = 0;
+#endif
     for (size_t r = r0; r < r1; ++r) {
         const int y = (int)(r % (size_t)ny), z = (int)(r / (size_t)ny);
         NINE_ROWS(in, rows, y, z_begin + z, nx, ny, nz_in);
@@ -222,7 +237,7 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
 #ifdef MASKED
             o[x] = m[x] > h ? median_scalar(rows, x, nx) : c[x];
 #elif defined(BLOCK_MASKED)
-            o[x] = mb[(x + p) >> 1] > h ? median_scalar(rows, x, nx) : c[x];
+            BLOCK_MASKED_STORE(x, median_scalar(rows, x, nx))
 #else
             o[x] = median_scalar(rows, x, nx);
 #endif
@@ -245,7 +260,9 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
             }
             T med[VEC];
             VSTORE(median_vec(rows, x), 0, med);
-            for (int i = 0; i < VEC; ++i) o[x + i] = mb[(x + i + p) >> 1] > h ? med[i] : c[x + i];
+            for (int i = 0; i < VEC; ++i) {
+                BLOCK_MASKED_STORE(x + i, med[i])
+            }
 #else
             VSTORE(median_vec(rows, x), 0, o + x);
 #endif
@@ -254,12 +271,16 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
 #ifdef MASKED
             o[x] = m[x] > h ? median_scalar(rows, x, nx) : c[x];
 #elif defined(BLOCK_MASKED)
-            o[x] = mb[(x + p) >> 1] > h ? median_scalar(rows, x, nx) : c[x];
+            BLOCK_MASKED_STORE(x, median_scalar(rows, x, nx))
 #else
             o[x] = median_scalar(rows, x, nx);
 #endif
         }
     }
+#ifdef BLOCK_MASKED
+    tally[2 * item] = selected;
+    tally[2 * item + 1] = changed;
+#endif
 }
 
 __kernel void median_vertices(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,

@@ -373,9 +373,13 @@ TEST_CASE("the targeted median (LD on blocks) equals the masked median with the 
                         const Volume ld = local_fractal_dimension(ctx(), v, iso, window);
                         const TargetedResult r = targeted_filter(ctx(), v, FilterSpec::median(), iso, h, window);
                         CHECK(same_bytes(r.volume, masked_filter(ctx(), v, FilterSpec::median(), ld, h)));
-                        std::size_t selected = 0;
-                        for (std::size_t i = 0; i < v.vertices(); ++i) selected += double(ld.as<float>()[i]) > h;
+                        std::size_t selected = 0, changed = 0;
+                        for (std::size_t i = 0; i < v.vertices(); ++i) {
+                            selected += double(ld.as<float>()[i]) > h;
+                            changed += r.volume.value(i) != v.value(i);
+                        }
                         CHECK(r.selected == selected);
+                        CHECK(r.changed == changed);
                     }
     }
 }
