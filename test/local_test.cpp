@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <type_traits>
 
 #include "clfractal/local.hpp"
 #include "clfractal/synthetic.hpp"
@@ -427,12 +426,9 @@ TEST_CASE("the block LD kernels against the reference: every type, chunks and ta
         ctx().tuning.local_variant = parse_variant<LocalVariant>(variant);
         for (ValueType t : types) {
             // The type's ends (float data: -4 .. 4 in halves).
-            double lo = -8, hi = 8, vlo = -4, vhi = 4;
-            visit(Volume(Dims{1, 1, 1}, t), [&](const auto* p) {
-                using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-                if constexpr (std::is_integral_v<T>)
-                    lo = vlo = double(std::numeric_limits<T>::lowest()), hi = vhi = double(std::numeric_limits<T>::max());
-            });
+            const bool integer = is_integer(t);
+            const double lo = integer ? type_min(t) : -8, hi = integer ? type_max(t) : 8;
+            const double vlo = integer ? lo : -4, vhi = integer ? hi : 4;
             for (const Dims& d : {Dims{53, 7, 6}, Dims{34, 5, 5}, Dims{19, 4, 9}, Dims{16, 6, 4}}) {
                 ctx().tuning.row_items = d.nx == 34 ? 64 : 3;  // more work-items than rows; rows shared unevenly
                 // Small values (many cubes intersected) and values over the whole range.
