@@ -83,8 +83,8 @@ std::vector<double> spatial_weights(double sigma_s, int r) {
 // hold (int32, uint32, float64: is_wide), else in float (kernels/filter.cl acc_t).
 std::size_t accumulator_size(ValueType t) { return is_wide(t) ? sizeof(double) : sizeof(float); }
 
-// threshold: a per-vertex field > h; blocks: the LD of blocks of 2×2×2 vertices > h
-// (block_local_dimension; median_rows only); ld_guided: the LD-guided bilateral filter.
+// threshold: a per-vertex field > h; blocks: the selection of blocks of 2×2×2 vertices
+// (block_selection; median_rows only); ld_guided: the LD-guided bilateral filter.
 enum class Mask { none, threshold, blocks, ld_guided };
 
 // Compiles and launches the kernels of one filter on one slab.
@@ -138,7 +138,8 @@ public:
                            : cl::NDRange(d_.nx, d_.ny, std::size_t(nz_out));
         const cl::NDRange local = rows_ ? cl::NDRange(1) : tiled_ ? cl::NDRange(tile_x, tile_y, 1) : cl::NullRange;
         // The kernels' arguments in order (kernels/filter.cl); the masked kernels end with
-        // (ld, h) (-DMASKED), (ld, bnx, bny, phase, h, tally) (-DBLOCK_MASKED) or (ld) (-DLD_GUIDED).
+        // (ld, h) (-DMASKED), (selection, bnx, bny, phase, tally) (-DBLOCK_MASKED) or (ld)
+        // (-DLD_GUIDED).
         const auto plain = [&](cl::Kernel& k, const auto&... args) {
             set_args(k, args...);
             ctx_.launch(k, global, local);
@@ -148,7 +149,7 @@ public:
             else if (mask_ == Mask::threshold) set_args(k, args..., *ld, h);
             else if (mask_ == Mask::blocks) {
                 const Dims hb = ld_block_dims(d_, window_);
-                set_args(k, args..., *ld, int(hb.nx), int(hb.ny), ld_block_phase(window_), h, tally_.get());
+                set_args(k, args..., *ld, int(hb.nx), int(hb.ny), ld_block_phase(window_), tally_.get());
             } else set_args(k, args..., *ld);
             ctx_.launch(k, global, local);
         };
@@ -355,18 +356,18 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
         t = clock::now();
         field_run(ctx, v, spec, mask, ld, hf, res);
     } else if (mask == Mask::threshold && spec.kind == FilterKind::median && ctx.tuning.filter_variant == FilterVariant::rows) {
-        // The median on CPUs: LD on blocks of 2×2×2 vertices, read as such by the median
-        // kernel, which computes only the blocks of 16 columns that hold a selected vertex
-        // and counts the selected and changed vertices itself.
+        // The median on CPUs: LD > h on blocks of 2×2×2 vertices (block_selection, a byte per
+        // block), read as such by the median kernel, which computes only the blocks of 16
+        // columns that hold a selected vertex and counts the selected and changed vertices.
         with_cl_errors_finished(ctx, [&] {
             const DeviceVolume values(ctx, v);
-            Buffer<float> ld = block_local_dimension(ctx, values.buffer(), v.type(), d, iso, window);
+            const Buffer<cl_uchar> selection = block_selection(ctx, values.buffer(), v.type(), d, iso, window, hf);
             ctx.queue().finish();
             res.ld_seconds = seconds_since(t);
             t = clock::now();
             Runner runner(ctx, v.type(), d, spec, Mask::blocks, window);
             const DeviceVolume o = DeviceVolume::output(ctx, res.volume);
-            runner.run(values.buffer(), int(d.nz), 0, int(d.nz), o.buffer(), &ld.get(), hf);
+            runner.run(values.buffer(), int(d.nz), 0, int(d.nz), o.buffer(), &selection.get(), hf);
             o.download_to(res.volume);
             std::tie(res.selected, res.changed) = runner.block_tally();
         });

@@ -343,38 +343,62 @@ __kernel void block_dimension(__global const C* counts, __global const C* sub, i
 }
 
 // The same per row of blocks (Y, Z), rows shared out like cube_indicator_rows (CPUs): per
-// row the y-z part of both box sums is taken once for every G' column into `scratch` (2 mx
-// counts per work-item; nondecreasing along x), then two lookups per table and block. A row
-// whose windows hold no intersected G' cube is NaN throughout, with no further work.
+// row the y-z part of both box sums is taken once for every G' column into `col` and
+// `col_sub` (mx counts each; nondecreasing along x), then two lookups per table and block.
+// Returns 0, with no further work, when the row's windows hold no intersected G' cube
+// anywhere along x (no LD in the row).
+inline int block_row_columns(__global const C* counts, __global const C* sub, int mx, int my,
+                             __global const int4* win, int nx, int ny, int p, int Y, int Z, __global C* col,
+                             __global C* col_sub) {
+    const size_t row = (size_t)mx, slice = row * (size_t)my;
+    const int4 wy = win[nx + max(0, 2 * Y - p)], wz = win[nx + ny + max(0, 2 * Z - p)];
+    const size_t o00 = wz.s2 * slice + wy.s2 * row, o01 = wz.s2 * slice + wy.s3 * row;
+    const size_t o10 = wz.s3 * slice + wy.s2 * row, o11 = wz.s3 * slice + wy.s3 * row;
+    const int last = mx - 1;
+    if ((sub[o11 + last] - sub[o10 + last]) - (sub[o01 + last] - sub[o00 + last]) == 0) return 0;
+    for (int u = 0; u < mx; ++u) {
+        col[u] = (counts[o11 + u] - counts[o10 + u]) - (counts[o01 + u] - counts[o00 + u]);
+        col_sub[u] = (sub[o11 + u] - sub[o10 + u]) - (sub[o01 + u] - sub[o00 + u]);
+    }
+    return 1;
+}
+
+// LD of block X of a row from its columns (block_row_columns).
+#define BLOCK_LD(X) \
+    log_ratio(col[win[max(0, 2 * (X) - p)].s3] - col[win[max(0, 2 * (X) - p)].s2], \
+              col_sub[win[max(0, 2 * (X) - p)].s3] - col_sub[win[max(0, 2 * (X) - p)].s2])
+
+// The rows of block_*_rows (rows shared out like cube_indicator_rows; `scratch`: 2 mx counts
+// per work-item): `empty` for each block X of a row without LD, `block` for each block of
+// the others, with the row's columns at hand.
+#define BLOCK_ROWS(empty, block)                                                                 \
+    const size_t item = get_global_id(0), items = get_global_size(0);                            \
+    const size_t rows = (size_t)hy * (size_t)hz;                                                 \
+    const size_t r0 = rows * item / items, r1 = rows * (item + 1) / items;                       \
+    __global C* col = scratch + item * 2 * (size_t)mx;                                           \
+    __global C* col_sub = col + mx;                                                              \
+    for (size_t r = r0; r < r1; ++r) {                                                           \
+        const size_t o = r * (size_t)hx;                                                         \
+        if (!block_row_columns(counts, sub, mx, my, win, nx, ny, p, r % (size_t)hy, r / (size_t)hy, col, col_sub)) { \
+            for (int X = 0; X < hx; ++X) empty;                                                  \
+            continue;                                                                            \
+        }                                                                                        \
+        for (int X = 0; X < hx; ++X) block;                                                      \
+    }
+
 __kernel void block_dimension_rows(__global const C* counts, __global const C* sub, int mx, int my,
                                    __global const int4* win, int nx, int ny, int p, int hx, int hy, int hz,
                                    __global float* restrict ld, __global C* restrict scratch) {
-    const size_t item = get_global_id(0), items = get_global_size(0);
-    const size_t rows = (size_t)hy * (size_t)hz, row = (size_t)mx, slice = row * (size_t)my;
-    const size_t r0 = rows * item / items, r1 = rows * (item + 1) / items;
-    __global C* col = scratch + item * 2 * (size_t)mx;
-    __global C* col_sub = col + mx;
-    for (size_t r = r0; r < r1; ++r) {
-        const int Y = r % (size_t)hy, Z = r / (size_t)hy;
-        const int4 wy = win[nx + max(0, 2 * Y - p)], wz = win[nx + ny + max(0, 2 * Z - p)];
-        __global float* out = ld + r * (size_t)hx;
-        const size_t o00 = wz.s2 * slice + wy.s2 * row, o01 = wz.s2 * slice + wy.s3 * row;
-        const size_t o10 = wz.s3 * slice + wy.s2 * row, o11 = wz.s3 * slice + wy.s3 * row;
-        // Intersected G' cubes of the row's windows in all of x: none, no LD anywhere.
-        const int last = mx - 1;
-        if ((sub[o11 + last] - sub[o10 + last]) - (sub[o01 + last] - sub[o00 + last]) == 0) {
-            for (int X = 0; X < hx; ++X) out[X] = NAN;
-            continue;
-        }
-        for (int u = 0; u < mx; ++u) {
-            col[u] = (counts[o11 + u] - counts[o10 + u]) - (counts[o01 + u] - counts[o00 + u]);
-            col_sub[u] = (sub[o11 + u] - sub[o10 + u]) - (sub[o01 + u] - sub[o00 + u]);
-        }
-        for (int X = 0; X < hx; ++X) {
-            const int4 wx = win[max(0, 2 * X - p)];
-            out[X] = log_ratio(col[wx.s3] - col[wx.s2], col_sub[wx.s3] - col_sub[wx.s2]);
-        }
-    }
+    BLOCK_ROWS(ld[o + X] = NAN, ld[o + X] = BLOCK_LD(X))
+}
+
+// The same fused with the selection of the fractal-targeted filters: `sel` gets 1 for the
+// blocks with LD > h (the LD of block_dimension_rows, compared as the filters compare it;
+// NaN never qualifies), else 0: a byte per block instead of a float.
+__kernel void block_selection_rows(__global const C* counts, __global const C* sub, int mx, int my,
+                                   __global const int4* win, int nx, int ny, int p, int hx, int hy, int hz,
+                                   float h, __global uchar* restrict sel, __global C* restrict scratch) {
+    BLOCK_ROWS(sel[o + X] = 0, sel[o + X] = BLOCK_LD(X) > h)
 }
 
 // One work-item per vertex: global size (nx, ny, nz) exactly. The block field of
