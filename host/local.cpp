@@ -325,11 +325,16 @@ void block_select(Context& ctx, const cl::Buffer& values, ValueType type, const 
     const BlockTables<C> t = block_tables<C>(ctx, values, type, d, iso, window, options);
     const std::size_t items = row_items(ctx);
     Buffer<C> scratch(ctx, items * 2 * ds.nx);
-    // block_selection_rows(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, bnz, h, sel, scratch).
-    KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, int, float, cl::Buffer, cl::Buffer>
+    // The ratios a / b that settle LD > h without log2 (kernels/local.cl above()).
+    const double power = std::exp2(double(h));
+    const float lo = float(power * (1 - 1.0 / 1024)), hi = float(power * (1 + 1.0 / 1024));
+    // block_selection_rows(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, bnz, h, lo, hi, sel, scratch).
+    KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, int, float, float, float,
+               cl::Buffer, cl::Buffer>
         query(ctx, "local", "block_selection_rows", options);
     query(cl::NDRange(items), cl::NDRange(1), t.counts.get(), t.sub.get(), int(ds.nx), int(ds.ny), t.windows.get(),
-          int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx), int(hb.ny), int(hb.nz), h, sel, scratch.get());
+          int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx), int(hb.ny), int(hb.nz), h, lo, hi, sel,
+          scratch.get());
 }
 
 }  // namespace

@@ -392,13 +392,26 @@ __kernel void block_dimension_rows(__global const C* counts, __global const C* s
     BLOCK_ROWS(ld[o + X] = NAN, ld[o + X] = BLOCK_LD(X))
 }
 
+// log_ratio(a, b) > h, with log2 taken only where the ratio r = a / b (in float, as
+// log_ratio) lies within a factor 1 +- 2^-10 of 2^h: below (r <= lo) log2(r) <= h - 0.0014 and
+// above (r >= hi) log2(r) >= h + 0.0014, far past log2's error of a few ulp. lo and hi come
+// from the host (2^h (1 -+ 2^-10), infinite or 0 past float's range).
+inline uchar above(C a, C b, float h, float lo, float hi) {
+    if (!a || !b) return 0;
+    const float r = (float)a / (float)b;
+    return r <= lo ? 0 : r >= hi ? 1 : log2(r) > h;
+}
+
 // The same fused with the selection of the fractal-targeted filters: `sel` gets 1 for the
 // blocks with LD > h (the LD of block_dimension_rows, compared as the filters compare it;
 // NaN never qualifies), else 0: a byte per block instead of a float.
 __kernel void block_selection_rows(__global const C* counts, __global const C* sub, int mx, int my,
                                    __global const int4* win, int nx, int ny, int p, int hx, int hy, int hz,
-                                   float h, __global uchar* restrict sel, __global C* restrict scratch) {
-    BLOCK_ROWS(sel[o + X] = 0, sel[o + X] = BLOCK_LD(X) > h)
+                                   float h, float lo, float hi, __global uchar* restrict sel,
+                                   __global C* restrict scratch) {
+    BLOCK_ROWS(sel[o + X] = 0, sel[o + X] = above(col[win[max(0, 2 * X - p)].s3] - col[win[max(0, 2 * X - p)].s2],
+                                                  col_sub[win[max(0, 2 * X - p)].s3] - col_sub[win[max(0, 2 * X - p)].s2],
+                                                  h, lo, hi))
 }
 
 // One work-item per vertex: global size (nx, ny, nz) exactly. The block field of
