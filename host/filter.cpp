@@ -83,8 +83,8 @@ std::vector<double> spatial_weights(double sigma_s, int r) {
 // hold (int32, uint32, float64: is_wide), else in float (kernels/filter.cl acc_t).
 std::size_t accumulator_size(ValueType t) { return is_wide(t) ? sizeof(double) : sizeof(float); }
 
-// threshold: a per-vertex field > h; blocks: the LD of blocks of 2×2×2 vertices > h
-// (block_local_dimension; median_rows only); ld_guided: the LD-guided bilateral filter.
+// threshold: a per-vertex field > h; blocks: the selection of blocks of 2×2×2 vertices
+// (block_selection; median_rows only); ld_guided: the LD-guided bilateral filter.
 enum class Mask { none, threshold, blocks, ld_guided };
 
 // Compiles and launches the kernels of one filter on one slab.
@@ -109,6 +109,7 @@ public:
             if (spec.kind != FilterKind::median || !rows_)
                 throw std::logic_error("Runner: the block mask is for the median's rows kernel");
             options_ += " -DBLOCK_MASKED";
+            tally_ = Buffer<cl_ulong>(ctx, 2 * items_);
         }
         if (mask == Mask::ld_guided) options_ += " -DLD_GUIDED";
         const std::string suffix = rows_ ? "_rows" : "_vertices";
@@ -137,7 +138,8 @@ public:
                            : cl::NDRange(d_.nx, d_.ny, std::size_t(nz_out));
         const cl::NDRange local = rows_ ? cl::NDRange(1) : tiled_ ? cl::NDRange(tile_x, tile_y, 1) : cl::NullRange;
         // The kernels' arguments in order (kernels/filter.cl); the masked kernels end with
-        // (ld, h) (-DMASKED), (ld, bnx, bny, phase, h) (-DBLOCK_MASKED) or (ld) (-DLD_GUIDED).
+        // (ld, h) (-DMASKED), (selection, bnx, bny, phase, tally) (-DBLOCK_MASKED) or (ld)
+        // (-DLD_GUIDED).
         const auto plain = [&](cl::Kernel& k, const auto&... args) {
             set_args(k, args...);
             ctx_.launch(k, global, local);
@@ -147,7 +149,7 @@ public:
             else if (mask_ == Mask::threshold) set_args(k, args..., *ld, h);
             else if (mask_ == Mask::blocks) {
                 const Dims hb = ld_block_dims(d_, window_);
-                set_args(k, args..., *ld, int(hb.nx), int(hb.ny), ld_block_phase(window_), h);
+                set_args(k, args..., *ld, int(hb.nx), int(hb.ny), ld_block_phase(window_), tally_.get());
             } else set_args(k, args..., *ld);
             ctx_.launch(k, global, local);
         };
@@ -169,6 +171,18 @@ public:
             if (is_wide(type_)) masked(main_, in, nx, ny, nz_in, z_begin, nz_out, weights_, cl_double(inv_2sr2), out);
             else masked(main_, in, nx, ny, nz_in, z_begin, nz_out, weights_, cl_float(float(inv_2sr2)), out);
         }
+    }
+
+    // Mask::blocks, after run(): the selected vertices and, of those, the changed ones.
+    std::pair<std::size_t, std::size_t> block_tally() {
+        std::vector<cl_ulong> t(2 * items_);
+        tally_.read(ctx_.queue(), t.data(), t.size());
+        std::pair<std::size_t, std::size_t> sum{0, 0};
+        for (std::size_t i = 0; i < items_; ++i) {
+            sum.first += t[2 * i];
+            sum.second += t[2 * i + 1];
+        }
+        return sum;
     }
 
 private:
@@ -199,6 +213,7 @@ private:
     cl::Kernel main_, gz_, gy_;
     cl::Buffer weights_;
     Buffer<unsigned char> tmp_a_, tmp_b_;  // acc_t values
+    Buffer<cl_ulong> tally_;               // Mask::blocks: per work-item selected and changed counts
     std::size_t tmp_size_ = 0;
 };
 
@@ -294,31 +309,14 @@ std::size_t count_selected(const float* ld, std::size_t n, float h) {
     return selected;
 }
 
-// The vertices of the blocks of a block LD field (ld_block_dims(d, window)) whose LD > h:
-// block B of an axis of n vertices holds vertices 2B - p and 2B + 1 - p inside [0, n).
-std::size_t count_selected_blocks(const float* ld, const Dims& d, int window, float h) {
-    const Dims hb = ld_block_dims(d, window);
-    const long long p = ld_block_phase(window);
-    auto width = [p](std::size_t b, std::size_t n) {
-        const long long lo = std::max(0LL, 2 * (long long)b - p), hi = std::min((long long)n, 2 * (long long)b - p + 2);
-        return std::size_t(hi - lo);
-    };
-    std::size_t selected = 0;
-#pragma omp parallel for reduction(+ : selected) schedule(static)
-    for (long long z = 0; z < (long long)hb.nz; ++z)
-        for (std::size_t y = 0; y < hb.ny; ++y) {
-            const float* row = ld + (std::size_t(z) * hb.ny + y) * hb.nx;
-            const std::size_t yz = width(y, d.ny) * width(std::size_t(z), d.nz);
-            for (std::size_t x = 0; x < hb.nx; ++x)
-                if (row[x] > h) selected += yz * width(x, d.nx);
-        }
-    return selected;
+void set_shares(const Volume& v, TargetedResult& res) {
+    res.selected_share = double(res.selected) / double(v.vertices());
+    res.changed_share = double(res.changed) / double(v.vertices());
 }
 
 void finish_result(const Volume& v, TargetedResult& res) {
     res.changed = count_changed(v, res.volume);
-    res.selected_share = double(res.selected) / double(v.vertices());
-    res.changed_share = double(res.changed) / double(v.vertices());
+    set_shares(v, res);
 }
 
 // The filter of a whole device volume into `out` (its dims and type); `ld` for the masked
@@ -358,23 +356,24 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
         t = clock::now();
         field_run(ctx, v, spec, mask, ld, hf, res);
     } else if (mask == Mask::threshold && spec.kind == FilterKind::median && ctx.tuning.filter_variant == FilterVariant::rows) {
-        // The median on CPUs: LD on blocks of 2×2×2 vertices, read as such by the median
-        // kernel, which computes only the blocks of 16 columns that hold a selected vertex.
+        // The median on CPUs: LD > h on blocks of 2×2×2 vertices (block_selection, a byte per
+        // block), read as such by the median kernel, which computes only the blocks of 16
+        // columns that hold a selected vertex and counts the selected and changed vertices.
         with_cl_errors_finished(ctx, [&] {
             const DeviceVolume values(ctx, v);
-            Buffer<float> ld = block_local_dimension(ctx, values.buffer(), v.type(), d, iso, window);
+            const Buffer<cl_uchar> selection = block_selection(ctx, values.buffer(), v.type(), d, iso, window, hf);
             ctx.queue().finish();
             res.ld_seconds = seconds_since(t);
             t = clock::now();
             Runner runner(ctx, v.type(), d, spec, Mask::blocks, window);
             const DeviceVolume o = DeviceVolume::output(ctx, res.volume);
-            runner.run(values.buffer(), int(d.nz), 0, int(d.nz), o.buffer(), &ld.get(), hf);
+            runner.run(values.buffer(), int(d.nz), 0, int(d.nz), o.buffer(), &selection.get(), hf);
             o.download_to(res.volume);
-            const float* p = static_cast<const float*>(
-                ctx.queue().enqueueMapBuffer(ld.get(), CL_TRUE, CL_MAP_READ, 0, ld.bytes()));
-            res.selected = count_selected_blocks(p, d, window, hf);
-            ctx.queue().enqueueUnmapMemObject(ld.get(), const_cast<float*>(p));
+            std::tie(res.selected, res.changed) = runner.block_tally();
         });
+        set_shares(v, res);
+        res.filter_seconds = seconds_since(t);
+        return res;
     } else {
         // One upload: the LD field and the filter read the same device values.
         with_cl_errors_finished(ctx, [&] {

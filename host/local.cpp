@@ -244,12 +244,17 @@ Dims ld_block_dims(const Dims& d, int window) {
 
 namespace {
 
+// The summed-area tables of block_local_dimension (the intersected G cubes inside each G'
+// cube, and the G' indicator, both mx × my × mz padded) and the window tables of G.
+template <class C> struct BlockTables {
+    Buffer<C> counts, sub;
+    Buffer<LocalWindow> windows;
+};
+
 template <class C>
-void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso, int window,
-                 const cl::Buffer& ld) {
-    const Dims ds = level_dims(d, 1), hb = ld_block_dims(d, window);
-    const std::string options =
-        single_isovalue_options(type) + defines({{"C", std::is_same_v<C, cl_ulong> ? "ulong" : "uint"}});
+BlockTables<C> block_tables(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso,
+                            int window, const std::string& options) {
+    const Dims ds = level_dims(d, 1);
     Buffer<C> counts(ctx, ds.vertices()), sub(ctx, ds.vertices());
     // Tuning::local_variant as for the full field: whole rows per work-item on CPUs.
     // kernels/local.cl block_indicators[_rows](vol, nx, ny, nz, s, [snx, sny, snz,] counts, sub).
@@ -273,23 +278,74 @@ void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const D
     }
     Buffer<LocalWindow> window_table(ctx, windows.size(), CL_MEM_READ_ONLY);
     window_table.write(ctx.queue(), windows.data(), windows.size());
-    // block_dimension(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, ld).
-    KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, cl::Buffer> query(
-        ctx, "local", "block_dimension", options);
-    // A fixed work-group size: PoCL compiles a kernel once per work-group size.
-    const std::size_t wg = std::min<std::size_t>(16, ctx.max_work_group());
-    query(cl::NDRange((hb.nx + wg - 1) / wg * wg, hb.ny, hb.nz), cl::NDRange(wg, 1, 1), counts.get(), sub.get(),
-          int(ds.nx), int(ds.ny), window_table.get(), int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx),
-          int(hb.ny), ld);
+    return BlockTables<C>{std::move(counts), std::move(sub), std::move(window_table)};
+}
+
+std::string block_options(ValueType type, bool wide) {
+    return single_isovalue_options(type) + defines({{"C", wide ? "ulong" : "uint"}});
+}
+
+template <class C>
+void block_field(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso, int window,
+                 const cl::Buffer& ld) {
+    const Dims ds = level_dims(d, 1), hb = ld_block_dims(d, window);
+    const std::string options = block_options(type, std::is_same_v<C, cl_ulong>);
+    const BlockTables<C> tables = block_tables<C>(ctx, values, type, d, iso, window, options);
+    const Buffer<C>& counts = tables.counts;
+    const Buffer<C>& sub = tables.sub;
+    const Buffer<LocalWindow>& window_table = tables.windows;
+    if (ctx.tuning.local_variant == LocalVariant::rows) {
+        // block_dimension_rows(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, bnz, ld, scratch).
+        const std::size_t items = row_items(ctx);
+        Buffer<C> scratch(ctx, items * 2 * ds.nx);
+        KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, int, cl::Buffer, cl::Buffer>
+            query(ctx, "local", "block_dimension_rows", options);
+        query(cl::NDRange(items), cl::NDRange(1), counts.get(), sub.get(), int(ds.nx), int(ds.ny), window_table.get(),
+              int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx), int(hb.ny), int(hb.nz), ld, scratch.get());
+    } else {
+        // block_dimension(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, ld).
+        KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, cl::Buffer> query(
+            ctx, "local", "block_dimension", options);
+        // A fixed work-group size: PoCL compiles a kernel once per work-group size.
+        const std::size_t wg = std::min<std::size_t>(16, ctx.max_work_group());
+        query(cl::NDRange((hb.nx + wg - 1) / wg * wg, hb.ny, hb.nz), cl::NDRange(wg, 1, 1), counts.get(), sub.get(),
+              int(ds.nx), int(ds.ny), window_table.get(), int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx),
+              int(hb.ny), ld);
+    }
+}
+
+void check_block_arguments(const Dims& d, double iso, int window) {
+    check_local_arguments(iso, window);
+    check_dims(d, "volume");
+    local_windows(std::max({d.nx, d.ny, d.nz}), window);  // axis length check
+}
+
+// block_selection with C-bit tables.
+template <class C>
+void block_select(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso, int window,
+                  float h, const cl::Buffer& sel) {
+    const Dims ds = level_dims(d, 1), hb = ld_block_dims(d, window);
+    const std::string options = block_options(type, std::is_same_v<C, cl_ulong>);
+    const BlockTables<C> t = block_tables<C>(ctx, values, type, d, iso, window, options);
+    const std::size_t items = row_items(ctx);
+    Buffer<C> scratch(ctx, items * 2 * ds.nx);
+    // The ratios a / b that settle LD > h without log2 (kernels/local.cl above()).
+    const double power = std::exp2(double(h));
+    const float lo = float(power * (1 - 1.0 / 1024)), hi = float(power * (1 + 1.0 / 1024));
+    // block_selection_rows(counts, sub, snx, sny, windows, nx, ny, phase, bnx, bny, bnz, h, lo, hi, sel, scratch).
+    KernelCall<cl::Buffer, cl::Buffer, int, int, cl::Buffer, int, int, int, int, int, int, float, float, float,
+               cl::Buffer, cl::Buffer>
+        query(ctx, "local", "block_selection_rows", options);
+    query(cl::NDRange(items), cl::NDRange(1), t.counts.get(), t.sub.get(), int(ds.nx), int(ds.ny), t.windows.get(),
+          int(d.nx), int(d.ny), ld_block_phase(window), int(hb.nx), int(hb.ny), int(hb.nz), h, lo, hi, sel,
+          scratch.get());
 }
 
 }  // namespace
 
 Buffer<float> block_local_dimension(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso,
                                     int window) {
-    check_local_arguments(iso, window);
-    check_dims(d, "volume");
-    local_windows(std::max({d.nx, d.ny, d.nz}), window);  // axis length check
+    check_block_arguments(d, iso, window);
     Buffer<float> ld(ctx, ld_block_dims(d, window).vertices());
     with_cl_errors([&] {
         // The counts of a G' box are at most 8 times its G' cubes: 32 bits hold them while
@@ -298,6 +354,17 @@ Buffer<float> block_local_dimension(Context& ctx, const cl::Buffer& values, Valu
         else block_field<cl_uint>(ctx, values, type, d, iso, window, ld.get());
     });
     return ld;
+}
+
+Buffer<cl_uchar> block_selection(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso,
+                                 int window, float h) {
+    check_block_arguments(d, iso, window);
+    Buffer<cl_uchar> sel(ctx, ld_block_dims(d, window).vertices());
+    with_cl_errors([&] {
+        if (d.cubes() > ctx.tuning.sat_max_32bit) block_select<cl_ulong>(ctx, values, type, d, iso, window, h, sel.get());
+        else block_select<cl_uint>(ctx, values, type, d, iso, window, h, sel.get());
+    });
+    return sel;
 }
 
 

@@ -100,10 +100,22 @@ inline int clamp_index(int i, int n) { return clamp(i, 0, n - 1); }
 #define SELECTED(i) true
 #endif
 #ifdef BLOCK_MASKED
-// median_rows only: the LD of blocks of 2×2×2 vertices (block_local_dimension, hx × hy ×
-// hz, x fastest, phase p); vertex (x, y, z) of the whole volume is selected when the LD of
-// block ((x + p) / 2, (y + p) / 2, (z + p) / 2) is > h. The slab is the whole volume.
-#define ROW_MASK_ARGS , __global const float* restrict ld, int hx, int hy, int p, float h
+// median_rows only: the selection of blocks of 2×2×2 vertices (block_selection: one byte
+// per block, hx × hy × hz, x fastest, phase p); vertex (x, y, z) of the whole volume is
+// selected when block ((x + p) / 2, (y + p) / 2, (z + p) / 2) is. The slab is the whole volume.
+// Work-item i writes tally[2 i] and tally[2 i + 1]: its selected vertices and, of those, the
+// ones whose median differs from the input (no pass over the volume afterwards).
+#define ROW_MASK_ARGS , __global const uchar* restrict sel, int hx, int hy, int p, __global ulong* restrict tally
+// Vertex x of the row: the median where its block is selected, counted, else the input.
+#define BLOCK_MASKED_STORE(x, median_expr)                 \
+    if (mb[((x) + p) >> 1]) {                              \
+        const T m_ = (median_expr);                        \
+        o[x] = m_;                                         \
+        ++selected;                                        \
+        changed += m_ != c[x];                             \
+    } else {                                               \
+        o[x] = c[x];                                       \
+    }
 #else
 #define ROW_MASK_ARGS MASK_ARGS
 #endif
@@ -197,6 +209,9 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t nrows = (size_t)ny * (size_t)nz_out;
     const size_t r0 = nrows * item / items, r1 = nrows * (item + 1) / items;
+#ifdef BLOCK_MASKED
+    ulong selected = 0, changed = 0;
+#endif
     for (size_t r = r0; r < r1; ++r) {
         const int y = (int)(r % (size_t)ny), z = (int)(r / (size_t)ny);
         NINE_ROWS(in, rows, y, z_begin + z, nx, ny, nz_in);
@@ -205,10 +220,10 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
 #ifdef MASKED
         __global const float* m = ld + r * (size_t)nx;
 #elif defined(BLOCK_MASKED)
-        __global const float* mb = ld + ((size_t)((z + p) >> 1) * (size_t)hy + (size_t)((y + p) >> 1)) * (size_t)hx;
+        __global const uchar* mb = sel + ((size_t)((z + p) >> 1) * (size_t)hy + (size_t)((y + p) >> 1)) * (size_t)hx;
         // A row whose blocks are all unselected is copied.
         int row_selected = 0;
-        for (int b = 0; b < hx && !row_selected; ++b) row_selected = mb[b] > h;
+        for (int b = 0; b < hx && !row_selected; ++b) row_selected = mb[b];
         if (!row_selected) {
             int x = 0;
             for (; x + VEC <= nx; x += VEC) VSTORE(VLOAD(0, c + x), 0, o + x);
@@ -222,7 +237,7 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
 #ifdef MASKED
             o[x] = m[x] > h ? median_scalar(rows, x, nx) : c[x];
 #elif defined(BLOCK_MASKED)
-            o[x] = mb[(x + p) >> 1] > h ? median_scalar(rows, x, nx) : c[x];
+            BLOCK_MASKED_STORE(x, median_scalar(rows, x, nx))
 #else
             o[x] = median_scalar(rows, x, nx);
 #endif
@@ -238,14 +253,16 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
 #elif defined(BLOCK_MASKED)
             // Columns x .. x + VEC - 1 lie in blocks (x + p) / 2 .. (x + VEC - 1 + p) / 2.
             int chunk_selected = 0;
-            for (int b = (x + p) >> 1; b <= (x + VEC - 1 + p) >> 1; ++b) chunk_selected |= mb[b] > h;
+            for (int b = (x + p) >> 1; b <= (x + VEC - 1 + p) >> 1; ++b) chunk_selected |= mb[b];
             if (!chunk_selected) {
                 VSTORE(VLOAD(0, c + x), 0, o + x);
                 continue;
             }
             T med[VEC];
             VSTORE(median_vec(rows, x), 0, med);
-            for (int i = 0; i < VEC; ++i) o[x + i] = mb[(x + i + p) >> 1] > h ? med[i] : c[x + i];
+            for (int i = 0; i < VEC; ++i) {
+                BLOCK_MASKED_STORE(x + i, med[i])
+            }
 #else
             VSTORE(median_vec(rows, x), 0, o + x);
 #endif
@@ -254,12 +271,16 @@ __kernel void median_rows(__global const T* restrict in, int nx, int ny, int nz_
 #ifdef MASKED
             o[x] = m[x] > h ? median_scalar(rows, x, nx) : c[x];
 #elif defined(BLOCK_MASKED)
-            o[x] = mb[(x + p) >> 1] > h ? median_scalar(rows, x, nx) : c[x];
+            BLOCK_MASKED_STORE(x, median_scalar(rows, x, nx))
 #else
             o[x] = median_scalar(rows, x, nx);
 #endif
         }
     }
+#ifdef BLOCK_MASKED
+    tally[2 * item] = selected;
+    tally[2 * item + 1] = changed;
+#endif
 }
 
 __kernel void median_vertices(__global const T* restrict in, int nx, int ny, int nz_in, int z_begin, int nz_out,

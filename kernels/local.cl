@@ -204,54 +204,123 @@ __kernel void block_indicators(__global const T* restrict vol, int nx, int ny, i
 }
 
 // The same per row of table entries (Y, Z), rows shared out like cube_indicator_rows (CPUs),
-// BCHUNK vertex columns at a time: first, per column x, the min/max over the four vertex rows
-// of each cube row q = (j, k) in {0, 1}^2 (vertex rows j, j + 1 along y and k, k + 1 along
-// z) and over the four corner rows (0, 0), (2, 0), (0, 2), (2, 2) of the G' cubes (loops over
-// contiguous columns, which vectorise), then the counts per G' cube.
-#define BCHUNK 64
+// eight G' cubes at a time in explicit vectors of 16 vertex columns (x0 = 2 (X - 1) .. x0 +
+// 15, loaded at x0, x0 + 1 and x0 + 2 from the nine vertex rows of the G' cube row): the 16 G
+// cubes of each of the four G cube rows, their intersections summed lane by lane and then
+// over lane pairs (G' cube c holds G cubes 2c and 2c + 1), and the G' cubes from the four
+// corner rows at lanes 2c (columns x0 + 2c and x0 + 2c + 2). The last G' cubes of a row, whose
+// loads would pass the row's end, go one by one. Integer data compares in T: an isovalue
+// outside T's range intersects nothing.
+#if defined(T_IS_uchar)
+#define TV16 uchar16
+#define T_LOWEST 0
+#define T_HIGHEST UCHAR_MAX
+#elif defined(T_IS_char)
+#define TV16 char16
+#define T_LOWEST CHAR_MIN
+#define T_HIGHEST CHAR_MAX
+#elif defined(T_IS_ushort)
+#define TV16 ushort16
+#define T_LOWEST 0
+#define T_HIGHEST USHRT_MAX
+#elif defined(T_IS_short)
+#define TV16 short16
+#define T_LOWEST SHRT_MIN
+#define T_HIGHEST SHRT_MAX
+#elif defined(T_IS_uint)
+#define TV16 uint16
+#define T_LOWEST 0
+#define T_HIGHEST UINT_MAX
+#elif defined(T_IS_int)
+#define TV16 int16
+#define T_LOWEST INT_MIN
+#define T_HIGHEST INT_MAX
+#elif defined(T_IS_double)
+#define TV16 double16
+#else
+#define TV16 float16
+#endif
+#define CONVERT8_(t) convert_##t##8
+#define CONVERT8(t) CONVERT8_(t)
+// -1 in the lanes where s intersects [lo, hi], else 0.
+#define HITS16(lo, hi, sv) (convert_int16((lo) < (sv)) & convert_int16((sv) <= (hi)))
+
 __kernel void block_indicators_rows(__global const T* restrict vol, int nx, int ny, int nz, iso_t s, int mx, int my,
                                     int mz, __global C* restrict counts, __global C* restrict sub) {
     const size_t item = get_global_id(0), items = get_global_size(0);
     const size_t rows = (size_t)my * (size_t)mz, row = (size_t)nx, slice = row * (size_t)ny;
     const size_t r0 = rows * item / items, r1 = rows * (item + 1) / items;
-    T m[4][BCHUNK + 1], M[4][BCHUNK + 1], em[BCHUNK + 1], eM[BCHUNK + 1];
+#ifdef INTEGER_VALUES
+    const int outside = s <= (long)T_LOWEST || s > (long)T_HIGHEST;
+    const T st = outside ? (T)0 : (T)s;
+#else
+    const int outside = 0;
+    const T st = s;
+#endif
+    const TV16 sv = (TV16)st;
     for (size_t r = r0; r < r1; ++r) {
         const size_t Y = r % (size_t)my, Z = r / (size_t)my;
         __global C* cn = counts + r * (size_t)mx;
         __global C* sb = sub + r * (size_t)mx;
         cn[0] = 0;
         sb[0] = 0;
-        if (!Y || !Z) {
+        if (!Y || !Z || outside) {
             for (int X = 1; X < mx; ++X) cn[X] = sb[X] = 0;
             continue;
         }
         __global const T* v[3][3];
         for (int k = 0; k < 3; ++k)
             for (int j = 0; j < 3; ++j) v[k][j] = vol + (2 * (Z - 1) + k) * slice + (2 * (Y - 1) + j) * row;
-        // G' cubes X0 .. X0 + BCHUNK/2 - 1 (1-based table entries) use vertex columns
-        // 2 (X0 - 1) .. 2 (X0 - 1) + BCHUNK.
-        for (int X0 = 1; X0 < mx; X0 += BCHUNK / 2) {
-            const int x0 = 2 * (X0 - 1), cubes = min(BCHUNK / 2, mx - X0), cols = 2 * cubes + 1;
-            for (int i = 0; i < cols; ++i) {
-                const int x = x0 + i;
-                for (int k = 0; k < 2; ++k)
-                    for (int j = 0; j < 2; ++j) {
-                        m[2 * k + j][i] = min(min(v[k][j][x], v[k][j + 1][x]), min(v[k + 1][j][x], v[k + 1][j + 1][x]));
-                        M[2 * k + j][i] = max(max(v[k][j][x], v[k][j + 1][x]), max(v[k + 1][j][x], v[k + 1][j + 1][x]));
-                    }
-                em[i] = min(min(v[0][0][x], v[0][2][x]), min(v[2][0][x], v[2][2][x]));
-                eM[i] = max(max(v[0][0][x], v[0][2][x]), max(v[2][0][x], v[2][2][x]));
-            }
-            for (int c = 0; c < cubes; ++c) {
-                const int i = 2 * c;
-                C n = 0;
-                for (int q = 0; q < 4; ++q) {
-                    n += intersected(min(m[q][i], m[q][i + 1]), max(M[q][i], M[q][i + 1]), s);
-                    n += intersected(min(m[q][i + 1], m[q][i + 2]), max(M[q][i + 1], M[q][i + 2]), s);
+        int X = 1;
+        for (; X + 7 < mx && 2 * (X - 1) + 17 < nx; X += 8) {
+            const int x0 = 2 * (X - 1);
+            int16 hits = 0;
+            for (int k = 0; k < 2; ++k)
+                for (int j = 0; j < 2; ++j) {
+                    TV16 lo = min(min(vload16(0, v[k][j] + x0), vload16(0, v[k][j + 1] + x0)),
+                                  min(vload16(0, v[k + 1][j] + x0), vload16(0, v[k + 1][j + 1] + x0)));
+                    TV16 hi = max(max(vload16(0, v[k][j] + x0), vload16(0, v[k][j + 1] + x0)),
+                                  max(vload16(0, v[k + 1][j] + x0), vload16(0, v[k + 1][j + 1] + x0)));
+                    const int x1 = x0 + 1;
+                    lo = min(lo, min(min(vload16(0, v[k][j] + x1), vload16(0, v[k][j + 1] + x1)),
+                                     min(vload16(0, v[k + 1][j] + x1), vload16(0, v[k + 1][j + 1] + x1))));
+                    hi = max(hi, max(max(vload16(0, v[k][j] + x1), vload16(0, v[k][j + 1] + x1)),
+                                     max(vload16(0, v[k + 1][j] + x1), vload16(0, v[k + 1][j + 1] + x1))));
+                    hits += HITS16(lo, hi, sv);
                 }
-                cn[X0 + c] = n;
-                sb[X0 + c] = intersected(min(em[i], em[i + 2]), max(eM[i], eM[i + 2]), s);
-            }
+            vstore8(CONVERT8(C)(-(hits.even + hits.odd)), 0, cn + X);
+            const int x2 = x0 + 2;
+            const TV16 lo = min(min(min(vload16(0, v[0][0] + x0), vload16(0, v[0][2] + x0)),
+                                    min(vload16(0, v[2][0] + x0), vload16(0, v[2][2] + x0))),
+                                min(min(vload16(0, v[0][0] + x2), vload16(0, v[0][2] + x2)),
+                                    min(vload16(0, v[2][0] + x2), vload16(0, v[2][2] + x2))));
+            const TV16 hi = max(max(max(vload16(0, v[0][0] + x0), vload16(0, v[0][2] + x0)),
+                                    max(vload16(0, v[2][0] + x0), vload16(0, v[2][2] + x0))),
+                                max(max(vload16(0, v[0][0] + x2), vload16(0, v[0][2] + x2)),
+                                    max(vload16(0, v[2][0] + x2), vload16(0, v[2][2] + x2))));
+            vstore8(CONVERT8(C)(-HITS16(lo, hi, sv).even), 0, sb + X);
+        }
+        for (; X < mx; ++X) {
+            const int x0 = 2 * (X - 1);
+            C n = 0;
+            for (int k = 0; k < 2; ++k)
+                for (int j = 0; j < 2; ++j)
+                    for (int i = 0; i < 2; ++i) {
+                        const int x = x0 + i;
+                        const T a = min(min(min(v[k][j][x], v[k][j][x + 1]), min(v[k][j + 1][x], v[k][j + 1][x + 1])),
+                                        min(min(v[k + 1][j][x], v[k + 1][j][x + 1]),
+                                            min(v[k + 1][j + 1][x], v[k + 1][j + 1][x + 1])));
+                        const T b = max(max(max(v[k][j][x], v[k][j][x + 1]), max(v[k][j + 1][x], v[k][j + 1][x + 1])),
+                                        max(max(v[k + 1][j][x], v[k + 1][j][x + 1]),
+                                            max(v[k + 1][j + 1][x], v[k + 1][j + 1][x + 1])));
+                        n += intersected(a, b, s);
+                    }
+            cn[X] = n;
+            const T a = min(min(min(v[0][0][x0], v[0][0][x0 + 2]), min(v[0][2][x0], v[0][2][x0 + 2])),
+                            min(min(v[2][0][x0], v[2][0][x0 + 2]), min(v[2][2][x0], v[2][2][x0 + 2])));
+            const T b = max(max(max(v[0][0][x0], v[0][0][x0 + 2]), max(v[0][2][x0], v[0][2][x0 + 2])),
+                            max(max(v[2][0][x0], v[2][0][x0 + 2]), max(v[2][2][x0], v[2][2][x0 + 2])));
+            sb[X] = intersected(a, b, s);
         }
     }
 }
@@ -271,6 +340,78 @@ __kernel void block_dimension(__global const C* counts, __global const C* sub, i
     const C in_w = box(counts, row, slice, wx.s2, wx.s3, wy.s2, wy.s3, wz.s2, wz.s3);
     const C in_sub = box(sub, row, slice, wx.s2, wx.s3, wy.s2, wy.s3, wz.s2, wz.s3);
     ld[((size_t)Z * (size_t)hy + Y) * (size_t)hx + X] = log_ratio(in_w, in_sub);
+}
+
+// The same per row of blocks (Y, Z), rows shared out like cube_indicator_rows (CPUs): per
+// row the y-z part of both box sums is taken once for every G' column into `col` and
+// `col_sub` (mx counts each; nondecreasing along x), then two lookups per table and block.
+// Returns 0, with no further work, when the row's windows hold no intersected G' cube
+// anywhere along x (no LD in the row).
+inline int block_row_columns(__global const C* counts, __global const C* sub, int mx, int my,
+                             __global const int4* win, int nx, int ny, int p, int Y, int Z, __global C* col,
+                             __global C* col_sub) {
+    const size_t row = (size_t)mx, slice = row * (size_t)my;
+    const int4 wy = win[nx + max(0, 2 * Y - p)], wz = win[nx + ny + max(0, 2 * Z - p)];
+    const size_t o00 = wz.s2 * slice + wy.s2 * row, o01 = wz.s2 * slice + wy.s3 * row;
+    const size_t o10 = wz.s3 * slice + wy.s2 * row, o11 = wz.s3 * slice + wy.s3 * row;
+    const int last = mx - 1;
+    if ((sub[o11 + last] - sub[o10 + last]) - (sub[o01 + last] - sub[o00 + last]) == 0) return 0;
+    for (int u = 0; u < mx; ++u) {
+        col[u] = (counts[o11 + u] - counts[o10 + u]) - (counts[o01 + u] - counts[o00 + u]);
+        col_sub[u] = (sub[o11 + u] - sub[o10 + u]) - (sub[o01 + u] - sub[o00 + u]);
+    }
+    return 1;
+}
+
+// LD of block X of a row from its columns (block_row_columns).
+#define BLOCK_LD(X) \
+    log_ratio(col[win[max(0, 2 * (X) - p)].s3] - col[win[max(0, 2 * (X) - p)].s2], \
+              col_sub[win[max(0, 2 * (X) - p)].s3] - col_sub[win[max(0, 2 * (X) - p)].s2])
+
+// The rows of block_*_rows (rows shared out like cube_indicator_rows; `scratch`: 2 mx counts
+// per work-item): `empty` for each block X of a row without LD, `block` for each block of
+// the others, with the row's columns at hand.
+#define BLOCK_ROWS(empty, block)                                                                 \
+    const size_t item = get_global_id(0), items = get_global_size(0);                            \
+    const size_t rows = (size_t)hy * (size_t)hz;                                                 \
+    const size_t r0 = rows * item / items, r1 = rows * (item + 1) / items;                       \
+    __global C* col = scratch + item * 2 * (size_t)mx;                                           \
+    __global C* col_sub = col + mx;                                                              \
+    for (size_t r = r0; r < r1; ++r) {                                                           \
+        const size_t o = r * (size_t)hx;                                                         \
+        if (!block_row_columns(counts, sub, mx, my, win, nx, ny, p, r % (size_t)hy, r / (size_t)hy, col, col_sub)) { \
+            for (int X = 0; X < hx; ++X) empty;                                                  \
+            continue;                                                                            \
+        }                                                                                        \
+        for (int X = 0; X < hx; ++X) block;                                                      \
+    }
+
+__kernel void block_dimension_rows(__global const C* counts, __global const C* sub, int mx, int my,
+                                   __global const int4* win, int nx, int ny, int p, int hx, int hy, int hz,
+                                   __global float* restrict ld, __global C* restrict scratch) {
+    BLOCK_ROWS(ld[o + X] = NAN, ld[o + X] = BLOCK_LD(X))
+}
+
+// log_ratio(a, b) > h, with log2 taken only where the ratio r = a / b (in float, as
+// log_ratio) lies within a factor 1 +- 2^-10 of 2^h: below (r <= lo) log2(r) <= h - 0.0014 and
+// above (r >= hi) log2(r) >= h + 0.0014, far past log2's error of a few ulp. lo and hi come
+// from the host (2^h (1 -+ 2^-10), infinite or 0 past float's range).
+inline uchar above(C a, C b, float h, float lo, float hi) {
+    if (!a || !b) return 0;
+    const float r = (float)a / (float)b;
+    return r <= lo ? 0 : r >= hi ? 1 : log2(r) > h;
+}
+
+// The same fused with the selection of the fractal-targeted filters: `sel` gets 1 for the
+// blocks with LD > h (the LD of block_dimension_rows, compared as the filters compare it;
+// NaN never qualifies), else 0: a byte per block instead of a float.
+__kernel void block_selection_rows(__global const C* counts, __global const C* sub, int mx, int my,
+                                   __global const int4* win, int nx, int ny, int p, int hx, int hy, int hz,
+                                   float h, float lo, float hi, __global uchar* restrict sel,
+                                   __global C* restrict scratch) {
+    BLOCK_ROWS(sel[o + X] = 0, sel[o + X] = above(col[win[max(0, 2 * X - p)].s3] - col[win[max(0, 2 * X - p)].s2],
+                                                  col_sub[win[max(0, 2 * X - p)].s3] - col_sub[win[max(0, 2 * X - p)].s2],
+                                                  h, lo, hi))
 }
 
 // One work-item per vertex: global size (nx, ny, nz) exactly. The block field of

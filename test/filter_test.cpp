@@ -373,11 +373,55 @@ TEST_CASE("the targeted median (LD on blocks) equals the masked median with the 
                         const Volume ld = local_fractal_dimension(ctx(), v, iso, window);
                         const TargetedResult r = targeted_filter(ctx(), v, FilterSpec::median(), iso, h, window);
                         CHECK(same_bytes(r.volume, masked_filter(ctx(), v, FilterSpec::median(), ld, h)));
-                        std::size_t selected = 0;
-                        for (std::size_t i = 0; i < v.vertices(); ++i) selected += double(ld.as<float>()[i]) > h;
+                        std::size_t selected = 0, changed = 0;
+                        for (std::size_t i = 0; i < v.vertices(); ++i) {
+                            selected += double(ld.as<float>()[i]) > h;
+                            changed += r.volume.value(i) != v.value(i);
+                        }
                         CHECK(r.selected == selected);
+                        CHECK(r.changed == changed);
                     }
     }
+}
+
+// The CPU path (rows): the block selection (block_selection, after the G' tables of either
+// local variant) read by median_rows, which counts the selected and changed vertices itself.
+// Selection from the full LD field, medians from the reference.
+TEST_CASE("the targeted median on blocks against the reference median: every type, windows 2-10") {
+    testutil::TuningGuard guard;
+    ctx().tuning.filter_variant = FilterVariant::rows;
+    ctx().tuning.row_items = 3;
+    std::uint32_t seed = 1700;
+    const ValueType types[] = {ValueType::int8,  ValueType::uint8, ValueType::int16,   ValueType::uint16,
+                               ValueType::int32, ValueType::uint32, ValueType::float32, ValueType::float64};
+    std::size_t selected_total = 0;
+    for (ValueType t : types)
+        for (const Dims& d : {Dims{37, 19, 13}, Dims{18, 2, 3}, Dims{35, 6, 5}}) {
+            // The G' tables from the rows kernels for the first sizes, the vertices ones for the last.
+            ctx().tuning.local_variant = d.nx == 35 ? LocalVariant::vertices : LocalVariant::rows;
+            const Volume v = testutil::random_volume(d, t, 0, 10, seed++);
+            const Volume median = reference::median_filter(v);
+            const double iso = is_integer(t) ? 5 : 2.5;
+            for (int window : {2, 4, 6, 8, 10}) {
+                CAPTURE(value_type_name(t));
+                CAPTURE(dims_string(d));
+                CAPTURE(window);
+                const Volume ld = local_fractal_dimension(ctx(), v, iso, window);
+                const TargetedResult r = targeted_filter(ctx(), v, FilterSpec::median(), iso, 2.0, window);
+                std::size_t selected = 0, changed = 0, bad = 0;
+                for (std::size_t i = 0; i < v.vertices(); ++i) {
+                    const bool sel = ld.as<float>()[i] > 2.0f;
+                    selected += sel;
+                    changed += sel && median.value(i) != v.value(i);
+                    bad += r.volume.value(i) != (sel ? median.value(i) : v.value(i));
+                }
+                CHECK(bad == 0);
+                CHECK(r.selected == selected);
+                CHECK(r.changed == changed);
+                selected_total += selected;
+            }
+        }
+    CHECK(selected_total > 1000);  // not an empty selection throughout
 }
 
 }  // TEST_SUITE("filter")

@@ -409,3 +409,49 @@ TEST_CASE("the LD field on 2x2x2 blocks holds the full field bit for bit: all ty
 }
 
 }  // TEST_SUITE("local")
+
+TEST_SUITE("local") {
+
+// block_indicators_rows works on vectors of 16 vertex columns (8 G' cubes) and finishes each
+// row one G' cube at a time; block_dimension_rows skips the rows whose windows hold no
+// intersected G' cube. Widths below, at and past one chunk, with and without a tail; every
+// value type over its whole range, isovalues at and past its ends.
+TEST_CASE("the block LD kernels against the reference: every type, chunks and tails, windows 2-10, outside isovalues") {
+    testutil::TuningGuard guard;
+    std::uint32_t seed = 1500;
+    std::size_t defined = 0;
+    const ValueType types[] = {ValueType::int8,  ValueType::uint8, ValueType::int16,   ValueType::uint16,
+                               ValueType::int32, ValueType::uint32, ValueType::float32, ValueType::float64};
+    for (const char* variant : {"rows", "vertices"}) {
+        ctx().tuning.local_variant = parse_variant<LocalVariant>(variant);
+        for (ValueType t : types) {
+            // The type's ends (float data: -4 .. 4 in halves).
+            const bool integer = is_integer(t);
+            const double lo = integer ? type_min(t) : -8, hi = integer ? type_max(t) : 8;
+            const double vlo = integer ? lo : -4, vhi = integer ? hi : 4;
+            for (const Dims& d : {Dims{53, 7, 6}, Dims{34, 5, 5}, Dims{19, 4, 9}, Dims{16, 6, 4}}) {
+                ctx().tuning.row_items = d.nx == 34 ? 64 : 3;  // more work-items than rows; rows shared unevenly
+                // Small values (many cubes intersected) and values over the whole range.
+                const Volume small = testutil::random_volume(d, t, 0, 9, seed++);
+                const Volume wide = testutil::random_volume(d, t, long(lo), long(hi), seed++);
+                const std::pair<const Volume*, double> inputs[] = {
+                    {&small, is_integer(t) ? 5 : 2.5}, {&wide, vhi}, {&wide, vlo + 0.5}, {&wide, vlo}, {&wide, vhi + 0.25},
+                    {&wide, -1e300}, {&wide, 1e300}};
+                for (const auto& [v, iso] : inputs)
+                    for (int window : {2, 4, 6, 8, 10}) {
+                        CAPTURE(variant);
+                        CAPTURE(value_type_name(t));
+                        CAPTURE(dims_string(d));
+                        CAPTURE(iso);
+                        CAPTURE(window);
+                        const DeviceVolume values(ctx(), *v);
+                        defined += check_field(local_fractal_dimension(values, iso, window).download(),
+                                               ref::local_dimension_sat(*v, iso, window));
+                    }
+            }
+        }
+    }
+    CHECK(defined > 10000);
+}
+
+}  // TEST_SUITE("local")

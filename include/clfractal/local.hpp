@@ -86,6 +86,11 @@ DeviceVolume local_fractal_dimension(const DeviceVolume& v, double iso, int wind
 /// dims.vertices() values of `type` on the device.
 Buffer<float> block_local_dimension(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& dims,
                                     double iso, int window = 8);
+/// The selection of the fractal-targeted filters on the same blocks, fused with the window
+/// queries: one byte per block, 1 where its LD is > h (NaN never qualifies), else 0. The
+/// queries walk rows (the CPU kernel) whatever the device.
+Buffer<cl_uchar> block_selection(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& dims,
+                                 double iso, int window, float h);
 /// The blocks of block_local_dimension: (n + p + 1) / 2 per axis of n vertices.
 Dims ld_block_dims(const Dims& dims, int window);
 /// The block phase p = (window / 2) mod 2: vertex x lies in block (x + p) / 2.
