@@ -338,10 +338,13 @@ void field_run(Context& ctx, const Volume& v, const FilterSpec& spec, Mask mask,
     res.selected = count_selected(field.as<float>(), field.vertices(), hf);
 }
 
+// `on_device`: `v` already on the device (the same values), or nullptr to upload it here.
 TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec, Mask mask, double iso, double h,
-                          int window) {
+                          int window, const DeviceVolume* on_device = nullptr) {
     check_volume(v);
     spec.check();
+    if (on_device && (on_device->dims() != v.dims() || on_device->type() != v.type()))
+        throw InputError("targeted filter: the device volume is not the volume given (dims or type differ)");
     const float hf = mask == Mask::ld_guided ? 2.0f : float_threshold(h);
     TargetedResult res;
     res.volume = like(v);
@@ -360,7 +363,8 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
         // block), read as such by the median kernel, which computes only the blocks of 16
         // columns that hold a selected vertex and counts the selected and changed vertices.
         with_cl_errors_finished(ctx, [&] {
-            const DeviceVolume values(ctx, v);
+            const DeviceVolume uploaded = on_device ? DeviceVolume() : DeviceVolume(ctx, v);
+            const DeviceVolume& values = on_device ? *on_device : uploaded;
             const Buffer<cl_uchar> selection = block_selection(ctx, values.buffer(), v.type(), d, iso, window, hf);
             ctx.queue().finish();
             res.ld_seconds = seconds_since(t);
@@ -377,7 +381,8 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
     } else {
         // One upload: the LD field and the filter read the same device values.
         with_cl_errors_finished(ctx, [&] {
-            const DeviceVolume values(ctx, v);
+            const DeviceVolume uploaded = on_device ? DeviceVolume() : DeviceVolume(ctx, v);
+            const DeviceVolume& values = on_device ? *on_device : uploaded;
             const DeviceVolume ld = local_fractal_dimension(values, iso, window);
             ctx.queue().finish();
             res.ld_seconds = seconds_since(t);
@@ -431,6 +436,11 @@ Volume masked_filter(Context& ctx, const Volume& v, const FilterSpec& spec, cons
 TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, double iso, double h,
                                int window) {
     return masked_run(ctx, v, spec, Mask::threshold, iso, h, window);
+}
+
+TargetedResult targeted_filter(const DeviceVolume& on_device, const Volume& v, const FilterSpec& spec, double iso,
+                               double h, int window) {
+    return masked_run(on_device.context(), v, spec, Mask::threshold, iso, h, window, &on_device);
 }
 
 TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, const Volume& field, double h) {

@@ -216,10 +216,10 @@ expect 0 'components +[0-9]+ +[0-9]+' -- "$bin" -q filter synthetic:noisy-sphere
 expect 0 'components +[0-9]+ -> [0-9]+' -- "$bin" -q smooth synthetic:noisy-sphere:24 --iso 128 --threshold 2.4 -o sm_comp.nrrd
 expect 0 'LD-guided' -- "$bin" -q filter synthetic:noisy-sphere:24 --bilateral 1,20 --ld-guided --iso 128 -o ldb.nrrd
 # The before/after reports read the input uploaded once (CLFRACTAL_UPLOADS prints the count):
-# filter: the input once (reports and filter); targeted: the input for the reports, once more
-# inside the targeted filter, the result once; smooth: the input once, the result once.
+# filter: the input once (reports and filter); targeted: the input once (reports, LD and
+# filter), the result once; smooth: the input once, the result once.
 expect 0 'clfractal: uploads 1$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q filter synthetic:noisy-sphere:24 --median --iso 128 -o up.nrrd
-expect 0 'clfractal: uploads 3$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q filter synthetic:noisy-sphere:24 --median --fractal --iso 128 --threshold 2.4 -o up.nrrd
+expect 0 'clfractal: uploads 2$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q filter synthetic:noisy-sphere:24 --median --fractal --iso 128 --threshold 2.4 -o up.nrrd
 expect 0 'clfractal: uploads 2$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q smooth synthetic:noisy-sphere:24 --iso 128 --threshold 2.4 -o up.nrrd
 expect 0 'float32' -- "$bin" -q filter ml.nrrd --bilateral 1,0.2 -o mlb.nrrd
 expect 0 'float32' -- "$bin" info mlb.nrrd

@@ -212,3 +212,27 @@ TEST_CASE("kernel variants: one name table, round trip, unknown names refused wi
 }
 
 }  // TEST_SUITE
+
+TEST_CASE("the targeted filter of a volume already on the device: no upload, same result and counts") {
+    testutil::TuningGuard guard;
+    SyntheticOptions opt;
+    opt.size = 20;
+    opt.type = ValueType::uint8;
+    const Volume v = make_synthetic("noisy-sphere", opt);
+    const DeviceVolume dv(ctx(), v);
+    for (const FilterSpec& spec : {FilterSpec::median(), FilterSpec::gaussian(1.0)}) {
+        CAPTURE(int(spec.kind));
+        const std::uint64_t before = ctx().uploads();
+        const TargetedResult got = targeted_filter(dv, v, spec, 128.0, 2.2, 6);
+        CHECK(ctx().uploads() == before);
+        const TargetedResult want = targeted_filter(ctx(), v, spec, 128.0, 2.2, 6);
+        CHECK(ctx().uploads() == before + 1);
+        CHECK(got.selected == want.selected);
+        CHECK(got.changed == want.changed);
+        CHECK(got.selected > 0);
+        CHECK(std::memcmp(got.volume.data(), want.volume.data(), want.volume.size_bytes()) == 0);
+    }
+    opt.size = 18;
+    const Volume other = make_synthetic("noisy-sphere", opt);
+    CHECK_THROWS_AS(targeted_filter(dv, other, FilterSpec::median(), 128.0, 2.2, 6), InputError);
+}

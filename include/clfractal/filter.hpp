@@ -106,6 +106,11 @@ struct TargetedResult {
 TargetedResult targeted_filter(Context& ctx, const Volume& v, const FilterSpec& spec, double iso, double h,
                                int window = 8);
 
+/// The same with `v` already on the device as `on_device` (the same dims, type and values,
+/// in the context it runs in): no upload; the result, counts and timings as above.
+TargetedResult targeted_filter(const DeviceVolume& on_device, const Volume& v, const FilterSpec& spec, double iso,
+                               double h, int window = 8);
+
 /// The same on a volume already on the device, in one piece: the LD field and the filter
 /// read the same device values, and the result stays on the device.
 DeviceVolume targeted_filter(const DeviceVolume& v, const FilterSpec& spec, double iso, double h, int window = 8);

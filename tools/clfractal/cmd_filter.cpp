@@ -224,7 +224,8 @@ void filter_once(Context& ctx, const FilterArgs& a, const FilterSpec& spec, cons
         const double field_seconds = seconds_since(t);
         r.tr = targeted_filter(ctx, in, spec, ld4, a.threshold);
         r.tr.ld_seconds = field_seconds;
-    } else if (a.fractal) r.tr = targeted_filter(ctx, in, spec, a.iso, a.threshold, a.window);
+    } else if (a.fractal && on_device) r.tr = targeted_filter(*on_device, in, spec, a.iso, a.threshold, a.window);
+    else if (a.fractal) r.tr = targeted_filter(ctx, in, spec, a.iso, a.threshold, a.window);
     else if (a.ld_guided) r.tr = ld_bilateral_filter(ctx, in, spec.sigma_s, spec.sigma_r, a.iso, a.window);
     else if (on_device) r.out = r.out_device.emplace(apply_filter(*on_device, spec)).download();
     else r.out = apply_filter(ctx, in, spec);
