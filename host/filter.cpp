@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <tuple>
 #include <sstream>
 
@@ -266,17 +267,11 @@ void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& 
     });
 }
 
-// Slabs as planned; when the device runs out of memory, again with half as many output
-// slices per slab, down to one.
+// Slabs as planned, smaller when the device runs out of memory (with_smaller_slabs).
 void filter_slabs(Context& ctx, const Volume& v, Volume& out, const FilterSpec& spec, Mask mask, const Volume* ld,
                   float h) {
-    for (std::size_t S = slab_slices(ctx, v.dims(), v.type(), spec, mask);; S = (S + 1) / 2) {
-        try {
-            return filter_slabs(ctx, v, out, spec, mask, ld, h, S);
-        } catch (const DeviceError& e) {
-            if (!e.out_of_memory() || S == 1) throw;
-        }
-    }
+    with_smaller_slabs(slab_slices(ctx, v.dims(), v.type(), spec, mask),
+                       [&](std::size_t S) { filter_slabs(ctx, v, out, spec, mask, ld, h, S); });
 }
 
 void check_volume(const Volume& v) {
@@ -349,6 +344,11 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
     TargetedResult res;
     res.volume = like(v);
     const Dims d = v.dims();
+    // `v` on the device: the volume given, or one upload of it when needed.
+    std::optional<DeviceVolume> uploaded;
+    const auto values_on_device = [&]() -> const DeviceVolume& {
+        return on_device ? *on_device : uploaded.emplace(ctx, v);
+    };
     auto t = clock::now();
     // Whether the filter with its mask fits one slab (0: not even one slab fits).
     const std::size_t S = int_axes(d) ? slab_fit(ctx, slab_need(d, v.type(), spec, mask)) : 0;
@@ -363,8 +363,7 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
         // block), read as such by the median kernel, which computes only the blocks of 16
         // columns that hold a selected vertex and counts the selected and changed vertices.
         with_cl_errors_finished(ctx, [&] {
-            const DeviceVolume uploaded = on_device ? DeviceVolume() : DeviceVolume(ctx, v);
-            const DeviceVolume& values = on_device ? *on_device : uploaded;
+            const DeviceVolume& values = values_on_device();
             const Buffer<cl_uchar> selection = block_selection(ctx, values.buffer(), v.type(), d, iso, window, hf);
             ctx.queue().finish();
             res.ld_seconds = seconds_since(t);
@@ -381,8 +380,7 @@ TargetedResult masked_run(Context& ctx, const Volume& v, const FilterSpec& spec,
     } else {
         // One upload: the LD field and the filter read the same device values.
         with_cl_errors_finished(ctx, [&] {
-            const DeviceVolume uploaded = on_device ? DeviceVolume() : DeviceVolume(ctx, v);
-            const DeviceVolume& values = on_device ? *on_device : uploaded;
+            const DeviceVolume& values = values_on_device();
             const DeviceVolume ld = local_fractal_dimension(values, iso, window);
             ctx.queue().finish();
             res.ld_seconds = seconds_since(t);

@@ -436,14 +436,9 @@ Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int wi
     std::size_t depth = d.nz;  // output slices per pass: all of them in core
     if (d.nz > 1 && slab_fit(ctx, local_need(ctx, d, v.type(), 0)) < d.nz)
         depth = plan_slab(ctx, local_need(ctx, d, v.type(), std::size_t(window / 2) + 1), d);
-    // When the device runs out of memory, again in slabs of half the depth, down to one slice.
-    for (;; depth = (depth + 1) / 2) {
-        try {
-            return depth >= d.nz ? local_in_core(ctx, v, iso, window) : local_in_slabs(ctx, v, iso, window, depth);
-        } catch (const DeviceError& e) {
-            if (!e.out_of_memory() || depth <= 1) throw;
-        }
-    }
+    return with_smaller_slabs(depth, [&](std::size_t slab) {
+        return slab >= d.nz ? local_in_core(ctx, v, iso, window) : local_in_slabs(ctx, v, iso, window, slab);
+    });
 }
 
 namespace {

@@ -336,24 +336,19 @@ Volume add_noise(Context& ctx, const Volume& v, const NoiseOptions& opt) {
     need.forced = opt.slab_slices;
     const auto* src = static_cast<const unsigned char*>(v.data());
     auto* dst = static_cast<unsigned char*>(out.data());
-    // Each vertex's noise depends on its index alone: when the device runs out of memory,
-    // again with slabs of half the depth, down to one slice.
-    for (std::size_t slab = plan_slab(ctx, need, d);; slab = (slab + 1) / 2) {
-        try {
-            with_cl_errors([&] {
-                for (std::size_t z0 = 0; z0 < d.nz; z0 += slab) {
-                    const Dims sd{d.nx, d.ny, std::min(slab, d.nz - z0)};
-                    const DeviceVolume in(ctx, src + z0 * slice * in_bytes, sd, v.type());
-                    const DeviceVolume res = DeviceVolume::output(ctx, dst + z0 * slice * out_bytes, sd, out_type);
-                    noise_on_device(in, res, z0 * slice, opt);
-                    res.download(dst + z0 * slice * out_bytes);
-                }
-            });
-            return out;
-        } catch (const DeviceError& e) {
-            if (!e.out_of_memory() || slab <= 1) throw;
-        }
-    }
+    // Each vertex's noise depends on its index alone, so any slab depth gives the same values.
+    with_smaller_slabs(plan_slab(ctx, need, d), [&](std::size_t slab) {
+        with_cl_errors([&] {
+            for (std::size_t z0 = 0; z0 < d.nz; z0 += slab) {
+                const Dims sd{d.nx, d.ny, std::min(slab, d.nz - z0)};
+                const DeviceVolume in(ctx, src + z0 * slice * in_bytes, sd, v.type());
+                const DeviceVolume res = DeviceVolume::output(ctx, dst + z0 * slice * out_bytes, sd, out_type);
+                noise_on_device(in, res, z0 * slice, opt);
+                res.download(dst + z0 * slice * out_bytes);
+            }
+        });
+    });
+    return out;
 }
 
 DeviceVolume add_noise(const DeviceVolume& v, const NoiseOptions& opt) {

@@ -46,4 +46,17 @@ bool int_axes(const Dims& d);
 /// int_axes(d).
 void check_int_axes(const Dims& d);
 
+/// Returns attempt(depth); when the device runs out of memory, attempt again with half the
+/// depth (rounded up), down to one slice, then rethrows. The one retry rule of slabbed work.
+template <class F>
+auto with_smaller_slabs(std::size_t depth, F&& attempt) -> decltype(attempt(depth)) {
+    for (;; depth = (depth + 1) / 2) {
+        try {
+            return attempt(depth);
+        } catch (const DeviceError& e) {
+            if (!e.out_of_memory() || depth <= 1) throw;
+        }
+    }
+}
+
 }  // namespace clfractal
