@@ -52,6 +52,23 @@ Volume generate(const std::string& name, std::size_t n, ValueType type, std::uin
     return v;
 }
 
+/// The same for shape `name` of `opt` (size, seed, value type, `type` when opt has none).
+template <class Field, class Amplitude>
+Volume generate(const std::string& name, const SyntheticOptions& opt, ValueType type, const Field& field,
+                const Amplitude& amplitude) {
+    return generate(name, opt.size, opt.type.value_or(type), opt.seed, field, amplitude);
+}
+
+/// The same with noise of amplitude opt.noise everywhere.
+template <class Field>
+Volume generate(const std::string& name, const SyntheticOptions& opt, ValueType type, const Field& field) {
+    const double mu = opt.noise;
+    return generate(name, opt, type, field, [mu](std::size_t) { return mu; });
+}
+
+/// The centre of an n^3 grid on every axis.
+double centre(std::size_t n) { return (n - 1) / 2.0; }
+
 }  // namespace
 
 // bits = mix(mix(seed) + (index + 1) * 0x9E3779B97F4A7C15)       (uint64 arithmetic, mod 2^64)
@@ -102,48 +119,38 @@ void check_synthetic(const std::string& name, const SyntheticOptions& opt) {
 /// "sphere" and "noisy-sphere".
 Volume make_sphere(const std::string& name, const SyntheticOptions& opt) {
     const std::size_t n = opt.size;
-    const double c = (n - 1) / 2.0;  // centre on every axis
-    const double mu = opt.noise;
-    const auto constant_noise = [mu](std::size_t) { return mu; };
+    const double c = centre(n), mu = opt.noise;
     const double radius = n / 2.0;
     const auto sphere = [c, radius](std::size_t x, std::size_t y, std::size_t z) {
         const double dx = x - c, dy = y - c, dz = z - c;
         const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
         return 255.0 * std::clamp(1.0 - d / radius, 0.0, 1.0);
     };
-    const ValueType type = opt.type.value_or(ValueType::uint8);
-    if (name == "sphere") return generate(name, n, type, opt.seed, sphere, constant_noise);
+    if (name == "sphere") return generate(name, opt, ValueType::uint8, sphere);
     // Noise on one side only, so that local-dimension maps show a clean and a noisy half.
     const double max_amplitude = mu > 0 ? mu : 8.0;
     const auto growing_noise = [max_amplitude, n](std::size_t x) {
         return max_amplitude * static_cast<double>(x) / static_cast<double>(n - 1);
     };
-    return generate(name, n, type, opt.seed, sphere, growing_noise);
+    return generate(name, opt, ValueType::uint8, sphere, growing_noise);
 }
 
 /// "torus".
 Volume make_torus(const std::string& name, const SyntheticOptions& opt) {
     const std::size_t n = opt.size;
-    const double c = (n - 1) / 2.0;  // centre on every axis
-    const double mu = opt.noise;
-    const auto constant_noise = [mu](std::size_t) { return mu; };
-    const ValueType type = opt.type.value_or(ValueType::float32);
+    const double c = centre(n);
     const double ring = n / 4.0;
     const auto torus = [c, ring](std::size_t x, std::size_t y, std::size_t z) {
         const double dx = x - c, dy = y - c, dz = z - c;
         const double q = std::sqrt(dx * dx + dy * dy) - ring;
         return std::sqrt(q * q + dz * dz);
     };
-    return generate(name, n, type, opt.seed, torus, constant_noise);
+    return generate(name, opt, ValueType::float32, torus);
 }
 
 /// "points".
 Volume make_points(const std::string& name, const SyntheticOptions& opt) {
-    const std::size_t n = opt.size;
-    const double c = (n - 1) / 2.0;  // centre on every axis
-    const double mu = opt.noise;
-    const auto constant_noise = [mu](std::size_t) { return mu; };
-    const ValueType type = opt.type.value_or(ValueType::float32);
+    const double c = centre(opt.size);
     // Positions use the same seed but counters from the top of the range, which vertex
     // indices never reach, so they are independent of the noise added to the vertices.
     std::vector<double> pos(3 * static_cast<std::size_t>(opt.points));
@@ -157,15 +164,12 @@ Volume make_points(const std::string& name, const SyntheticOptions& opt) {
         }
         return std::sqrt(best);
     };
-    return generate(name, n, type, opt.seed, points, constant_noise);
+    return generate(name, opt, ValueType::float32, points);
 }
 
 /// "marschner-lobb".
 Volume make_marschner_lobb(const std::string& name, const SyntheticOptions& opt) {
     const std::size_t n = opt.size;
-    const double mu = opt.noise;
-    const auto constant_noise = [mu](std::size_t) { return mu; };
-    const ValueType type = opt.type.value_or(ValueType::float32);
     // f = (1 - sin(pi z/2) + alpha (1 + rho(r))) / (2 (1 + alpha)),
     // rho(r) = cos(2 pi fM cos(pi r / 2)), r = sqrt(x^2 + y^2), coordinates in [-1, 1].
     // The xy and z terms are tabulated once: per vertex only a few additions remain.
@@ -182,7 +186,7 @@ Volume make_marschner_lobb(const std::string& name, const SyntheticOptions& opt)
     const auto marschner_lobb = [&, n](std::size_t x, std::size_t y, std::size_t z) {
         return (z_term[z] + xy_term[y * n + x]) * scale;
     };
-    return generate(name, n, type, opt.seed, marschner_lobb, constant_noise);
+    return generate(name, opt, ValueType::float32, marschner_lobb);
 }
 
 }  // namespace
