@@ -8,6 +8,8 @@
 #include <iostream>
 
 #include "clfractal/synthetic.hpp"
+#include "device/kernel_call.hpp"
+#include "baselines.hpp"
 
 namespace clfractal {
 

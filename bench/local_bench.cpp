@@ -22,6 +22,7 @@
 #include "clfractal/sat.hpp"
 #include "clfractal/synthetic.hpp"
 #include "clfractal/volume_io.hpp"
+#include "baselines.hpp"
 
 using namespace clfractal;
 

@@ -18,6 +18,7 @@
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
 #include "test_util.hpp"
+#include "device/fault_injection.hpp"
 
 using namespace clfractal;
 
@@ -65,16 +66,16 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
     const std::vector<unsigned char> want = run(plain);
     FreshContext counted;
     if (site != FaultSite::build) run(counted);
-    counted.set_fault_plan(FaultPlan{site, 0});
+    set_fault_plan(counted, FaultPlan{site, 0});
     run(counted);
-    const std::uint64_t steps = counted.fault_plan().seen[int(site)];
+    const std::uint64_t steps = fault_plan(counted).seen[int(site)];
     CHECK(steps > 0);
     std::uint64_t failed = 0, recovered = 0;
     for (std::uint64_t n = 1; n <= steps; ++n) {
         CAPTURE(n);
         FreshContext c;
         if (site != FaultSite::build) run(c);
-        c.set_fault_plan(FaultPlan{site, n});
+        set_fault_plan(c, FaultPlan{site, n});
         try {
             const std::vector<unsigned char> got = run(c);
             CHECK(got == want);
@@ -86,7 +87,7 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
             ++failed;
         }
         // The context works again once the fault is gone.
-        c.set_fault_plan(FaultPlan{});
+        set_fault_plan(c, FaultPlan{});
         CHECK(run(c) == want);
     }
     // Every failed allocation of fd, local, components and noise is recovered from (smaller

@@ -13,6 +13,7 @@
 #include "clfractal/volume_io.hpp"
 #include "reference/filter_reference.hpp"
 #include "test_util.hpp"
+#include "measures/local_queries.hpp"
 
 using namespace clfractal;
 using testutil::ctx;

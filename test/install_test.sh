@@ -28,9 +28,20 @@ cmake --build "$work/examples-build" -j2 >/dev/null
 for e in c_api library_call; do
   "$work/examples-build/$e" | grep -q "mean" || { echo "FAIL: example $e (find_package)"; exit 1; }
 done
+# The core library needs OpenCL and no imaging library; the scanner pipeline links it alone.
+core_deps=$(ldd "$libdir/libclfractal_core.so")
+echo "$core_deps" | grep -q 'libOpenCL' || { echo "FAIL: libclfractal_core does not link OpenCL"; exit 1; }
+if echo "$core_deps" | grep -Eq 'gdcm|teem|nifti|znz|tiff|png'; then
+  echo "FAIL: libclfractal_core links an imaging library:"; echo "$core_deps"; exit 1
+fi
+needed=$(readelf -d "$work/examples-build/scanner_pipeline" | sed -n 's/.*(NEEDED).*\[\(libclfractal[^]]*\)\].*/\1/p' | tr '\n' ' ')
+[ "$needed" = "libclfractal_core.so.0 " ] || { echo "FAIL: scanner_pipeline needs '$needed', not libclfractal_core alone"; exit 1; }
+"$work/examples-build/scanner_pipeline" 32 | grep -q "noisy isovalues" || { echo "FAIL: example scanner_pipeline (find_package)"; exit 1; }
 
-# 2. pkg-config: a C compiler and nothing else.
+# 2. pkg-config: a C compiler and nothing else; the scanner pipeline with clfractal-core.
 export PKG_CONFIG_PATH=$libdir/pkgconfig
 cc -o "$work/c_api_pc" "$src/examples/c_api.c" $(pkg-config --cflags --libs clfractal) -lm
 LD_LIBRARY_PATH=$libdir "$work/c_api_pc" | grep -q "mean" || { echo "FAIL: example_c_api (pkg-config)"; exit 1; }
+c++ -std=c++17 -o "$work/scanner_pc" "$src/examples/scanner_pipeline.cpp" $(pkg-config --cflags --libs clfractal-core)
+LD_LIBRARY_PATH=$libdir "$work/scanner_pc" 32 | grep -q "noisy isovalues" || { echo "FAIL: example scanner_pipeline (pkg-config)"; exit 1; }
 echo "install test: passed ($prefix)"

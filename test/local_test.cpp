@@ -12,6 +12,8 @@
 #include "clfractal/volume_io.hpp"
 #include "reference/local_reference.hpp"
 #include "test_util.hpp"
+#include "measures/local_queries.hpp"
+#include "baselines.hpp"
 
 using namespace clfractal;
 using testutil::ctx;

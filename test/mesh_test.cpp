@@ -11,6 +11,7 @@
 
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
+#include "clfractal/ply.hpp"
 #include "clfractal/render.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/synthetic.hpp"

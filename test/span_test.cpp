@@ -10,6 +10,7 @@
 #include "clfractal/volume_io.hpp"
 #include "reference/span_reference.hpp"
 #include "test_util.hpp"
+#include "baselines.hpp"
 
 using namespace clfractal;
 using testutil::ctx;

@@ -20,6 +20,7 @@
 #include "clfractal/volume_io.hpp"
 #include "reference/span_reference.hpp"
 #include "test_util.hpp"
+#include "baselines.hpp"
 
 namespace fs = std::filesystem;
 using namespace clfractal;

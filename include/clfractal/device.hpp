@@ -1,22 +1,8 @@
-// The device layer (DESIGN §2 layer 1): device choice, context and queue, the
-// program cache, typed RAII buffers and checked kernel launches, all on the
-// Khronos C++ bindings.
+// The device layer: device choice, context and queue, the program cache, typed RAII
+// buffers and checked kernel launches, all on the Khronos C++ bindings
+// (clfractal/opencl.hpp configures them).
 #pragma once
-// The library targets OpenCL 1.2 and uses the bindings with exceptions enabled; the
-// host code converts cl::Error into DeviceError at its boundaries.
-#ifndef CL_HPP_TARGET_OPENCL_VERSION
-#define CL_HPP_TARGET_OPENCL_VERSION 120
-#endif
-#ifndef CL_HPP_MINIMUM_OPENCL_VERSION
-#define CL_HPP_MINIMUM_OPENCL_VERSION 120
-#endif
-#ifndef CL_TARGET_OPENCL_VERSION
-#define CL_TARGET_OPENCL_VERSION 120
-#endif
-#ifndef CL_HPP_ENABLE_EXCEPTIONS
-#define CL_HPP_ENABLE_EXCEPTIONS
-#endif
-#include <CL/opencl.hpp>
+#include "clfractal/opencl.hpp"
 
 #include <array>
 #include <atomic>
@@ -112,24 +98,19 @@ struct Tuning {
     bool use_fp64 = true;
 };
 
-/// Device operations a test can make fail (FaultPlan): buffer allocations (create_buffer),
-/// kernel enqueues (Context::launch) and program builds (Context::program).
-enum class FaultSite { allocation = 0, enqueue = 1, build = 2 };
-
-/// Test-only fault injection on one Context: counts the operations of each site and makes
-/// the `fail_at`-th one of `site` (1-based; 0 = never) fail as the device would, with
-/// CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES or CL_BUILD_PROGRAM_FAILURE.
-struct FaultPlan {
-    FaultSite site = FaultSite::allocation;
-    std::uint64_t fail_at = 0;
-    std::uint64_t seen[3] = {0, 0, 0};  ///< operations of each site since the plan was set
-};
+namespace detail {
+struct FaultState;      // test-only fault injection (host/device/fault_injection.hpp)
+struct ContextAccess;   // the library's access to it
+}  // namespace detail
 
 /// A context on one device with one in-order queue and a thread-safe program cache.
 /// Create once and reuse: every analysis of every volume shares its compiled programs.
 class Context {
 public:
     explicit Context(cl::Device device);
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
     /// The process-wide context on choose_device(), created on first use.
     static Context& shared();
 
@@ -166,14 +147,6 @@ public:
     /// A fresh kernel object (kernels carry their arguments, so each caller gets its own).
     cl::Kernel kernel(const std::string& family, const std::string& name, const std::string& options);
 
-    /// Testing only: sets the fault plan (counts restart at 0); FaultPlan{} switches it off.
-    void set_fault_plan(const FaultPlan& plan);
-    /// The plan with its counts so far.
-    FaultPlan fault_plan() const;
-    /// Counts one operation of `site` and throws DeviceError when the plan says it fails:
-    /// called by the one allocation, launch and build path.
-    void fault_point(FaultSite site);
-
     /// Seconds spent compiling programs so far (reported apart from compute time).
     double compile_seconds() const {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -203,9 +176,8 @@ private:
     std::set<std::tuple<cl_program, std::string, std::array<std::size_t, 3>>> warmed_;
     double compile_seconds_ = 0;
     std::atomic<std::uint64_t> uploads_{0};
-    mutable std::mutex faults_mutex_;
-    FaultPlan faults_;
-    std::atomic<bool> faults_on_{false};
+    std::unique_ptr<detail::FaultState> faults_;
+    friend struct detail::ContextAccess;
 };
 
 /// Seconds from `t` to now (steady clock): the one timing helper.
@@ -230,46 +202,6 @@ private:
     const Context& ctx_;
     std::chrono::steady_clock::time_point start_;
     double compile0_ = 0;
-};
-
-/// Sets argument `index` of `k` (the generic case: buffers, scalars, cl::Local). Types
-/// with their own layout (e.g. an isovalue of the data's type) overload it.
-template <class T> void set_kernel_arg(cl::Kernel& k, cl_uint index, const T& value) { k.setArg(index, value); }
-
-/// Sets the arguments of `k` in order: set_args(k, a, b, c) for kernels whose argument
-/// list is chosen at run time (e.g. an optional mask tail); never literal indices.
-template <class... Args> void set_args(cl::Kernel& k, const Args&... args) {
-    cl_uint index = 0;
-    (set_kernel_arg(k, index++, args), ...);
-}
-
-/// A kernel with its argument list in its type (STYLE "typed kernel calls"):
-///   KernelCall<cl::Buffer, int, int, cl::Buffer> sub(ctx, "pyramid", "subsample", options);
-///   sub(global, local, src, nx, ny, dst);
-/// A call sets every argument in order and launches through Context::launch (size checks,
-/// warm-up); a kernel that gains a parameter needs its KernelCall type changed, and every
-/// call with the old list stops compiling.
-template <class... Args> class KernelCall {
-public:
-    KernelCall() = default;
-    KernelCall(Context& ctx, const std::string& family, const std::string& name, const std::string& options)
-        : ctx_(&ctx), kernel_(ctx.kernel(family, name, options)) {}
-
-    void operator()(const cl::NDRange& global, const cl::NDRange& local, const Args&... args) {
-        set(std::index_sequence_for<Args...>{}, args...);
-        ctx_->launch(kernel_, global, local);
-    }
-    /// CL_KERNEL_WORK_GROUP_SIZE of this kernel on the context's device.
-    std::size_t work_group_limit() const {
-        return kernel_.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx_->device());
-    }
-
-private:
-    template <std::size_t... I> void set(std::index_sequence<I...>, const Args&... args) {
-        (set_kernel_arg(kernel_, cl_uint(I), args), ...);
-    }
-    Context* ctx_ = nullptr;
-    cl::Kernel kernel_;
 };
 
 /// Builds a -D options string: defines({{"T", "uchar"}, {"WG", "64"}}).

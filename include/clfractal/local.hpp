@@ -41,16 +41,6 @@ struct LocalWindow {
 /// and the kernels only read them. Throws InputError unless k is even and at least 2.
 std::vector<LocalWindow> local_windows(std::size_t n, int window);
 
-/// The query step of the local dimensions (LD here, LD4 in fd4.hpp): for every vertex of a
-/// grid of `d`, log2(box_W / box_W') of the windows of local_windows(·, window), where
-/// `table` and `table_sub` are the summed-area tables of zero-padded per-cube counts of G
-/// (d) and G' (level_dims(d, 1)) as kernels/local.cl lays them out; NaN where either box
-/// sum is 0. `options` are the -D defines of kernels/local.cl (-DC must name C); `out`
-/// receives d.vertices() floats. Follows ctx.tuning.local_variant.
-template <class C>
-void window_log_ratios(Context& ctx, const Buffer<C>& table, const Dims& d, const Buffer<C>& table_sub, int window,
-                       const std::string& options, const cl::Buffer& out);
-
 /// What is wrong with a window k: "" when k is even and at least 2, else "the window must be
 /// even and at least 2" (the one window check: the library's and the CLI's messages).
 std::string window_problem(int window);
@@ -75,31 +65,6 @@ Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int wi
 /// field (float32, the volume's dims and spacing) stays on the device for the stages that
 /// follow.
 DeviceVolume local_fractal_dimension(const DeviceVolume& v, double iso, int window = 8);
-
-/// The LD field on blocks of 2×2×2 vertices. With p = (k/2) mod 2, vertices 2m - p and
-/// 2m + 1 - p of an axis have the same windows, so LD is constant on each block ((x + p) / 2,
-/// (y + p) / 2, (z + p) / 2); and W is the union of the 2×2×2 blocks of G cubes inside W', so
-/// both counts are box sums on tables of G' (the intersected G cubes inside each G' cube, and
-/// the G' indicator): one read of the values, tables and queries at an eighth of the size.
-/// Returns the ld_block_dims(dims, window) floats, x fastest: vertex (x, y, z) has the value
-/// of its block, bit for bit the value local_fractal_dimension gives it. `values` holds
-/// dims.vertices() values of `type` on the device.
-Buffer<float> block_local_dimension(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& dims,
-                                    double iso, int window = 8);
-/// The selection of the fractal-targeted filters on the same blocks, fused with the window
-/// queries: one byte per block, 1 where its LD is > h (NaN never qualifies), else 0. The
-/// queries walk rows (the CPU kernel) whatever the device.
-Buffer<cl_uchar> block_selection(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& dims,
-                                 double iso, int window, float h);
-/// The blocks of block_local_dimension: (n + p + 1) / 2 per axis of n vertices.
-Dims ld_block_dims(const Dims& dims, int window);
-/// The block phase p = (window / 2) mod 2: vertex x lies in block (x + p) / 2.
-inline int ld_block_phase(int window) { return (window / 2) % 2; }
-
-/// The same field on the host with OpenMP threads, by the algorithm of the CPU kernels
-/// (indicator rows scanned in x and y per slice, then z; per x-row column sums and two
-/// lookups per vertex), LD rounded from double: the CPU baseline of the benchmark.
-Volume local_fractal_dimension_openmp(const Volume& v, double iso, int window = 8);
 
 /// Thesis §2.4 colour map: LD <= ld_blue is blue, LD >= ld_red is red, linear in between.
 constexpr double ld_blue = 2.2;

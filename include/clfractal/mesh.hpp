@@ -1,6 +1,6 @@
 // Isosurface meshes (DESIGN §1 "Span and intersection", "Colour map", "Isosurface
 // components"; thesis §2.4 and chapter 5): marching cubes and marching tetrahedra with
-// one mesh vertex per intersected grid edge, and binary PLY files.
+// one mesh vertex per intersected grid edge (PLY files: ply.hpp).
 //
 // A vertex is positive when f >= s and negative when f < s; a grid edge with span
 // [a, b] is intersected iff a < s <= b, and carries exactly one mesh vertex, shared by
@@ -77,15 +77,5 @@ std::vector<float> interpolate_on_vertices(const Mesh& mesh, const Volume& field
 void color_by_ld(Mesh& mesh, const Volume& ld_field);
 /// The same with the LD field on the device (downloaded).
 void color_by_ld(Mesh& mesh, const DeviceVolume& ld_field);
-
-/// Writes binary little-endian PLY: vertex x y z (float), then uchar red green blue when
-/// the mesh has colours, then float ld when it has LD values; faces as a uchar-counted
-/// int list. Written to a temporary name and renamed: never a half-written file. Throws
-/// InputError naming the path when it cannot be written.
-void write_ply(const Mesh& mesh, const std::string& path);
-
-/// Reads back a PLY file of the layout write_ply produces (triangles only); throws
-/// InputError naming the path on anything else. edge_points stay empty.
-Mesh read_ply(const std::string& path);
 
 }  // namespace clfractal

@@ -13,9 +13,6 @@ Dims level_dims(const Dims& d, int level);
 /// The next pyramid level of v on the host (the device does the same in kernels/pyramid.cl).
 Volume subsample(const Volume& v);
 
-/// kernels/pyramid.cl subsample(src, nx, ny, dst, mx, my).
-using SubsampleKernel = KernelCall<cl::Buffer, int, int, cl::Buffer, int, int>;
-
 /// The next pyramid level on the device: `src` holds d.vertices() values of `type`, `dst`
 /// receives level_dims(d, 1).vertices() of them.
 void subsample(Context& ctx, const cl::Buffer& src, ValueType type, const Dims& d, const cl::Buffer& dst);

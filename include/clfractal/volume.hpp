@@ -228,4 +228,21 @@ template <class F> decltype(auto) visit(const Volume& v, F&& f) {
     return visit_type(v.type(), [&](auto zero) -> decltype(auto) { return f(v.as<decltype(zero)>()); });
 }
 
+/// The NaN and infinite values of n values of type t (none for integer types), and the
+/// index of the first (n when none).
+struct NonFinite {
+    std::size_t nan = 0, inf = 0, first = 0;
+};
+NonFinite count_non_finite(const void* data, ValueType t, std::size_t n);
+
+/// The one check for non-finite input (DESIGN §1), used by whole volumes, SliceReader and the
+/// stream API: throws InputError if the n values of type t (vertices offset.. of a grid of
+/// `d`) hold NaN or Inf, naming `what` (the file, or the API), how many of each, the slices
+/// scanned when they are not the whole grid, and the first one's value and vertex.
+void check_finite(const void* data, ValueType t, std::size_t n, const Dims& d, std::size_t offset,
+                  const std::string& what);
+
+/// check_finite over the whole volume.
+void check_finite(const Volume& v, const std::string& what);
+
 }  // namespace clfractal

@@ -10,7 +10,7 @@
 
 #include "clfractal/error.hpp"
 #include "clfractal/local.hpp"
-#include "clfractal/slab_plan.hpp"
+#include "device/slab_plan.hpp"
 #include "clfractal/volume.hpp"
 
 using namespace clfractal;

@@ -6,6 +6,7 @@
 
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
+#include "clfractal/ply.hpp"
 #include "clfractal/volume_io.hpp"
 #include "cli.hpp"
 #include "output.hpp"

@@ -8,6 +8,7 @@
 
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
+#include "clfractal/ply.hpp"
 #include "clfractal/render.hpp"
 #include "clfractal/volume_io.hpp"
 #include "cli.hpp"

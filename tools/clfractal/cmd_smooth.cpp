@@ -7,6 +7,7 @@
 
 #include "clfractal/components.hpp"
 #include "clfractal/mesh.hpp"
+#include "clfractal/ply.hpp"
 #include "clfractal/render.hpp"
 #include "clfractal/smooth.hpp"
 #include "cli.hpp"

@@ -11,7 +11,7 @@
 
 #include "clfractal/device.hpp"
 #include "clfractal/error.hpp"
-#include "clfractal/output_file.hpp"
+#include "io/output_file.hpp"
 #include "cli.hpp"
 #include "output.hpp"
 

@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "clfractal/error.hpp"
-#include "clfractal/output_file.hpp"
+#include "io/output_file.hpp"
 
 namespace fs = std::filesystem;
 using namespace clfractal;

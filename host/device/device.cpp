@@ -1,0 +1,393 @@
+#include "clfractal/device.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+
+#include "device/fault_injection.hpp"
+#include "device/kernel_sources.hpp"
+
+namespace clfractal {
+
+const char* cl_error_name(int code) {
+    switch (code) {
+#define CLF_ERR(x) case x: return #x;
+        CLF_ERR(CL_SUCCESS) CLF_ERR(CL_DEVICE_NOT_FOUND) CLF_ERR(CL_DEVICE_NOT_AVAILABLE)
+        CLF_ERR(CL_COMPILER_NOT_AVAILABLE) CLF_ERR(CL_MEM_OBJECT_ALLOCATION_FAILURE)
+        CLF_ERR(CL_OUT_OF_RESOURCES) CLF_ERR(CL_OUT_OF_HOST_MEMORY)
+        CLF_ERR(CL_PROFILING_INFO_NOT_AVAILABLE) CLF_ERR(CL_MEM_COPY_OVERLAP)
+        CLF_ERR(CL_IMAGE_FORMAT_MISMATCH) CLF_ERR(CL_IMAGE_FORMAT_NOT_SUPPORTED)
+        CLF_ERR(CL_BUILD_PROGRAM_FAILURE) CLF_ERR(CL_MAP_FAILURE)
+        CLF_ERR(CL_MISALIGNED_SUB_BUFFER_OFFSET) CLF_ERR(CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+        CLF_ERR(CL_COMPILE_PROGRAM_FAILURE) CLF_ERR(CL_LINKER_NOT_AVAILABLE)
+        CLF_ERR(CL_LINK_PROGRAM_FAILURE) CLF_ERR(CL_DEVICE_PARTITION_FAILED)
+        CLF_ERR(CL_KERNEL_ARG_INFO_NOT_AVAILABLE) CLF_ERR(CL_INVALID_VALUE)
+        CLF_ERR(CL_INVALID_DEVICE_TYPE) CLF_ERR(CL_INVALID_PLATFORM) CLF_ERR(CL_INVALID_DEVICE)
+        CLF_ERR(CL_INVALID_CONTEXT) CLF_ERR(CL_INVALID_QUEUE_PROPERTIES)
+        CLF_ERR(CL_INVALID_COMMAND_QUEUE) CLF_ERR(CL_INVALID_HOST_PTR) CLF_ERR(CL_INVALID_MEM_OBJECT)
+        CLF_ERR(CL_INVALID_IMAGE_FORMAT_DESCRIPTOR) CLF_ERR(CL_INVALID_IMAGE_SIZE)
+        CLF_ERR(CL_INVALID_SAMPLER) CLF_ERR(CL_INVALID_BINARY) CLF_ERR(CL_INVALID_BUILD_OPTIONS)
+        CLF_ERR(CL_INVALID_PROGRAM) CLF_ERR(CL_INVALID_PROGRAM_EXECUTABLE)
+        CLF_ERR(CL_INVALID_KERNEL_NAME) CLF_ERR(CL_INVALID_KERNEL_DEFINITION) CLF_ERR(CL_INVALID_KERNEL)
+        CLF_ERR(CL_INVALID_ARG_INDEX) CLF_ERR(CL_INVALID_ARG_VALUE) CLF_ERR(CL_INVALID_ARG_SIZE)
+        CLF_ERR(CL_INVALID_KERNEL_ARGS) CLF_ERR(CL_INVALID_WORK_DIMENSION)
+        CLF_ERR(CL_INVALID_WORK_GROUP_SIZE) CLF_ERR(CL_INVALID_WORK_ITEM_SIZE)
+        CLF_ERR(CL_INVALID_GLOBAL_OFFSET) CLF_ERR(CL_INVALID_EVENT_WAIT_LIST) CLF_ERR(CL_INVALID_EVENT)
+        CLF_ERR(CL_INVALID_OPERATION) CLF_ERR(CL_INVALID_GL_OBJECT) CLF_ERR(CL_INVALID_BUFFER_SIZE)
+        CLF_ERR(CL_INVALID_MIP_LEVEL) CLF_ERR(CL_INVALID_GLOBAL_WORK_SIZE) CLF_ERR(CL_INVALID_PROPERTY)
+        CLF_ERR(CL_INVALID_IMAGE_DESCRIPTOR) CLF_ERR(CL_INVALID_COMPILER_OPTIONS)
+        CLF_ERR(CL_INVALID_LINKER_OPTIONS) CLF_ERR(CL_INVALID_DEVICE_PARTITION_COUNT)
+#undef CLF_ERR
+    case -1001: return "CL_PLATFORM_NOT_FOUND_KHR";
+    default: return "unknown OpenCL error";
+    }
+}
+
+void check_cl(int code, const char* call) {
+    if (code == CL_SUCCESS) return;
+    std::ostringstream s;
+    s << call << ": " << cl_error_name(code) << " (" << code << ")";
+    throw DeviceError(s.str(), code);
+}
+
+namespace {
+
+template <class E> struct VariantTable;
+template <> struct VariantTable<SpanVariant> {
+    static constexpr const char* what = "span variant";
+    static constexpr std::pair<SpanVariant, const char*> names[] = {{SpanVariant::private_histograms, "private"},
+                                                                    {SpanVariant::atomic, "atomic"}};
+};
+template <> struct VariantTable<SatVariant> {
+    static constexpr const char* what = "summed-area table variant";
+    static constexpr std::pair<SatVariant, const char*> names[] = {{SatVariant::sequential, "sequential"},
+                                                                   {SatVariant::workgroup, "workgroup"}};
+};
+template <> struct VariantTable<LocalVariant> {
+    static constexpr const char* what = "local-dimension variant";
+    static constexpr std::pair<LocalVariant, const char*> names[] = {{LocalVariant::rows, "rows"},
+                                                                     {LocalVariant::vertices, "vertices"}};
+};
+template <> struct VariantTable<FilterVariant> {
+    static constexpr const char* what = "filter variant";
+    static constexpr std::pair<FilterVariant, const char*> names[] = {
+        {FilterVariant::rows, "rows"}, {FilterVariant::vertices, "vertices"}, {FilterVariant::tiled, "tiled"}};
+};
+
+}  // namespace
+
+template <class E> const char* variant_name(E v) {
+    for (const auto& [e, name] : VariantTable<E>::names)
+        if (e == v) return name;
+    throw std::logic_error(std::string("unknown ") + VariantTable<E>::what);
+}
+
+template <class E> E parse_variant(const std::string& name) {
+    std::string all;
+    for (const auto& [e, n] : VariantTable<E>::names) {
+        if (name == n) return e;
+        all += std::string(all.empty() ? "" : ", ") + n;
+    }
+    throw InputError(std::string(VariantTable<E>::what) + " '" + name + "': expected one of " + all);
+}
+
+template <class E> std::vector<E> all_variants() {
+    std::vector<E> out;
+    for (const auto& entry : VariantTable<E>::names) out.push_back(entry.first);
+    return out;
+}
+
+#define CLF_VARIANT(E)                                           \
+    template const char* variant_name<E>(E);                     \
+    template E parse_variant<E>(const std::string&);             \
+    template std::vector<E> all_variants<E>();
+CLF_VARIANT(SpanVariant)
+CLF_VARIANT(SatVariant)
+CLF_VARIANT(LocalVariant)
+CLF_VARIANT(FilterVariant)
+#undef CLF_VARIANT
+
+namespace {
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+std::string type_name(cl_device_type t) {
+    if (t & CL_DEVICE_TYPE_GPU) return "gpu";
+    if (t & CL_DEVICE_TYPE_CPU) return "cpu";
+    if (t & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+    return "other";
+}
+
+std::vector<DeviceEntry> enumerate() {
+    std::vector<cl::Platform> platforms;
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error& e) {
+        if (e.err() != -1001) throw;  // CL_PLATFORM_NOT_FOUND_KHR: no ICD, an empty list
+    }
+    std::vector<DeviceEntry> out;
+    for (auto& p : platforms) {
+        std::vector<cl::Device> devices;
+        try {
+            p.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+        } catch (const cl::Error&) {
+            continue;  // a platform without devices
+        }
+        for (auto& d : devices) {
+            DeviceEntry e;
+            e.platform = p.getInfo<CL_PLATFORM_NAME>();
+            e.name = d.getInfo<CL_DEVICE_NAME>();
+            e.type = type_name(d.getInfo<CL_DEVICE_TYPE>());
+            e.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+            e.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            e.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+            e.device = d;
+            out.push_back(std::move(e));
+        }
+    }
+    return out;
+}
+
+// Index of the device chosen by the environment, or -1 with `why` set.
+long pick(const std::vector<DeviceEntry>& all, std::string& why) {
+    const char* want_name = std::getenv("CLFRACTAL_DEVICE");
+    const char* want_type = std::getenv("CLFRACTAL_DEVICE_TYPE");
+    std::string name = want_name ? lower(want_name) : "";
+    std::string type = want_type ? lower(want_type) : "";
+    if (!type.empty() && type != "cpu" && type != "gpu" && type != "accelerator") {
+        why = "CLFRACTAL_DEVICE_TYPE=" + type + " is not one of cpu, gpu, accelerator";
+        return -1;
+    }
+    auto matches = [&](const DeviceEntry& e) {
+        if (!type.empty() && e.type != type) return false;
+        if (!name.empty() && lower(e.platform).find(name) == std::string::npos &&
+            lower(e.name).find(name) == std::string::npos)
+            return false;
+        return true;
+    };
+    if (name.empty() && type.empty())
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if (all[i].type == "gpu") return long(i);
+    for (std::size_t i = 0; i < all.size(); ++i)
+        if (matches(all[i])) return long(i);
+    if (all.empty())
+        why = "no OpenCL platform or device found (is an ICD such as pocl-opencl-icd installed?)";
+    else
+        why = "no OpenCL device matches CLFRACTAL_DEVICE='" + name + "' CLFRACTAL_DEVICE_TYPE='" + type + "'";
+    return -1;
+}
+
+}  // namespace
+
+std::vector<DeviceEntry> list_devices() {
+    return with_cl_errors([] {
+        auto all = enumerate();
+        std::string why;
+        long i = pick(all, why);
+        if (i >= 0) all[std::size_t(i)].chosen = true;
+        return all;
+    });
+}
+
+cl::Device choose_device() {
+    return with_cl_errors([] {
+        auto all = enumerate();
+        std::string why;
+        long i = pick(all, why);
+        if (i < 0) throw DeviceError(why, CL_DEVICE_NOT_FOUND);
+        return all[std::size_t(i)].device;
+    });
+}
+
+struct detail::FaultState {
+    mutable std::mutex mutex;
+    FaultPlan plan;
+    std::atomic<bool> on{false};
+};
+
+struct detail::ContextAccess {
+    static FaultState& faults(const Context& ctx) { return *ctx.faults_; }
+};
+
+Context::Context(cl::Device device) : device_(std::move(device)), faults_(new detail::FaultState) {
+    with_cl_errors([&] {
+        context_ = cl::Context(device_);
+        queue_ = cl::CommandQueue(context_, device_);
+        max_alloc_ = device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+        global_mem_ = device_.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+        max_work_group_ = device_.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+        local_mem_ = device_.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+        compute_units_ = device_.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+        fp64_ = device_.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;
+        mem_base_align_ = std::max<std::size_t>(1, device_.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8);
+    });
+    tuning.span_variant = is_cpu() ? SpanVariant::private_histograms : SpanVariant::atomic;
+    tuning.local_hist_bytes = local_mem_ / 2;
+    tuning.zero_copy = is_cpu();
+    tuning.work_group = std::min<std::size_t>(256, max_work_group_);
+    tuning.sat_variant = is_cpu() ? SatVariant::sequential : SatVariant::workgroup;
+    tuning.local_variant = is_cpu() ? LocalVariant::rows : LocalVariant::vertices;
+    tuning.filter_variant = is_cpu() ? FilterVariant::rows : FilterVariant::tiled;
+    tuning.sat_work_group = std::min<std::size_t>(256, max_work_group_);
+}
+
+Context::~Context() = default;
+
+Context& Context::shared() {
+    static Context ctx(choose_device());
+    return ctx;
+}
+
+std::string Context::description() const {
+    return with_cl_errors([&] {
+        cl::Platform p(device_.getInfo<CL_DEVICE_PLATFORM>());
+        return p.getInfo<CL_PLATFORM_NAME>() + " / " + device_.getInfo<CL_DEVICE_NAME>();
+    });
+}
+
+bool Context::is_cpu() const { return (device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0; }
+
+cl::Buffer create_buffer(Context& ctx, cl_mem_flags flags, std::size_t bytes, void* host) {
+    try {
+        fault_point(ctx, FaultSite::allocation);
+        return cl::Buffer(ctx.context(), flags, bytes, host);
+    } catch (const cl::Error& e) {
+        check_cl(e.err(), ("clCreateBuffer of " + std::to_string(bytes) + " bytes").c_str());
+        throw;  // unreachable: check_cl throws for every error code
+    }
+}
+
+std::string defines(const std::vector<std::pair<std::string, std::string>>& kv) {
+    std::string s;
+    for (auto& [k, v] : kv) s += " -D" + k + "=" + v;
+    return s;
+}
+
+const cl::Program& Context::program(const std::string& family, const std::string& options) {
+    if ((" " + options + " ").find(" -DFP64 ") != std::string::npos && !(fp64_ && tuning.allow_fp64))
+        throw InputError("double precision (float64 values or isovalues, int32/uint32 filter sums) needs the "
+                         "OpenCL extension cl_khr_fp64, which " + description() +
+                         " lacks; convert the data on read with --as float32");
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto key = std::make_pair(family, options);
+    auto it = programs_.find(key);
+    if (it != programs_.end()) return it->second;
+
+    const char* common = nullptr;
+    const char* body = nullptr;
+    for (auto* k = detail::kernel_sources; k->family; ++k) {
+        if (std::strcmp(k->family, "common") == 0) common = k->source;
+        if (family == k->family) body = k->source;
+    }
+    if (!body) throw DeviceError("no kernel family '" + family + "' is embedded", CL_INVALID_KERNEL_NAME);
+    std::string source = std::string(common ? common : "") + "\n#line 1\n" + body;
+
+    auto t0 = std::chrono::steady_clock::now();
+    fault_point(*this, FaultSite::build);
+    cl::Program program(context_, source);
+    std::string all_options = "-cl-std=CL1.2" + options;
+    cl_int err = CL_SUCCESS;
+    try {
+        program.build(std::vector<cl::Device>{device_}, all_options.c_str());
+    } catch (const cl::Error& e) {
+        err = e.err();
+    }
+    if (err != CL_SUCCESS) {
+        std::string log;
+        program.getBuildInfo(device_, CL_PROGRAM_BUILD_LOG, &log);
+        throw DeviceError("building kernels/" + family + ".cl with '" + all_options + "': " +
+                              cl_error_name(err) + "\n" + log,
+                          err);
+    }
+    compile_seconds_ += seconds_since(t0);
+    return programs_.emplace(key, std::move(program)).first->second;
+}
+
+cl::Kernel Context::kernel(const std::string& family, const std::string& name, const std::string& options) {
+    const cl::Program& p = program(family, options);
+    try {
+        return cl::Kernel(p, name.c_str());
+    } catch (const cl::Error& e) {
+        throw DeviceError("kernel " + name + " in kernels/" + family + ".cl: " + cl_error_name(e.err()), e.err());
+    }
+}
+
+void set_fault_plan(Context& ctx, const FaultPlan& plan) {
+    detail::FaultState& f = detail::ContextAccess::faults(ctx);
+    std::lock_guard<std::mutex> lock(f.mutex);
+    f.plan = plan;
+    for (auto& n : f.plan.seen) n = 0;
+    f.on = true;
+}
+
+FaultPlan fault_plan(const Context& ctx) {
+    const detail::FaultState& f = detail::ContextAccess::faults(ctx);
+    std::lock_guard<std::mutex> lock(f.mutex);
+    return f.plan;
+}
+
+void fault_point(Context& ctx, FaultSite site) {
+    detail::FaultState& f = detail::ContextAccess::faults(ctx);
+    if (!f.on) return;
+    bool fail;
+    {
+        std::lock_guard<std::mutex> lock(f.mutex);
+        fail = ++f.plan.seen[int(site)] == f.plan.fail_at && f.plan.site == site;
+    }
+    if (!fail) return;
+    static const int codes[3] = {CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES, CL_BUILD_PROGRAM_FAILURE};
+    static const char* calls[3] = {"clCreateBuffer (injected fault)", "clEnqueueNDRangeKernel (injected fault)",
+                                   "clBuildProgram (injected fault)"};
+    check_cl(codes[int(site)], calls[int(site)]);
+}
+
+void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
+    std::string name = kernel.getInfo<CL_KERNEL_FUNCTION_NAME>();
+    if (local.dimensions() != 0) {
+        std::size_t kernel_max = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device_);
+        std::size_t total = 1;
+        for (cl_uint d = 0; d < local.dimensions(); ++d) {
+            total *= local[d];
+            if (local[d] == 0 || global[d] % local[d] != 0)
+                throw DeviceError("launch of " + name + ": global size " + std::to_string(global[d]) +
+                                      " is not a multiple of local size " + std::to_string(local[d]),
+                                  CL_INVALID_WORK_GROUP_SIZE);
+        }
+        if (total > kernel_max)
+            throw DeviceError("launch of " + name + ": work-group of " + std::to_string(total) +
+                                  " exceeds CL_KERNEL_WORK_GROUP_SIZE " + std::to_string(kernel_max),
+                              CL_INVALID_WORK_GROUP_SIZE);
+    }
+    for (cl_uint d = 0; d < global.dimensions(); ++d)
+        if (global[d] == 0) return;  // nothing to do
+    std::array<std::size_t, 3> local_size{0, 0, 0};
+    for (cl_uint d = 0; d < local.dimensions() && d < 3; ++d) local_size[d] = local[d];
+    bool first;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        first = warmed_.emplace(kernel.getInfo<CL_KERNEL_PROGRAM>()(), name, local_size).second;
+    }
+    try {
+        // The first launch of this (kernel, options, local size): the work queued before it
+        // is finished first, so that only the launch counts as compilation.
+        if (first) queue_.finish();
+        const auto t0 = std::chrono::steady_clock::now();
+        fault_point(*this, FaultSite::enqueue);
+        queue_.enqueueNDRangeKernel(kernel, cl::NullRange, global, local);
+        if (!first) return;
+        queue_.finish();
+        std::lock_guard<std::mutex> lock(mutex_);
+        compile_seconds_ += seconds_since(t0);
+    } catch (const cl::Error& e) {
+        check_cl(e.err(), ("clEnqueueNDRangeKernel " + name).c_str());
+    }
+}
+
+}  // namespace clfractal
