@@ -224,6 +224,7 @@ Context::Context(cl::Device device) : device_(std::move(device)), faults_(new de
         global_mem_ = device_.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
         max_work_group_ = device_.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
         local_mem_ = device_.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+        max_work_item_sizes_ = device_.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
         compute_units_ = device_.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
         fp64_ = device_.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;
         mem_base_align_ = std::max<std::size_t>(1, device_.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8);
@@ -241,8 +242,13 @@ Context::Context(cl::Device device) : device_(std::move(device)), faults_(new de
 Context::~Context() = default;
 
 Context& Context::shared() {
-    static Context ctx(choose_device());
-    return ctx;
+    // Deliberately never destroyed. OpenCL runtimes tear down their own state in exit
+    // handlers (Oclgrind's, NVIDIA's), and a program, queue or context released after that
+    // crashes or hangs the process ("corrupted double-linked list" on Oclgrind). So no
+    // OpenCL object of the shared context is released after main returns: the process's exit
+    // returns its memory, and the pointer stays reachable (no leak report).
+    static Context* const ctx = new Context(choose_device());
+    return *ctx;
 }
 
 std::string Context::description() const {
@@ -255,6 +261,10 @@ std::string Context::description() const {
 bool Context::is_cpu() const { return (device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0; }
 
 cl::Buffer create_buffer(Context& ctx, cl_mem_flags flags, std::size_t bytes, void* host) {
+    if (bytes > ctx.max_alloc())
+        throw DeviceError("clCreateBuffer of " + std::to_string(bytes) + " bytes: more than the device's "
+                          "CL_DEVICE_MAX_MEM_ALLOC_SIZE " + std::to_string(ctx.max_alloc()),
+                          CL_INVALID_BUFFER_SIZE);
     try {
         fault_point(ctx, FaultSite::allocation);
         return cl::Buffer(ctx.context(), flags, bytes, host);
@@ -348,6 +358,26 @@ void fault_point(Context& ctx, FaultSite site) {
     check_cl(codes[int(site)], calls[int(site)]);
 }
 
+// The limits a launch must respect beyond the work-group size: the work-items per dimension
+// (CL_DEVICE_MAX_WORK_ITEM_SIZES) and the local memory of the kernel with its arguments
+// (CL_KERNEL_LOCAL_MEM_SIZE against CL_DEVICE_LOCAL_MEM_SIZE). A launch beyond them is
+// refused here with the limit's name, before the device answers CL_OUT_OF_RESOURCES.
+void Context::check_launch_limits(const cl::Kernel& kernel, const std::string& name, const cl::NDRange& local) const {
+    const std::vector<std::size_t>& item_max = max_work_item_sizes_;
+    for (cl_uint d = 0; d < local.dimensions() && d < item_max.size(); ++d)
+        if (local[d] > item_max[d])
+            throw DeviceError("launch of " + name + ": local size " + std::to_string(local[d]) + " in dimension " +
+                                  std::to_string(d) + " exceeds CL_DEVICE_MAX_WORK_ITEM_SIZES " +
+                                  std::to_string(item_max[d]),
+                              CL_INVALID_WORK_ITEM_SIZE);
+    const cl_ulong local_bytes = kernel.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(device_);
+    if (local_bytes > local_mem_)
+        throw DeviceError("launch of " + name + ": needs " + std::to_string(local_bytes) +
+                              " bytes of local memory, more than the device's CL_DEVICE_LOCAL_MEM_SIZE " +
+                              std::to_string(local_mem_),
+                          CL_OUT_OF_RESOURCES);
+}
+
 void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local) {
     std::string name = kernel.getInfo<CL_KERNEL_FUNCTION_NAME>();
     if (local.dimensions() != 0) {
@@ -365,6 +395,7 @@ void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::ND
                                   " exceeds CL_KERNEL_WORK_GROUP_SIZE " + std::to_string(kernel_max),
                               CL_INVALID_WORK_GROUP_SIZE);
     }
+    check_launch_limits(kernel, name, local);
     for (cl_uint d = 0; d < global.dimensions(); ++d)
         if (global[d] == 0) return;  // nothing to do
     std::array<std::size_t, 3> local_size{0, 0, 0};

@@ -78,7 +78,9 @@ struct SpanCounter::Impl {
         check_arguments();
         max_slices = plan();
         private_hist = ctx.tuning.span_variant == SpanVariant::private_histograms;
-        global_hist = !private_hist && nbins * sizeof(int) > ctx.tuning.local_hist_bytes;
+        // Work-group histograms in local memory only where they fit the device's (half of it:
+        // the kernel's own local variables need the rest); else global-memory histograms.
+        global_hist = !private_hist && nbins * sizeof(int) > std::min(ctx.tuning.local_hist_bytes, ctx.local_mem() / 2);
         with_cl_errors([&] {
             build_kernels();
             allocate();

@@ -111,7 +111,9 @@ public:
     ~Context();
     Context(const Context&) = delete;
     Context& operator=(const Context&) = delete;
-    /// The process-wide context on choose_device(), created on first use.
+    /// The process-wide context on choose_device(), created on first use and never destroyed:
+    /// no OpenCL object of it is released after main returns (OpenCL runtimes tear down their
+    /// own state in exit handlers; releasing after that crashes some of them).
     static Context& shared();
 
     const cl::Device& device() const { return device_; }
@@ -154,7 +156,9 @@ public:
     }
 
     /// Enqueues `kernel` after checking the sizes against the device and kernel limits
-    /// (global a multiple of local, local <= CL_KERNEL_WORK_GROUP_SIZE). The one launch
+    /// (global a multiple of local, local <= CL_KERNEL_WORK_GROUP_SIZE and
+    /// CL_DEVICE_MAX_WORK_ITEM_SIZES, the kernel's local memory <= CL_DEVICE_LOCAL_MEM_SIZE);
+    /// DeviceError naming the limit otherwise. The one launch
     /// path, with the one warm-up: the first launch of each (kernel, program options,
     /// local size) on this context is waited for and its time counted as compilation
     /// (compile_seconds), because PoCL and some GPU drivers finish compiling a kernel for a
@@ -163,11 +167,14 @@ public:
     void launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local = cl::NullRange);
 
 private:
+    void check_launch_limits(const cl::Kernel& kernel, const std::string& name, const cl::NDRange& local) const;
+
     cl::Device device_;
     cl::Context context_;
     cl::CommandQueue queue_;
     std::size_t max_alloc_ = 0, global_mem_ = 0, max_work_group_ = 0, local_mem_ = 0;
     std::size_t mem_base_align_ = 1;
+    std::vector<std::size_t> max_work_item_sizes_;
     unsigned compute_units_ = 0;
     bool fp64_ = false;
     mutable std::mutex mutex_;

@@ -65,7 +65,9 @@ std::mutex registry_lock;
 std::map<Context*, std::unique_ptr<std::mutex>> context_locks;  // every context used so far
 
 Device device_for(const std::optional<std::string>& selector) {
-    static std::map<cl_device_id, std::unique_ptr<Context>> contexts;
+    // Never destroyed, like Context::shared(): no OpenCL object is released after the
+    // interpreter has finalised and the OpenCL runtime's exit handlers may have run.
+    static auto& contexts = *new std::map<cl_device_id, std::unique_ptr<Context>>;
     std::lock_guard<std::mutex> guard(registry_lock);
     Context* ctx = nullptr;
     if (!selector || selector->empty()) {
