@@ -1,5 +1,6 @@
-// Denoising filters (DESIGN §1 "Filters"; thesis chapter 4 and §6.3): 3×3×3 median,
-// separable Gaussian, 3D bilateral, each plain or masked by the local fractal dimension.
+// Denoising filters (docs/definitions.md §16 "Filters", §17 "Fractal-targeted filtering";
+// thesis chapter 4 and §6.3): 3×3×3 median, separable Gaussian, 3D bilateral, each plain or
+// masked by the local fractal dimension.
 //
 // Defines: -DT (and -DT_IS_<T>) the value type; -DINTEGER_VALUES for the integer types
 // (results rounded to nearest even and saturated to the type); -DACC_DOUBLE for double
