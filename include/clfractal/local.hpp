@@ -1,5 +1,5 @@
-// Local fractal dimension (DESIGN §1 "Local fractal dimension", "Colour map"; thesis §2.4,
-// eq. 2.6 and eq. 2.8).
+// Local fractal dimension (docs/definitions.md §13 "Local fractal dimension", §14 "Colour
+// map"; thesis §2.4, eq. 2.6 and eq. 2.8).
 //
 // For isovalue s and even window k, at vertex v = (x, y, z), per axis with n vertices in
 // G and n' = (n - 1) / 2 + 1 in G' (pyramid level 1) — revision 2 of the definition:
