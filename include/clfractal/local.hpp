@@ -12,9 +12,9 @@
 // counts are box queries on 3D summed-area tables (sat.hpp) of the 0/1 "cube intersected"
 // indicator of G and of G', so the field costs O(N) whatever k is.
 //
-// The comparison a < s <= b is made in the data's type: float data compares with s rounded
-// to float32; integer data with s as given (a double, so s = 99.5 on uint8 data selects the
-// same cubes as s = 100).
+// The comparison a < s <= b is made in the data's type (docs/definitions.md §3): float32 data
+// with s rounded to float32, float64 data with s in double, integer data with the integer
+// ceil(s) (so s = 99.5 on uint8 data selects the same cubes as s = 100).
 #pragma once
 #include <cstdint>
 #include <string>
