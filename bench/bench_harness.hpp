@@ -1,8 +1,8 @@
-// The benchmark harness (DESIGN §5), for the benchmark drivers in bench/ and `clfractal
-// bench`, outside the installed API: span-curve throughput on the device against the
-// device's own copy bandwidth and against the OpenMP baseline, in the same run, and the
-// command line and JSON header every driver shares. Compilation is timed apart; every
-// figure is the best of `repeats` runs after a warm-up.
+// The benchmark harness (docs/definitions.md §31 "Timing"), for the benchmark drivers in bench/
+// and `clfractal bench`, outside the installed API: span-curve throughput on the device against
+// the device's own copy bandwidth and against the OpenMP baseline, in the same run, and the
+// command line and JSON header every driver shares. Compilation is timed apart; every figure is
+// the best of `repeats` runs after a warm-up.
 #pragma once
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -1,9 +1,10 @@
-// The end-to-end peer of `clfractal fd FILE` for uint8 volumes: a plain OpenMP C++ program
-// that reads the file into memory and counts the intersected cubes of levels 0 and 1 for
-// every isovalue once (DESIGN §1 "Counts", "Subsampling"), as a careful programmer would
-// write it without the library: fread into an uninitialised buffer, per-thread difference
+// The end-to-end peer of `clfractal fd FILE` for uint8 volumes: a plain OpenMP C++ program that
+// reads the file into memory and counts the intersected cubes of levels 0 and 1 for every
+// isovalue once (docs/definitions.md §7 "Counts", §6 "Pyramid levels"), as a careful programmer
+// would write it without the library: fread into an uninitialised buffer, per-thread difference
 // histograms over x-rows with the column min/max of each row computed once (the loop of
-// host/span_cpu.cpp, the library's OpenMP baseline), level 1 gathered into its own grid.
+// bench/baselines/span_openmp.cpp, the benchmarks' OpenMP baseline), level 1 gathered into its
+// own grid.
 //
 //   fd_peer_omp FILE.nrrd|NAME_XxYxZ_uint8.raw [--csv F]
 //

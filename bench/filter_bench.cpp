@@ -1,6 +1,7 @@
-// Filter throughput (DESIGN §5): median, Gaussian and the fractal-targeted median on the
-// device, timed in one run; bench/filter_bench.py runs this and the peers (scipy.ndimage,
-// pyclesperanto on the same OpenCL device) side by side and compares the outputs.
+// Filter throughput (docs/definitions.md §31 "Timing"): median, Gaussian and the
+// fractal-targeted median on the device, timed in one run; bench/filter_bench.py runs this and
+// the peers (scipy.ndimage, pyclesperanto on the same OpenCL device) side by side and compares
+// the outputs.
 //
 //   clfractal_filter_bench [--size N] [--sigma S] [--iso S] [--threshold H] [--repeats R]
 //                          [--volume PATH]... [--out DIR]

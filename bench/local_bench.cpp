@@ -1,6 +1,7 @@
-// Local fractal dimension throughput (DESIGN §5): the device field against the OpenMP
-// implementation of the same algorithm and the device's copy bandwidth, in the same run.
-// bench/local_bench.py runs this and the numpy peer (bench/local_numpy.py) side by side.
+// Local fractal dimension throughput (docs/definitions.md §31 "Timing"): the device field
+// against the OpenMP implementation of the same algorithm and the device's copy bandwidth, in
+// the same run. bench/local_bench.py runs this and the numpy peer (bench/local_numpy.py) side
+// by side.
 //
 //   clfractal_local_bench [--size N]... [--window K] [--repeats R] [--out DIR]
 //

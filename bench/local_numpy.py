@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The local fractal dimension field (DESIGN §1, thesis eq. 2.6) with numpy: the peer of
-`clfractal local` in the benchmark (bench/local_bench.py).
+"""The local fractal dimension field (docs/definitions.md §13, thesis eq. 2.6) with numpy: the
+peer of `clfractal local` in the benchmark (bench/local_bench.py).
 
 The same definition, written the way a careful numpy user would: the cube spans from the
 eight corner views, the 0/1 indicator zero-padded in front on every axis, three cumsums for
@@ -66,8 +66,9 @@ def padded_sat(f, s):
 
 
 def windows(n, m, k):
-    """Per coordinate of one axis: W = [lo, hi) in G and W' = [lo', hi') in G' (DESIGN §1,
-    revision 2: W' first, W exactly its region in G), as indices of the padded tables."""
+    """Per coordinate of one axis: W = [lo, hi) in G and W' = [lo', hi') in G'
+    (docs/definitions.md §13, revision 2: W' first, W exactly its region in G), as indices of
+    the padded tables."""
     h = k // 2
     c0 = np.floor_divide(np.arange(n) - h, 2)
     lo_sub = np.maximum(0, c0)

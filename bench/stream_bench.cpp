@@ -1,6 +1,6 @@
-// Slice streaming against the in-core run (DESIGN §6), in the same process: a generated
-// N^3 uint8 volume (noisy sphere, made slice by slice) is counted (cubes and edges, levels
-// 0..L-1) by SpanStream fed one slice at a time, and by count_spans on the whole volume.
+// Slice streaming against the in-core run (docs/definitions.md §28), in the same process: a
+// generated N^3 uint8 volume (noisy sphere, made slice by slice) is counted (cubes and edges,
+// levels 0..L-1) by SpanStream fed one slice at a time, and by count_spans on the whole volume.
 // Prints time, throughput and the process's peak resident memory after each phase, and the
 // stream/in-core time ratio; exits 1 if the counts differ.
 //

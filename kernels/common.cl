@@ -23,9 +23,9 @@ typedef float ISO_T;
 #endif
 
 // iso_t: the type one isovalue s is compared in, a < s <= b in the data's own type
-// (DESIGN §1): integer data with the integer ceil(s) as a long (for integers a, b and a
-// real s, a < s <= b iff a < ceil(s) <= b; long holds every int32 and uint32 value);
-// float32 data with s rounded to float; float64 data with s as a double.
+// (docs/definitions.md §3 "Exact comparisons"): integer data with the integer ceil(s) as a long
+// (for integers a, b and a real s, a < s <= b iff a < ceil(s) <= b; long holds every int32 and
+// uint32 value); float32 data with s rounded to float; float64 data with s as a double.
 #if defined(INTEGER_VALUES)
 typedef long iso_t;
 #elif defined(ISO_DOUBLE)
@@ -36,7 +36,7 @@ typedef float iso_t;
 
 // Index of the first isovalue greater than v: the bin where a span starting (or
 // ending) at v begins (or stops) to be intersected, since s intersects [a, b]
-// iff a < s <= b (DESIGN §1).
+// iff a < s <= b (docs/definitions.md §4 "Span and intersection").
 //  - integer data: isovalue j is vmin + j, so the first one > v is v - vmin + 1,
 //    clamped to [0, niso] for values outside the isovalue range;
 //  - other data: upper bound of v in the sorted list iso[0..niso), compared as ISO_T

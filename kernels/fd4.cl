@@ -1,5 +1,5 @@
-// 4D fractal dimension (DESIGN §1 "4D fractal dimension"; thesis 6.4): per cube with span
-// [a, b] the number of value bins it touches,
+// 4D fractal dimension (docs/definitions.md §24 "4D fractal dimension"; thesis 6.4): per
+// cube with span [a, b] the number of value bins it touches,
 //     B_q(a, b) = floor((b - vmin) / q) - floor((a - vmin) / q) + 1,
 // summed over the cubes of a grid (cube_bins_rows) or written as a zero-padded table for the
 // summed-area tables of the local field (cube_bins_table, the layout of local.cl's indicator).

@@ -1,5 +1,6 @@
-// Denoising filters (DESIGN §1 "Filters"; thesis chapter 4 and §6.3): 3×3×3 median,
-// separable Gaussian, 3D bilateral, each plain or masked by the local fractal dimension.
+// Denoising filters (docs/definitions.md §16 "Filters", §17 "Fractal-targeted filtering";
+// thesis chapter 4 and §6.3): 3×3×3 median, separable Gaussian, 3D bilateral, each plain or
+// masked by the local fractal dimension.
 //
 // Defines: -DT (and -DT_IS_<T>) the value type; -DINTEGER_VALUES for the integer types
 // (results rounded to nearest even and saturated to the type); -DACC_DOUBLE for double
@@ -130,8 +131,8 @@ inline int clamp_index(int i, int n) { return clamp(i, 0, n - 1); }
 // halves that are never used): keep 15 candidates, move their minimum and maximum aside with
 // compare-exchanges (pairs, then a min chain and a max chain), replace them by the next
 // value, and so on; after 13 rounds the median of the 27 values is the middle of the last 3.
-// Generated once from that description and checked against sorting (test/filter_test.cpp
-// checks every kernel against std::nth_element).
+// Generated once from that description and checked against sorting
+// (test/processing/filter_test.cpp checks every kernel against std::nth_element).
 #define MEDIAN27_NETWORK(CX, v) \
     CX(v[0], v[14]); CX(v[1], v[13]); CX(v[2], v[12]); CX(v[3], v[11]); CX(v[4], v[10]); CX(v[5], v[9]); CX(v[6], v[8]); \
     CX(v[0], v[1]); CX(v[0], v[2]); CX(v[0], v[3]); CX(v[0], v[4]); CX(v[0], v[5]); CX(v[0], v[6]); CX(v[0], v[7]); CX(v[7], v[14]); \

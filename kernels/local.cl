@@ -1,4 +1,5 @@
-// Local fractal dimension (DESIGN §1; thesis eq. 2.6), in three steps per grid:
+// Local fractal dimension (docs/definitions.md §13 "Local fractal dimension"; thesis eq. 2.6),
+// in three steps per grid:
 //   cube_indicator_*   the 0/1 "cube intersected" indicator, zero-padded (below)
 //   (sat.cl)           its summed-area table
 //   local_dimension_*  two box queries per vertex, one in G and one in G', and the log ratio
@@ -93,7 +94,7 @@ inline C box(__global const C* S, size_t row, size_t slice, int x0, int x1, int 
 // tests allow (the counts of an 8-window are at most 512).
 inline float log_ratio(C a, C b) { return a && b ? log2((float)a / (float)b) : NAN; }
 
-// The windows (DESIGN §1, revision 2) are not computed here: `win` holds the host's
+// The windows (docs/definitions.md §13, revision 2) are not computed here: `win` holds the host's
 // local_windows tables of the x, y and z axes one after the other (nx + ny + nz entries),
 // each (lo, hi, lo_sub, hi_sub): cubes [lo, hi) of G and [lo_sub, hi_sub) of G'.
 

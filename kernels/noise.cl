@@ -17,7 +17,7 @@
 #define OUT_T float
 #endif
 
-// splitmix64's output function (as host/synthetic.cpp).
+// splitmix64's output function (as host/volume/counter_rng.hpp).
 inline ulong splitmix64_mix(ulong z) {
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9UL;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBUL;
@@ -32,7 +32,7 @@ inline ulong noise_bits(ulong mixed_seed, ulong counter) {
 // Box-Muller from two 24-bit integers, k1 in [1, 2^24] (u1 = k1 2^-24 in (0, 1]) and k2 in
 // [0, 2^24) (u2 = k2 2^-24): sqrt(-2 ln u1) cos(2 pi u2), with float additions and
 // multiplications only (polynomials, a Newton square root), so that every IEEE device and
-// the host (host/noise.cpp, the same operations in the same order) give the same bits.
+// the host (host/measures/noise.cpp, the same operations in the same order) give the same bits.
 //   ln u1 = (e - 24) ln 2 + ln m, k1 = m 2^e with m in [sqrt(1/2), sqrt(2)] (exact scaling),
 //           ln m = s P(s), s = m - 1 (exact), P a degree-10 fit of ln(1 + s) / s;
 //   sqrt x = x y, y = 1 / sqrt(x) from the bit-pattern guess and three Newton steps;

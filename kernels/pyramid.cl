@@ -1,4 +1,4 @@
-// Subsampling (DESIGN §1 "Subsampling"): the next level keeps the vertices whose
+// Subsampling (docs/definitions.md §6 "Pyramid levels"): the next level keeps the vertices whose
 // coordinates are even, n' = (n - 1) / 2 + 1 per axis. One work-item per output
 // vertex; global size (mx rounded up to the work-group width, my, mz).
 __kernel void subsample(__global const T* restrict src, int nx, int ny,

@@ -1,5 +1,6 @@
-// Smooth isosurface construction (DESIGN §1; thesis chapter 5), Algorithm 1 on the device:
-// which grid edges are high fractal. The queue of Algorithm 2 runs on the host.
+// Smooth isosurface construction (docs/definitions.md §18 "Smooth isosurface construction";
+// thesis chapter 5), Algorithm 1 on the device: which grid edges are high fractal. The queue of
+// Algorithm 2 runs on the host.
 //
 // -DT is the value type and s an iso_t (kernels/common.cl): integer data (-DINTEGER_VALUES)
 // compares with the integer ceil(s), which selects exactly the edges a < s <= b selects for a

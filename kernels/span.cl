@@ -1,4 +1,4 @@
-// Span histograms (DESIGN §1 "Counts"): every cube (or grid edge) with span [a, b]
+// Span histograms (docs/definitions.md §7 "Counts"): every cube (or grid edge) with span [a, b]
 // adds +1 at bin first_isovalue_above(a) and -1 at first_isovalue_above(b); the
 // prefix sum of the histogram is I(s) (or E(s)) for every isovalue at once.
 //

@@ -18,7 +18,7 @@ template <class... Args> void set_args(cl::Kernel& k, const Args&... args) {
     (set_kernel_arg(k, index++, args), ...);
 }
 
-/// A kernel with its argument list in its type (STYLE "typed kernel calls"):
+/// A kernel with its argument list in its type (a typed kernel call):
 ///   KernelCall<cl::Buffer, int, int, cl::Buffer> sub(ctx, "pyramid", "subsample", options);
 ///   sub(global, local, src, nx, ny, dst);
 /// A call sets every argument in order and launches through Context::launch (size checks,

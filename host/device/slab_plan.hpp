@@ -1,7 +1,8 @@
-// Z-slab planning (DESIGN §6 "Scale"): how many slices of a volume one device pass takes,
-// from the bytes each slice needs, the halo a stage reads around its output slices, the
-// alignment of slab starts and the device's limits. The one definition of slab sizing, the
-// default row count and the axis-length check; every capability plans through it.
+// Z-slab planning (docs/definitions.md §28 "Slabs, streams and ranks"): how many slices of a
+// volume one device pass takes, from the bytes each slice needs, the halo a stage reads around
+// its output slices, the alignment of slab starts and the device's limits. The one definition
+// of slab sizing, the default row count and the axis-length check; every capability plans
+// through it.
 #pragma once
 #include <cstddef>
 

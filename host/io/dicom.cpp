@@ -1,7 +1,8 @@
 // DICOM series through GDCM: a directory (or one file of it) is one volume. Headers are
 // read with gdcm::Scanner, slices sorted by position along the slice normal (as GDCM's
 // IPPSorter does) and checked for even spacing, pixels decoded with gdcm::ImageReader (every
-// transfer syntax GDCM decodes), values in modality units by the rescale rule (DESIGN §2).
+// transfer syntax GDCM decodes), values in modality units by the rescale rule
+// (docs/definitions.md §27 "Values and orientation").
 #include "io/formats.hpp"
 
 #include <gdcmDirectory.h>

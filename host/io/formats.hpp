@@ -1,7 +1,8 @@
 // Private to the library: the readers and writers of the file formats beyond raw and NRRD
-// (DESIGN §2 layer 2), one file each (io_dicom.cpp, io_nifti.cpp, io_tiff.cpp,
-// io_metaimage.cpp), and what they share (io_detect.cpp): format detection by content,
-// the one mapping of a file's stored type onto ValueType, and the rescale rule.
+// (docs/definitions.md §26 "File formats", §27 "Values and orientation"), one file each
+// (io/dicom.cpp, io/nifti.cpp, io/tiff.cpp, io/metaimage.cpp), and what they share
+// (io/detect.cpp): format detection by content, the one mapping of a file's stored type onto
+// ValueType, and the rescale rule.
 #pragma once
 #include <array>
 #include <cstddef>
@@ -51,7 +52,7 @@ struct Rescale {
 };
 
 /// The type of `stored * slope + intercept` for stored values of `kind` in [lo, hi]
-/// (DESIGN §2 layer 2): with an integral rescale, the stored type when it holds the
+/// (docs/definitions.md §27): with an integral rescale, the stored type when it holds the
 /// results, else the narrowest signed integer type that does (uint16 + intercept -1024 →
 /// int16); otherwise float32. Routed through value_type_for (`file` names the input).
 ValueType rescale_type(StoredKind kind, const std::vector<Rescale>& maps, double lo, double hi,

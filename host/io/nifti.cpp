@@ -1,5 +1,5 @@
 // NIfTI-1/2 through nifticlib (.nii, .nii.gz, .hdr/.img): stored voxel order, spacing from
-// pixdim, scl_slope/scl_inter applied only when asked (DESIGN §2 layer 2).
+// pixdim, scl_slope/scl_inter applied only when asked (docs/definitions.md §27).
 #include "io/formats.hpp"
 
 #include <nifti2_io.h>

@@ -1,9 +1,9 @@
-// How output files are written (DESIGN §3): a regular file goes to a temporary name beside
-// its final place and is renamed there, so that a failure never leaves a half-written file;
-// a symlink is written through (the temporary sits beside the link's final target, and the
-// link stays); a FIFO, a character device and "-" (standard output) are written directly.
-// An OutputRun makes the renames of one run all-or-nothing: they happen at commit(), and
-// a run that ends without commit() leaves no output file and no temporary behind.
+// How output files are written (docs/definitions.md §30): a regular file goes to a temporary
+// name beside its final place and is renamed there, so that a failure never leaves a
+// half-written file; a symlink is written through (the temporary sits beside the link's final
+// target, and the link stays); a FIFO, a character device and "-" (standard output) are written
+// directly. An OutputRun makes the renames of one run all-or-nothing: they happen at commit(),
+// and a run that ends without commit() leaves no output file and no temporary behind.
 #pragma once
 #include <string>
 

@@ -1,4 +1,4 @@
-// Slice-by-slice readers (DESIGN §6): memory maps for raw data, zlib for gzip data.
+// Slice-by-slice readers (docs/definitions.md §28): memory maps for raw data, zlib for gzip data.
 #include "clfractal/slice_reader.hpp"
 
 #include "io/output_file.hpp"

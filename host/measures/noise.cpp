@@ -410,7 +410,7 @@ template <class F> void for_each_edge(const Volume& v, const F& f) {
 }  // namespace
 
 double estimate_gamma(const Volume& v, double iso) {
-    // The comparison of DESIGN §1 in the data's type (integers: a < s <= b iff a < ceil(s) <= b).
+    // The comparison of docs/definitions.md §3 (integers: a < s <= b iff a < ceil(s) <= b).
     const double s = IsovalueSet::single(v.type(), iso).value(0);
     std::vector<double> spans;
     for_each_edge(v, [&](double a, double b) {

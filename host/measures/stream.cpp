@@ -13,7 +13,8 @@ namespace clfractal {
 
 namespace {
 
-// Float slices must be finite, like whole volumes (DESIGN §1); z is the slice's index.
+// Float slices must be finite, like whole volumes (docs/definitions.md §1 "Grid"); z is the
+// slice's index.
 void check_slice(const void* slice, ValueType type, std::size_t nx, std::size_t ny, std::size_t z) {
     if (!slice) throw std::logic_error("push_slice: null slice");
     check_finite(slice, type, nx * ny, Dims{nx, ny, z + 1}, z * nx * ny, "stream");

@@ -1,5 +1,6 @@
-// Marching cubes / marching tetrahedra with one vertex per intersected grid edge. Host code: meshes are extracted once per isovalue, not per analysis, so this is
-// not on the hot path (DESIGN §2 "mesh").
+// Marching cubes / marching tetrahedra with one vertex per intersected grid edge
+// (docs/definitions.md §15 "Isosurface meshes"). Host code: meshes are extracted once per
+// isovalue, not per analysis, so this is not on the hot path.
 //
 // Both methods run one loop over the cubes with a 256-case table (corner c of a cube is
 // bit c of the case when positive; its offset is (c & 1, c >> 1 & 1, c >> 2 & 1)). The

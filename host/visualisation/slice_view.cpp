@@ -10,8 +10,8 @@
 namespace clfractal {
 namespace {
 
-// The isovalue as the data's type compares it (DESIGN §1): float32 data with s rounded to
-// float32, every other type in double (exact for their values).
+// The isovalue as the data's type compares it (docs/definitions.md §3): float32 data with s
+// rounded to float32, every other type in double (exact for their values).
 double compared_isovalue(const Volume& v, double iso) {
     return v.type() == ValueType::float32 ? double(float(iso)) : iso;
 }

@@ -1,5 +1,5 @@
-// Synthetic volumes (DESIGN §2 "noise": synthetic generators) and the counter-based
-// uniform noise shared with the device kernels.
+// Synthetic volumes and the counter-based uniform noise shared with the device kernels
+// (docs/definitions.md §22 "Noise injection and synthetic volumes").
 #include "clfractal/synthetic.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Volume, value types and dimension checks (DESIGN §1 "Grid").
+// Volume, value types and dimension checks (docs/definitions.md §1 "Grid", §2 "Value types").
 #include "clfractal/volume.hpp"
 
 #include <sys/mman.h>

@@ -1,5 +1,6 @@
 // Answers to the user's questions from a fractal-dimension curve: which isovalues give clean
-// surfaces (clean bands), and how noisy the scan is (Theorem 1 inverted).
+// surfaces (clean bands, docs/definitions.md §25), and how noisy the scan is (Theorem 1
+// inverted, docs/definitions.md §23).
 //
 // Reading D(s) (thesis chapters 2-3): about 2 is a clean surface (a smooth surface has
 // I ~ N^(2/3)); towards 3 the isosurface fills space, which is what noise does. The colour map

@@ -1,5 +1,6 @@
 // Isosurface components for every isovalue at once, and their correlation with the
-// fractal dimension (DESIGN §1 "Isosurface components", "Correlation"; thesis §3.1).
+// fractal dimension (docs/definitions.md §19 "Isosurface components", §20 "Correlation";
+// thesis §3.1).
 //
 // With A = {f < s} and C = {f >= s}, the isosurface at s has
 //   components(s) = b0(A) + b0(C) - 1   (0 when A or C is empty)
@@ -69,9 +70,9 @@ std::int64_t count_components_by_labelling(const Volume& v, double isovalue, Con
 /// products with CLBlast on the device). NaN with fewer than 2 points or zero variance.
 double pearson(Context& ctx, const std::vector<double>& x, const std::vector<double>& y);
 
-/// DESIGN §1 "Correlation": over the isovalues where D(s) is defined and the level-0 edge
-/// count E(s) >= (product of the two smallest vertex dims) / 4, Pearson of D with
-/// components(s) and with components(s) / E(s).
+/// docs/definitions.md §20 "Correlation": over the isovalues where D(s) is defined and the
+/// level-0 edge count E(s) >= (product of the two smallest vertex dims) / 4, Pearson of D
+/// with components(s) and with components(s) / E(s).
 struct ComponentCorrelation {
     std::size_t used = 0;                ///< isovalues that enter
     double components = 0;               ///< corr(D, components)

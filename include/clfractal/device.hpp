@@ -68,7 +68,7 @@ template <class E> E parse_variant(const std::string& name);
 /// Every value of E, in declaration order (tests walk them).
 template <class E> std::vector<E> all_variants();
 
-/// Tuning values per device (STYLE §10): defaults by device type, overridable by tests.
+/// Tuning values per device, in one place: defaults by device type, overridable by tests.
 struct Tuning {
     SpanVariant span_variant = SpanVariant::private_histograms;
     std::size_t work_group = 64;     ///< work-group size of the "local" variant

@@ -1,5 +1,6 @@
-// A volume on the device (DESIGN §2: Volume → DeviceVolume (one upload) → kernels → small
-// results or device fields → download only what the caller asks for).
+// A volume on the device (docs/definitions.md §29 "Devices and uploads": Volume → DeviceVolume
+// (one upload) → kernels → small results or device fields → download only what the caller
+// asks for).
 //
 // The one place host memory is made visible to kernels and read back. Built from host values
 // it is an upload, counted by Context::uploads(): zero-copy (CL_MEM_USE_HOST_PTR, the host

@@ -1,4 +1,5 @@
-// Fractal dimension curves (DESIGN §1; thesis eq. 2.5, eq. 3.1, §2.3).
+// Fractal dimension curves (docs/definitions.md §8 "Fractal dimension", §9 "Multi-level fit",
+// §10 "Curve summary"; thesis eq. 2.5, eq. 3.1, §2.3).
 //
 //   box span dimension   D(s) = log2( I_G(s) / I_G'(s) )    (eq. 2.5, cubes)
 //   edge span dimension  D(s) = log2( E_G(s) / E_G'(s) )    (eq. 3.1, edges)

@@ -1,4 +1,5 @@
-// 4D fractal dimension (DESIGN §1 "4D fractal dimension"; thesis §6.4, beyond the thesis).
+// 4D fractal dimension (docs/definitions.md §24 "4D fractal dimension"; thesis §6.4, beyond
+// the thesis).
 //
 // The graph of f is a hypersurface in (x, y, z, value). The value axis is cut into bins
 // [vmin + j q, vmin + (j + 1) q); a cube with span [a, b] touches

@@ -1,4 +1,5 @@
-// Denoising filters (DESIGN §1 "Filters"; thesis chapter 4 and §6.3).
+// Denoising filters (docs/definitions.md §16 "Filters", §17 "Fractal-targeted filtering";
+// thesis chapter 4 and §6.3).
 //
 // Every filter reads its input and writes a new volume of the same dims, type and spacing
 // (never in place), clamp-to-edge at the borders: a neighbour outside the grid takes the
@@ -11,13 +12,12 @@
 //     out(v) = sum_w ws(w) wr(w) f(w) / sum_w ws(w) wr(w) with the spatial weight
 //     ws = exp(-|w - v|^2 / (2 sigma_s^2)) and the range weight
 //     wr = exp(-(f(w) - f(v))^2 / (2 sigma_r^2)); integer outputs rounded and clamped as
-//     for the Gaussian. (DESIGN gives no definition; the radius 2 sigma_s keeps the cube at
-//     125 neighbours for sigma_s = 1.)
+//     for the Gaussian. (The radius 2 sigma_s keeps the cube at 125 neighbours for
+//     sigma_s = 1.)
 // Accumulation (weights, sums, the Gaussian's temporaries): float32 for the types a float32
-// holds exactly (8/16-bit integers, float32), as DESIGN states; double for int32, uint32 and
-// float64, whose values a float32 would round by up to 2^-24 of their magnitude (128 for
-// an int32 near 2^31) before any filtering. These need cl_khr_fp64 (else an InputError
-// suggesting --as float32).
+// holds exactly (8/16-bit integers, float32); double for int32, uint32 and float64, whose
+// values a float32 would round by up to 2^-24 of their magnitude (128 for an int32 near 2^31)
+// before any filtering. These need cl_khr_fp64 (else an InputError suggesting --as float32).
 //
 // Fractal-targeted filtering (thesis §4.3): the filter's value only where the local fractal
 // dimension LD(v) (local.hpp) for isovalue s and window k is > h (NaN never qualifies), the

@@ -1,4 +1,4 @@
-// The isovalues a curve is computed for, in the data's own type (docs/definitions.md
+// The isovalues a curve is computed for, in the data's own type (docs/definitions.md §5
 // "Isovalue set"): every integer of an integer range, or a strictly increasing list.
 #pragma once
 #include <cstddef>
@@ -10,7 +10,7 @@
 
 namespace clfractal {
 
-/// The isovalues a curve is computed for (DESIGN §1 "Isovalue set"), in the data's own
+/// The isovalues a curve is computed for (docs/definitions.md §5), in the data's own
 /// type. Integer data: every integer in [first, first + count). Otherwise a strictly
 /// increasing list: float32 values for float32 data, float64 values for float64 data and
 /// for int32/uint32 data whose range holds more than 65,536 integers. Every comparison

@@ -1,5 +1,5 @@
-// Local fractal dimension (DESIGN §1 "Local fractal dimension", "Colour map"; thesis §2.4,
-// eq. 2.6 and eq. 2.8).
+// Local fractal dimension (docs/definitions.md §13 "Local fractal dimension", §14 "Colour
+// map"; thesis §2.4, eq. 2.6 and eq. 2.8).
 //
 // For isovalue s and even window k, at vertex v = (x, y, z), per axis with n vertices in
 // G and n' = (n - 1) / 2 + 1 in G' (pyramid level 1) — revision 2 of the definition:
@@ -12,9 +12,9 @@
 // counts are box queries on 3D summed-area tables (sat.hpp) of the 0/1 "cube intersected"
 // indicator of G and of G', so the field costs O(N) whatever k is.
 //
-// The comparison a < s <= b is made in the data's type: float data compares with s rounded
-// to float32; integer data with s as given (a double, so s = 99.5 on uint8 data selects the
-// same cubes as s = 100).
+// The comparison a < s <= b is made in the data's type (docs/definitions.md §3): float32 data
+// with s rounded to float32, float64 data with s in double, integer data with the integer
+// ceil(s) (so s = 99.5 on uint8 data selects the same cubes as s = 100).
 #pragma once
 #include <cstdint>
 #include <string>

@@ -1,6 +1,7 @@
-// Isosurface meshes (DESIGN §1 "Span and intersection", "Colour map", "Isosurface
-// components"; thesis §2.4 and chapter 5): marching cubes and marching tetrahedra with
-// one mesh vertex per intersected grid edge (PLY files: ply.hpp).
+// Isosurface meshes (docs/definitions.md §15 "Isosurface meshes", with §4 "Span and
+// intersection", §14 "Colour map", §19 "Isosurface components"; thesis §2.4 and chapter 5):
+// marching cubes and marching tetrahedra with one mesh vertex per intersected grid edge
+// (PLY files: ply.hpp).
 //
 // A vertex is positive when f >= s and negative when f < s; a grid edge with span
 // [a, b] is intersected iff a < s <= b, and carries exactly one mesh vertex, shared by
@@ -9,8 +10,9 @@
 // Marching cubes separates negative vertices: inside each cube the surface keeps
 // negative vertices apart unless they are joined by cube edges, and keeps all positive
 // vertices of the cube in one region. So the negative set {f < s} is 6-connected and the
-// positive set {f >= s} 26-connected (the `cube` connectivity of DESIGN §1), the mesh has
-// b0(A, 6) + b0(C, 26) - 1 pieces, and it is a closed 2-manifold away from the grid border.
+// positive set {f >= s} 26-connected (the `cube` connectivity of docs/definitions.md §19),
+// the mesh has b0(A, 6) + b0(C, 26) - 1 pieces, and it is a closed 2-manifold away from the
+// grid border.
 // Its vertex count is E(s) (count_spans with SpanKind::edges).
 //
 // Marching tetrahedra splits every cube into the 6 tetrahedra of the Freudenthal (Kuhn)
@@ -60,9 +62,9 @@ struct Mesh {
 };
 
 /// The isosurface f = s of `v`. For float32 data s is rounded to float32 first, as every
-/// float32 isovalue is (DESIGN §1); other types compare in double, exactly. An axis of fewer than 2 vertices has no cubes: the mesh
-/// is then empty. Throws InputError when the mesh would exceed 2^31 - 1 vertices or
-/// triangles (the PLY index type).
+/// float32 isovalue is (docs/definitions.md §3); other types compare in double, exactly. An
+/// axis of fewer than 2 vertices has no cubes: the mesh is then empty. Throws InputError when
+/// the mesh would exceed 2^31 - 1 vertices or triangles (the PLY index type).
 Mesh extract_isosurface(const Volume& v, double s, MeshMethod method = MeshMethod::marching_cubes);
 /// The same for a device volume (meshing runs on the host: the values are downloaded).
 Mesh extract_isosurface(const DeviceVolume& v, double s, MeshMethod method = MeshMethod::marching_cubes);

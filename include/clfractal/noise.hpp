@@ -1,6 +1,6 @@
-// The noise model (DESIGN §1 "Noise formula"; thesis §3.2, Theorem 1, Lemmas 1-3, and the
-// open problems of §6.2), reproducible noise injection on the device, and the noise
-// experiment of thesis §3.2.1 (Figs. 3.5-3.7).
+// The noise model (docs/definitions.md §21 "Noise formula"; thesis §3.2, Theorem 1, Lemmas
+// 1-3, and the open problems of §6.2), reproducible noise injection on the device
+// (docs/definitions.md §22), and the noise experiment of thesis §3.2.1 (Figs. 3.5-3.7).
 //
 // Edge model. An edge whose clean values are x and x + delta gets independent noise n_a, n_b.
 // With x uniform over a range of width 2 Lambda around the isovalue sigma (wide enough to

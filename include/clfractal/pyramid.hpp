@@ -1,4 +1,4 @@
-// Grid subsampling (DESIGN §1 "Subsampling"): level l keeps the vertices whose
+// Grid subsampling (docs/definitions.md §6 "Pyramid levels"): level l keeps the vertices whose
 // coordinates are multiples of 2^l; per axis n_l = (n_{l-1} - 1) / 2 + 1. G' is level 1.
 #pragma once
 #include "clfractal/device.hpp"

@@ -1,4 +1,4 @@
-// 3D summed-area tables (DESIGN §1 "Local fractal dimension"; thesis eq. 2.8).
+// 3D summed-area tables (docs/definitions.md §12 "Summed-area tables"; thesis eq. 2.8).
 //
 // The inclusive table of values i(x, y, z) on an nx × ny × nz grid (x fastest) is
 //

@@ -1,9 +1,9 @@
-// Reading a volume slice by slice from disk, so that host memory stays bounded by a few
-// slices however large the file (DESIGN §6): raw files and raw-encoded NRRD data through
-// memory maps of a window of slices, gzip-encoded NRRD data decompressed sequentially
-// (zlib), DICOM series and TIFF stacks (multi-page or a directory of slices) one slice
-// file or page at a time. Other inputs (synthetic:NAME[:N], NIfTI, MetaImage, NRRD with
-// line/byte skips or several data files) are read whole and then served slice by slice.
+// Reading a volume slice by slice from disk, so that host memory stays bounded by a few slices
+// however large the file (docs/definitions.md §28): raw files and raw-encoded NRRD data through
+// memory maps of a window of slices, gzip-encoded NRRD data decompressed sequentially (zlib),
+// DICOM series and TIFF stacks (multi-page or a directory of slices) one slice file or page at
+// a time. Other inputs (synthetic:NAME[:N], NIfTI, MetaImage, NRRD with line/byte skips or
+// several data files) are read whole and then served slice by slice.
 #pragma once
 #include <array>
 #include <cstddef>

@@ -1,5 +1,5 @@
-// Smooth isosurface construction (DESIGN §1 "Smooth isosurface construction"; thesis
-// chapter 5, Algorithms 1 and 2).
+// Smooth isosurface construction (docs/definitions.md §18 "Smooth isosurface construction";
+// thesis chapter 5, Algorithms 1 and 2).
 //
 // For isovalue s, threshold h and window k the LD field (local.hpp) is computed once, on
 // the input volume. A grid edge (u, w) is intersected iff its span [a, b] has a < s <= b

@@ -1,5 +1,5 @@
-// Span counts for every isovalue at once (DESIGN §1 "Span and intersection",
-// "Isovalue set", "Counts", "Subsampling"; thesis chapter 1 and §2.3).
+// Span counts for every isovalue at once (docs/definitions.md §4 "Span and intersection",
+// §5 "Isovalue set", §6 "Pyramid levels", §7 "Counts"; thesis chapter 1 and §2.3).
 //
 // A cube (8 vertices) or grid edge (2 vertices) with span [a, b] = [min, max] is
 // intersected by isovalue s iff a < s <= b. I_l(s) counts the intersected cubes and

@@ -1,5 +1,5 @@
-// Slice streaming (DESIGN §6): volumes that arrive slice by slice in z order, as from a
-// scanner, analysed with memory for a few slices only.
+// Slice streaming (docs/definitions.md §28 "Slabs, streams and ranks"): volumes that arrive
+// slice by slice in z order, as from a scanner, analysed with memory for a few slices only.
 //
 //   SpanStream   span counts and FD curves of the slices seen so far, at any time,
 //                identical to count_spans / fd_curve on the volume of those slices;

@@ -1,5 +1,5 @@
-// Volumes: a 3D grid of nx*ny*nz vertices, x fastest, of one value type.
-// (DESIGN §1 "Grid".)
+// Volumes: a 3D grid of nx*ny*nz vertices, x fastest, of one value type
+// (docs/definitions.md §1 "Grid", §2 "Value types").
 #pragma once
 #include <array>
 #include <cstddef>
@@ -12,7 +12,7 @@
 
 namespace clfractal {
 
-/// The value types, one row each (DESIGN §1 "Value types", revision 2):
+/// The value types, one row each (docs/definitions.md §2 "Value types"):
 ///   X(enumerator, C++ type, OpenCL C type, NRRD type name, integer?)
 /// Everything type-dependent (sizes, names, the kernels' -DT=..., teem's types, the C ABI's
 /// clf_type, the ranges integer results saturate to) is derived from this table; adding a
@@ -235,10 +235,11 @@ struct NonFinite {
 };
 NonFinite count_non_finite(const void* data, ValueType t, std::size_t n);
 
-/// The one check for non-finite input (DESIGN §1), used by whole volumes, SliceReader and the
-/// stream API: throws InputError if the n values of type t (vertices offset.. of a grid of
-/// `d`) hold NaN or Inf, naming `what` (the file, or the API), how many of each, the slices
-/// scanned when they are not the whole grid, and the first one's value and vertex.
+/// The one check for non-finite input (docs/definitions.md §1 "Grid"), used by whole volumes,
+/// SliceReader and the stream API: throws InputError if the n values of type t (vertices
+/// offset.. of a grid of `d`) hold NaN or Inf, naming `what` (the file, or the API), how many
+/// of each, the slices scanned when they are not the whole grid, and the first one's value and
+/// vertex.
 void check_finite(const void* data, ValueType t, std::size_t n, const Dims& d, std::size_t offset,
                   const std::string& what);
 

@@ -131,7 +131,7 @@ Volume to_volume(const InArray& a, const std::string& type_name) {
                 for (std::size_t x = 0; x < nx; ++x) std::memcpy(dst + x * item, s + std::int64_t(x) * sx, item);
             }
         }
-    check_finite(v, "array");  // NaN and Inf are rejected as from files (DESIGN §1 "Grid")
+    check_finite(v, "array");  // NaN and Inf rejected as from files (docs/definitions.md §1)
     return v;
 }
 

@@ -1,5 +1,5 @@
-"""Independent NumPy/SciPy implementations of the DESIGN §1 definitions, written from the
-definitions alone (not from the library's algorithms): sorted-span counting instead of the
+"""Independent NumPy/SciPy implementations of the definitions of docs/definitions.md, written
+from the definitions alone (not from the library's algorithms): sorted-span counting instead of the
 difference histogram, scipy.ndimage.label instead of union-find sweeps, direct window sums
 instead of the library's summed-area tables."""
 import itertools
@@ -110,7 +110,7 @@ def components(v, s, connectivity="cube"):
 
 def windows(n, k, revision=2):
     """Per axis, for every vertex coordinate x: the cube ranges [lo, hi) of W in G and of W'
-    in G' (DESIGN §1; revision 1 centred W on x with its own clamping)."""
+    in G' (docs/definitions.md §13; revision 1 centred W on x with its own clamping)."""
     n1 = (n - 1) // 2 + 1
     x = np.arange(n)
     c0 = (x - k // 2) // 2                       # floor division

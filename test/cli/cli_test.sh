@@ -393,8 +393,9 @@ expect 2 "clfractal: error: unknown value type 'int64'" -- "$bin" fd f64.nrrd --
 head -c 64 /dev/zero > z_2x2x2_int64.raw
 expect 2 "clfractal: error: .*z_2x2x2_int64.raw.*unknown value type 'int64'" -- "$bin" fd z_2x2x2_int64.raw
 
-# fd4: the 4D dimension as text and JSON; for integer data with q = 1, I4(G, 1) is the sum
-# of the span curve plus the cubes (DESIGN §1). local4: the LD4 field. filter --fractal4.
+# fd4: the 4D dimension as text and JSON; for integer data with q = 1, I4(G, 1) is the sum of
+# the span curve plus the cubes (docs/definitions.md §24). local4: the LD4 field. filter
+# --fractal4.
 expect 0 'D4 +3\.' -- "$bin" -q fd4 synthetic:sphere:20 --json fd4.json
 expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:20 --csv fd4_curve.csv
 python3 - <<'PY' && pass || fail "fd4 json fields / identity"

@@ -1,6 +1,6 @@
-// Isosurface components (DESIGN §1 "Isosurface components", "Correlation"): the two-sweep
-// curve against breadth-first labelling of A = {f < s} and C = {f >= s} through the
-// identity b0(A) + b0(C) - 1, at every isovalue, both modes; against the pieces of the
+// Isosurface components (docs/definitions.md §19 "Isosurface components", §20 "Correlation"):
+// the two-sweep curve against breadth-first labelling of A = {f < s} and C = {f >= s} through
+// the identity b0(A) + b0(C) - 1, at every isovalue, both modes; against the pieces of the
 // marching-cubes / marching-tetrahedra mesh at generic isovalues; known shapes; and the
 // correlation against a plain two-pass Pearson.
 #include <doctest/doctest.h>

@@ -1,5 +1,5 @@
 // Slice streaming, out-of-core LD and slice readers against the whole-volume results,
-// exactly (DESIGN §6).
+// exactly (docs/definitions.md §28 "Slabs, streams and ranks").
 #include <doctest/doctest.h>
 #include <unistd.h>
 

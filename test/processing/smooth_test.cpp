@@ -1,7 +1,8 @@
 // Smooth isosurface construction (Algorithms 1 and 2) against the plain reference
-// (test/reference/smooth_reference): identical output volumes, and the guarantees of DESIGN
-// §1: termination, no intersected high-fractal edge at the end, values never increase, a
-// threshold above every LD changes nothing, noise components removed and clean ones kept.
+// (test/reference/smooth_reference): identical output volumes, and the guarantees of
+// docs/definitions.md §18 "Smooth isosurface construction": termination, no intersected
+// high-fractal edge at the end, values never increase, a threshold above every LD changes
+// nothing, noise components removed and clean ones kept.
 #include <doctest/doctest.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-// Plain C++ definitions of the 4D fractal dimension and its local field (DESIGN §1
-// "4D fractal dimension"), written for obviousness, not speed: every B_q computed by the
+// Plain C++ definitions of the 4D fractal dimension and its local field (docs/definitions.md
+// §24 "4D fractal dimension"), written for obviousness, not speed: every B_q computed by the
 // formula in double from the cube's span, every window summed cube by cube.
 #pragma once
 #include <cstdint>

@@ -1,5 +1,6 @@
-// Plain C++ filters straight from DESIGN §1 "Filters" and include/clfractal/filter.hpp, in
-// double precision: the references of test/filter_test.cpp.
+// Plain C++ filters straight from docs/definitions.md §16 "Filters" and
+// include/clfractal/filter.hpp, in double precision: the references of
+// test/processing/filter_test.cpp.
 #pragma once
 #include <vector>
 

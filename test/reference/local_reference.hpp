@@ -1,5 +1,6 @@
 // Plain C++ definitions of the summed-area tables (thesis eq. 2.8) and of the local
-// fractal dimension (DESIGN §1, thesis eq. 2.6), written for obviousness, not speed.
+// fractal dimension (docs/definitions.md §13 "Local fractal dimension", thesis eq. 2.6),
+// written for obviousness, not speed.
 // Values and isovalues are compared in double: exact for the four value types, with the
 // isovalue rounded to float32 first for float data, as the definition says.
 #pragma once
@@ -23,7 +24,8 @@ template <class C> std::vector<C> summed_area_table_direct(const std::vector<C>&
 std::vector<std::uint8_t> cube_indicator(const Volume& v, double iso);
 
 /// The cubes [lo, hi) of one axis in window W (G, n vertices) or W' (G', m vertices) of
-/// the vertex at coordinate x for window k (DESIGN §1, revision 2: W is W''s region in G).
+/// the vertex at coordinate x for window k (docs/definitions.md §13, revision 2: W is W''s
+/// region in G).
 struct Range {
     long lo = 0, hi = 0;
 };

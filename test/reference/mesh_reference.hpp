@@ -1,5 +1,6 @@
 // Plain references for the mesh tests: the Freudenthal edge count, connected components
-// of {f < s} and {f >= s} by breadth-first search (DESIGN §1 "Isosurface components"), and
+// of {f < s} and {f >= s} by breadth-first search (docs/definitions.md §19 "Isosurface
+// components"), and
 // the topology of a triangle mesh (closedness, orientation, pieces, Euler characteristic).
 #pragma once
 #include <cstddef>

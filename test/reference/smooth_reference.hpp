@@ -1,5 +1,5 @@
-// Plain C++ definitions for the smooth isosurface construction (DESIGN §1, thesis
-// Algorithms 1 and 2) and for counting isosurface components by breadth-first search,
+// Plain C++ definitions for the smooth isosurface construction (docs/definitions.md §18,
+// thesis Algorithms 1 and 2) and for counting isosurface components by breadth-first search,
 // written for obviousness, not speed.
 #pragma once
 #include <cstdint>
@@ -31,8 +31,9 @@ std::uint64_t intersected_edges(const clfractal::Volume& v, double iso);
 /// Number of intersected edges with LD > h at either end.
 std::uint64_t high_fractal_edges(const clfractal::Volume& v, const std::vector<double>& ld, double iso, double h);
 
-/// Isosurface components (DESIGN §1, `cube` connectivity): b0({f < s}, 6-connected) +
-/// b0({f >= s}, 26-connected) - 1 when both sets are non-empty, else 0; by BFS labelling.
+/// Isosurface components (docs/definitions.md §19, `cube` connectivity): b0({f < s},
+/// 6-connected) + b0({f >= s}, 26-connected) - 1 when both sets are non-empty, else 0; by BFS
+/// labelling.
 std::uint64_t components_bfs(const clfractal::Volume& v, double iso);
 
 }  // namespace ref

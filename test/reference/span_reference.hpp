@@ -1,7 +1,7 @@
-// Plain C++ definitions of the span counts (DESIGN §1), written for obviousness, not
-// speed. Every value is compared in double, which holds every value of the eight value
-// types (int32 and uint32 included) and every float32 and float64 isovalue exactly, so
-// `a < s <= b` is the comparison of the definition in the data's own type.
+// Plain C++ definitions of the span counts (docs/definitions.md §4-§7), written for
+// obviousness, not speed. Every value is compared in double, which holds every value of the
+// eight value types (int32 and uint32 included) and every float32 and float64 isovalue exactly,
+// so `a < s <= b` is the comparison of the definition in the data's own type.
 #pragma once
 #include <cstdint>
 #include <vector>

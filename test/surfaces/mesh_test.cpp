@@ -1,5 +1,5 @@
-// Isosurface meshes: vertex counts against E(s), closed consistently oriented surfaces,
-// Euler characteristics, pieces against the components identity of DESIGN §1 (BFS in
+// Isosurface meshes: vertex counts against E(s), closed consistently oriented surfaces, Euler
+// characteristics, pieces against the components identity of docs/definitions.md §19 (BFS in
 // test/reference), PLY round trips, and preview images.
 #include <doctest/doctest.h>
 
@@ -34,7 +34,7 @@ std::pair<Adjacency, Adjacency> connectivity(MeshMethod m) {
                                            : std::pair{Adjacency::fourteen, Adjacency::fourteen};
 }
 
-// b0(A) + b0(C) - 1 when both sets are non-empty (DESIGN §1 "Isosurface components").
+// b0(A) + b0(C) - 1 when both sets are non-empty (docs/definitions.md §19).
 std::size_t expected_pieces(const Volume& v, double s, MeshMethod m) {
     const auto [neg, pos] = connectivity(m);
     const std::size_t a = ref::components(v, s, false, neg), c = ref::components(v, s, true, pos);

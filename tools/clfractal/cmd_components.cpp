@@ -1,5 +1,5 @@
 // clfractal components: the number of isosurface components for every isovalue
-// (DESIGN §1 "Isosurface components"; thesis §3.1, Fig. 3.2).
+// (docs/definitions.md §19 "Isosurface components"; thesis §3.1, Fig. 3.2).
 #include <algorithm>
 #include <cmath>
 #include <filesystem>

@@ -1,5 +1,5 @@
 // clfractal fd4 and local4: the 4D fractal dimension of a volume and its local field
-// (include/clfractal/fd4.hpp; DESIGN §1 "4D fractal dimension", thesis 6.4).
+// (include/clfractal/fd4.hpp; docs/definitions.md §24 "4D fractal dimension", thesis 6.4).
 #include <chrono>
 #include <cmath>
 #include <iomanip>

@@ -50,8 +50,8 @@ FilterSpec parse_spec(const FilterArgs& a, CLI::App* app) {
     return s;
 }
 
-// Intersected cubes of G and G' and the box span dimension at isovalue s (DESIGN §1): integer
-// data counts at ceil(s), which selects the same cubes.
+// Intersected cubes of G and G' and the box span dimension at isovalue s (docs/definitions.md
+// §8, §3): integer data counts at ceil(s), which selects the same cubes.
 struct AtIso {
     std::uint64_t cubes = 0, cubes_sub = 0;
     double fd = NAN;

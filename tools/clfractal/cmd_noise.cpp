@@ -1,5 +1,5 @@
 // clfractal noise: measured edge and box dimension against the noise formula (thesis
-// §3.2.1, Figs. 3.5-3.7; DESIGN §3).
+// §3.2.1, Figs. 3.5-3.7; docs/definitions.md §21 "Noise formula").
 #include <cmath>
 #include <filesystem>
 #include <iomanip>

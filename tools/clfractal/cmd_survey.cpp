@@ -1,5 +1,5 @@
-// clfractal survey: thesis Table 2.1 over a set of volumes (DESIGN §1 "Survey row",
-// "Correlation"): per volume and per category the average fractal box dimension, its
+// clfractal survey: thesis Table 2.1 over a set of volumes (docs/definitions.md §11 "Survey
+// row", §20 "Correlation"): per volume and per category the average fractal box dimension, its
 // spread, the subsampled grid's average, |full - subsampled|, and the correlation of D
 // with the number of isosurface components; a histogram of per-volume averages (Fig. 2.2).
 #include <algorithm>

@@ -1,5 +1,5 @@
-// clfractal: the command-line tool (DESIGN §3). Exit 0 on success, 2 on bad input or
-// arguments (one line "clfractal: error: ..."), 1 on a runtime failure. main() only
+// clfractal: the command-line tool (docs/definitions.md §30). Exit 0 on success, 2 on bad input
+// or arguments (one line "clfractal: error: ..."), 1 on a runtime failure. main() only
 // dispatches: each subcommand lives in its own cmd_*.cpp and registers through cli::command.
 #include <CLI/CLI.hpp>
 

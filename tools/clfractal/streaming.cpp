@@ -1,5 +1,5 @@
-// fd --stream and local --stream: a volume file read slice by slice (DESIGN §6), so that
-// host memory stays a few slices however large the file.
+// fd --stream and local --stream: a volume file read slice by slice (docs/definitions.md §28),
+// so that host memory stays a few slices however large the file.
 #include <algorithm>
 #include <chrono>
 #include <cmath>

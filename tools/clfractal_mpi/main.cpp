@@ -1,5 +1,5 @@
 // clfractal-mpi: the fractal dimension curve of one volume counted by several MPI ranks
-// (DESIGN §6). Each rank owns a z-part of the volume (starting at a multiple of
+// (docs/definitions.md §28). Each rank owns a z-part of the volume (starting at a multiple of
 // 2^(levels-1), sharing its last slice with the next part), counts it on its own device,
 // and the int64 histograms are summed on rank 0 with MPI_Reduce: the curve equals the
 // single-process `clfractal fd` exactly.
