@@ -9,7 +9,7 @@ packages=(build-essential cmake pkg-config git
   chromium
   python3 python3-numpy python3-venv python3-dev openmpi-bin libopenmpi-dev
   libgdcm-dev libnifti2-dev libtiff-dev
-  clang-14 libfuzzer-14-dev libomp-14-dev python3-clang-14)
+  clang-14 libfuzzer-14-dev libomp-14-dev python3-clang-14 oclgrind)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -154,6 +154,7 @@ clf_status clf_context_create(const char* device_filter, clf_context** out) {
 }
 
 void clf_context_destroy(clf_context* ctx) {
+    clfractal::release_blas_caches();  // CLBlast's programs, shared by every context
     delete ctx;
     last_error.clear();
 }

@@ -219,7 +219,7 @@ struct detail::ContextAccess {
 Context::Context(cl::Device device) : device_(std::move(device)), faults_(new detail::FaultState) {
     with_cl_errors([&] {
         context_ = cl::Context(device_);
-        queue_ = cl::CommandQueue(context_, device_);
+        queue_ = cl::CommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE);
         max_alloc_ = device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
         global_mem_ = device_.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
         max_work_group_ = device_.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
@@ -407,18 +407,51 @@ void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::ND
     }
     try {
         // The first launch of this (kernel, options, local size): the work queued before it
-        // is finished first, so that only the launch counts as compilation.
+        // is finished first; its wall time less the kernel's own execution (the event's
+        // START..END) is what the driver spent compiling for this work-group size.
         if (first) queue_.finish();
         const auto t0 = std::chrono::steady_clock::now();
         fault_point(*this, FaultSite::enqueue);
-        queue_.enqueueNDRangeKernel(kernel, cl::NullRange, global, local);
-        if (!first) return;
-        queue_.finish();
+        cl::Event event;
+        queue_.enqueueNDRangeKernel(kernel, cl::NullRange, global, local, nullptr, &event);
+        if (first) {
+            event.wait();
+            const double wall = seconds_since(t0), run = event_seconds(event);
+            std::lock_guard<std::mutex> lock(mutex_);
+            compile_seconds_ += std::max(0.0, wall - run);
+        }
         std::lock_guard<std::mutex> lock(mutex_);
-        compile_seconds_ += seconds_since(t0);
+        pending_events_.push_back(std::move(event));
+        if (pending_events_.size() >= 4096) collect_completed_events();
     } catch (const cl::Error& e) {
         check_cl(e.err(), ("clEnqueueNDRangeKernel " + name).c_str());
     }
+}
+
+double Context::event_seconds(const cl::Event& event) {
+    const cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+    const cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+    return end > start ? double(end - start) * 1e-9 : 0.0;
+}
+
+// Adds the execution times of the finished kernels to kernel_seconds_ and forgets them
+// (the caller holds mutex_).
+void Context::collect_completed_events() {
+    std::vector<cl::Event> running;
+    for (cl::Event& e : pending_events_) {
+        if (e.getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>() == CL_COMPLETE) kernel_seconds_ += event_seconds(e);
+        else running.push_back(std::move(e));
+    }
+    pending_events_.swap(running);
+}
+
+double Context::kernel_seconds() {
+    return with_cl_errors([&] {
+        queue_.finish();
+        std::lock_guard<std::mutex> lock(mutex_);
+        collect_completed_events();
+        return kernel_seconds_;
+    });
 }
 
 }  // namespace clfractal

@@ -2,6 +2,7 @@
 
 #include <clblast.h>
 
+
 #include <algorithm>
 #include <array>
 #include <chrono>

@@ -2,6 +2,7 @@
 
 #include <clblast.h>
 
+
 #include <cmath>
 #include <limits>
 

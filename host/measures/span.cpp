@@ -230,10 +230,12 @@ struct SpanCounter::Impl {
     void add_slab(const void* data, std::size_t z0, std::size_t nzs) {
         check_slab(z0, nzs);
         ComputeTimer timer(ctx);
-        // Also on an exception, no kernel may still read `data` when we return: the slab's
-        // destructor waits for the queue when it reads host memory in place.
-        const DeviceVolume slab(ctx, data, Dims{dims.nx, dims.ny, nzs}, type);
-        with_cl_errors([&] { count_slab(slab.buffer(), z0, nzs); });
+        {
+            // Also on an exception, no kernel may still read `data` when we return: the slab's
+            // destructor waits for the queue when it reads host memory in place (timed too).
+            const DeviceVolume slab(ctx, data, Dims{dims.nx, dims.ny, nzs}, type);
+            with_cl_errors([&] { count_slab(slab.buffer(), z0, nzs); });
+        }
         seconds += timer.seconds();
     }
 
@@ -371,11 +373,15 @@ SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, co
     for (;;) {
         std::size_t depth = o.slab_slices ? std::min(o.slab_slices, part) : part;  // at most
         try {
+            // The call's compute time: its wall time less compilation, set-up included.
+            const ComputeTimer timer(ctx);
             SpanCounter counter(ctx, iso, v.type(), v.dims(), o);
             depth = counter.slab_slices();
-            return count_slabs(counter, v.dims(), o, [&](std::size_t z0, std::size_t nzs) {
+            SpanResult r = count_slabs(counter, v.dims(), o, [&](std::size_t z0, std::size_t nzs) {
                 counter.add_slab(bytes + z0 * slice_bytes, z0, nzs);
             });
+            r.seconds = timer.seconds();
+            return r;
         } catch (const DeviceError& e) {
             const std::size_t smallest = (std::size_t(1) << (std::max(1, std::min(opt.levels, 16)) - 1)) + 1;
             if (!e.out_of_memory() || depth <= smallest) throw;
@@ -385,8 +391,12 @@ SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, co
 }
 
 SpanResult count_spans(const DeviceVolume& v, const IsovalueSet& iso, const SpanOptions& opt) {
+    const ComputeTimer timer(v.context());
     SpanCounter counter(v.context(), iso, v.type(), v.dims(), opt);
-    return count_slabs(counter, v.dims(), opt, [&](std::size_t z0, std::size_t nzs) { counter.add_slab(v, z0, nzs); });
+    SpanResult r =
+        count_slabs(counter, v.dims(), opt, [&](std::size_t z0, std::size_t nzs) { counter.add_slab(v, z0, nzs); });
+    r.seconds = timer.seconds();
+    return r;
 }
 
 }  // namespace clfractal

@@ -149,7 +149,13 @@ public:
     /// A fresh kernel object (kernels carry their arguments, so each caller gets its own).
     cl::Kernel kernel(const std::string& family, const std::string& name, const std::string& options);
 
-    /// Seconds spent compiling programs so far (reported apart from compute time).
+    /// Seconds the device spent executing the kernels launched on this context so far, from
+    /// their profiling events (CL_PROFILING_COMMAND_START..END); waits for the queue.
+    double kernel_seconds();
+
+    /// Seconds spent compiling so far (reported apart from compute time): program builds,
+    /// and at the first launch of each (kernel, options, local size) its wall time less the
+    /// kernel's own execution (drivers such as PoCL compile for a work-group size there).
     double compile_seconds() const {
         std::lock_guard<std::mutex> lock(mutex_);
         return compile_seconds_;
@@ -160,14 +166,16 @@ public:
     /// CL_DEVICE_MAX_WORK_ITEM_SIZES, the kernel's local memory <= CL_DEVICE_LOCAL_MEM_SIZE);
     /// DeviceError naming the limit otherwise. The one launch
     /// path, with the one warm-up: the first launch of each (kernel, program options,
-    /// local size) on this context is waited for and its time counted as compilation
-    /// (compile_seconds), because PoCL and some GPU drivers finish compiling a kernel for a
-    /// work-group size at its first launch. That launch does its real work; timers built on
-    /// ComputeTimer leave it out of compute time.
+    /// local size) on this context is waited for, and its wall time less the kernel's own
+    /// execution (its profiling event) is counted as compilation (compile_seconds), because
+    /// PoCL and some GPU drivers finish compiling a kernel for a work-group size at its first
+    /// launch. The launch's real work stays in compute time.
     void launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::NDRange& local = cl::NullRange);
 
 private:
     void check_launch_limits(const cl::Kernel& kernel, const std::string& name, const cl::NDRange& local) const;
+    static double event_seconds(const cl::Event& event);
+    void collect_completed_events();
 
     cl::Device device_;
     cl::Context context_;
@@ -182,18 +190,31 @@ private:
     // (program, kernel name, local size) already launched once (warmed up).
     std::set<std::tuple<cl_program, std::string, std::array<std::size_t, 3>>> warmed_;
     double compile_seconds_ = 0;
+    double kernel_seconds_ = 0;
+    std::vector<cl::Event> pending_events_;  // launched kernels not yet in kernel_seconds_
     std::atomic<std::uint64_t> uploads_{0};
     std::unique_ptr<detail::FaultState> faults_;
     friend struct detail::ContextAccess;
 };
+
+/// Releases the programs CLBlast (the dense linear algebra of multi-level fits and
+/// correlations) keeps in process-wide caches. Those caches are otherwise released by exit
+/// handlers, after OpenCL runtimes such as Oclgrind (and some GPU drivers) have torn down
+/// their own state, which crashes or hangs the process at exit. A program that used them
+/// calls this before main returns (the command-line tool, the Python module at interpreter
+/// exit and clf_context_destroy do); a later use compiles them again. The library's own
+/// programs live in contexts: Context::shared() is never released.
+void release_blas_caches();
 
 /// Seconds from `t` to now (steady clock): the one timing helper.
 inline double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-/// Wall time since construction (or restart) less the compilation (Context::compile_seconds,
-/// first launches included) done meanwhile: compute time that never counts compile time.
+/// Wall time since construction (or restart) less the compilation done meanwhile
+/// (Context::compile_seconds: program builds and the drivers' compilation at first
+/// launches, never a kernel's execution): compute time that counts every kernel and
+/// transfer of the call and no compilation.
 class ComputeTimer {
 public:
     explicit ComputeTimer(const Context& ctx) : ctx_(ctx) { restart(); }

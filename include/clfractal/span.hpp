@@ -32,7 +32,8 @@ struct SpanCurves {
 struct SpanResult {
     IsovalueSet isovalues;
     std::vector<SpanCurves> curves;  ///< one per requested kind, in request order
-    double seconds = 0;              ///< device time: uploads, kernels, downloads (no compilation)
+    double seconds = 0;              ///< compute time: the wall time of the counting calls (uploads, kernels,
+                                     ///< downloads, waits) less compilation; never below the kernels' own time
     std::size_t slabs = 0;           ///< z-slabs the volume was processed in
     const SpanCurves& get(SpanKind k) const;
 };

@@ -455,6 +455,9 @@ nb::list devices_call() {
 
 NB_MODULE(_clfractal, m) {
     m.doc() = "clfractal's C++ library; use the clfractal package, which documents every call.";
+    // CLBlast's cached programs are released at interpreter exit, while the OpenCL runtime
+    // is still whole (its own exit handlers run after the interpreter has finalised).
+    nb::module_::import_("atexit").attr("register")(nb::cpp_function([] { release_blas_caches(); }));
     // Bad input (clfractal::InputError) -> ValueError; device failures -> RuntimeError.
     nb::register_exception_translator([](const std::exception_ptr& p, void*) {
         try {

@@ -1,12 +1,15 @@
 // The device layer: listing, errors with names and build logs, buffers, launch checks.
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <cstdlib>
 
 #include "clfractal/device.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/span.hpp"
+#include "device/kernel_call.hpp"
+#include "device/type_options.hpp"
 #include "test_util.hpp"
 
 using namespace clfractal;
@@ -89,6 +92,40 @@ TEST_CASE("launch sizes are checked before enqueueing") {
                          DeviceError);
     CHECK_THROWS_WITH_AS(ctx().launch(k, cl::NDRange(1 << 20), cl::NDRange(1 << 20)),
                          doctest::Contains("CL_KERNEL_WORK_GROUP_SIZE"), DeviceError);
+}
+
+TEST_CASE("local memory and allocation limits are checked before the device sees them") {
+    // A local histogram larger than the device's local memory: refused by the launch path
+    // with the limit's name (the device would answer CL_OUT_OF_RESOURCES or worse).
+    cl::Kernel k = ctx().kernel("span", "count_cubes_atomic", type_options(ValueType::uint8) + " -DINTEGER_VALUES");
+    Buffer<cl_uchar> vol(ctx(), 8);
+    Buffer<float> iso(ctx(), 1);
+    Buffer<cl_int> partial(ctx(), 16);
+    set_args(k, vol.get(), 2, 2, 2, cl_long(0), iso.get(), 1, 2, partial.get(),
+             cl::Local(ctx().local_mem() + 4096));
+    CHECK_THROWS_WITH_AS(ctx().launch(k, cl::NDRange(1), cl::NDRange(1)), doctest::Contains("CL_DEVICE_LOCAL_MEM_SIZE"),
+                         DeviceError);
+    CHECK_THROWS_WITH_AS(create_buffer(ctx(), CL_MEM_READ_WRITE, ctx().max_alloc() + 1),
+                         doctest::Contains("CL_DEVICE_MAX_MEM_ALLOC_SIZE"), DeviceError);
+}
+
+TEST_CASE("compute times count every kernel's execution and lie within the call's wall time") {
+    // A fresh context: its first launches compile; that compilation is not compute time, but
+    // the kernels' own execution (their profiling events) is, so a one-slab call whose work
+    // is all first launches reports a compute time >= the kernels' time and <= its wall time.
+    Context fresh(ctx().device());
+    for (int call = 0; call < 2; ++call) {
+        const Volume v = testutil::random_volume({97, 90, 83}, ValueType::uint8, 0, 255, 7 + call);
+        const IsovalueSet iso = IsovalueSet::for_volume(v);
+        const double k0 = fresh.kernel_seconds();
+        const auto t0 = std::chrono::steady_clock::now();
+        const SpanResult r = count_spans(fresh, v, iso, SpanOptions{{SpanKind::cubes, SpanKind::edges}, 3, 0});
+        const double wall = seconds_since(t0), kernels = fresh.kernel_seconds() - k0;
+        CAPTURE(call); CAPTURE(r.seconds); CAPTURE(kernels); CAPTURE(wall);
+        CHECK(kernels > 0);
+        CHECK(r.seconds >= kernels * 0.99);
+        CHECK(r.seconds <= wall);
+    }
 }
 
 TEST_CASE("without cl_khr_fp64: one clear error naming the extension and --as float32") {

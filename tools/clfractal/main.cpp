@@ -115,6 +115,10 @@ int main(int argc, char** argv) {
     const int parsed = parse(app, argc, argv);
     if (parsed >= 0) return parsed;
     for (const Chosen& c : commands)
-        if (app.got_subcommand(c.app)) return run(app, c);
+        if (app.got_subcommand(c.app)) {
+            const int status = run(app, c);
+            release_blas_caches();  // before the OpenCL runtime's exit handlers
+            return status;
+        }
     return 0;
 }

@@ -204,6 +204,7 @@ int main(int argc, char** argv) {
     // A rank that failed after the others entered a collective would leave them waiting:
     // abort the job with the failure's exit code.
     if (code != 0 && code != 2) MPI_Abort(MPI_COMM_WORLD, code);
+    release_blas_caches();
     MPI_Finalize();
     return code;
 }
