@@ -116,6 +116,10 @@ if [ "$tests" = 1 ]; then
   t0=$(date +%s)
   if ctest --test-dir "$build" -j"$(nproc)" --output-on-failure >>"$log" 2>&1; then ok=passed; else ok=FAILED; status=1; fi
   say "ctest $ok in $(( $(date +%s) - t0 )) s: $(grep -E 'tests passed' "$log" | tail -1)"
+  # The bounded subset CI runs on Oclgrind (every kernel family and variant on tiny volumes),
+  # here on the real device: its assertions and the variants the device's limits shrank.
+  if "$build/test/clfractal_tests" --test-suite=portable >>"$log" 2>&1; then ok=passed; else ok=FAILED; status=1; fi
+  say "portable suite $ok on $device: $(grep -E '^\[doctest\] assertions' "$log" | tail -1)"
 fi
 
 # ---- 5. every benchmark on the chosen device
