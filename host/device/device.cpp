@@ -155,56 +155,75 @@ std::vector<DeviceEntry> enumerate() {
     return out;
 }
 
-// Index of the device chosen by the environment, or -1 with `why` set.
-long pick(const std::vector<DeviceEntry>& all, std::string& why) {
-    const char* want_name = std::getenv("CLFRACTAL_DEVICE");
-    const char* want_type = std::getenv("CLFRACTAL_DEVICE_TYPE");
-    std::string name = want_name ? lower(want_name) : "";
-    std::string type = want_type ? lower(want_type) : "";
-    if (!type.empty() && type != "cpu" && type != "gpu" && type != "accelerator") {
-        why = "CLFRACTAL_DEVICE_TYPE=" + type + " is not one of cpu, gpu, accelerator";
+bool valid_type(const std::string& type) {
+    return type.empty() || type == "cpu" || type == "gpu" || type == "accelerator" || type == "all";
+}
+
+// "device 'x' of type 'gpu'", "device 'x'" or "type 'gpu'".
+std::string describe(const DeviceSelector& s) {
+    std::string out;
+    if (!s.name.empty()) out = "device '" + s.name + "'";
+    if (!s.type.empty()) out += (out.empty() ? "type '" : " of type '") + s.type + "'";
+    return out;
+}
+
+// Index of the device `s` picks among `all`, or -1 with `why` set.
+long pick(const std::vector<DeviceEntry>& all, const DeviceSelector& s, std::string& why) {
+    const std::string name = lower(s.name), type = lower(s.type);
+    if (!valid_type(type)) {
+        why = "device type '" + s.type + "': expected one of cpu, gpu, accelerator, all";
         return -1;
     }
-    auto matches = [&](const DeviceEntry& e) {
-        if (!type.empty() && e.type != type) return false;
-        if (!name.empty() && lower(e.platform).find(name) == std::string::npos &&
-            lower(e.name).find(name) == std::string::npos)
-            return false;
-        return true;
-    };
-    if (name.empty() && type.empty())
+    const bool any_type = type.empty() || type == "all";
+    if (name.empty() && any_type)
         for (std::size_t i = 0; i < all.size(); ++i)
             if (all[i].type == "gpu") return long(i);
-    for (std::size_t i = 0; i < all.size(); ++i)
-        if (matches(all[i])) return long(i);
-    if (all.empty())
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        const DeviceEntry& e = all[i];
+        if ((any_type || e.type == type) && lower(e.platform + " / " + e.name).find(name) != std::string::npos)
+            return long(i);
+    }
+    if (all.empty()) {
         why = "no OpenCL platform or device found (is an ICD such as pocl-opencl-icd installed?)";
-    else
-        why = "no OpenCL device matches CLFRACTAL_DEVICE='" + name + "' CLFRACTAL_DEVICE_TYPE='" + type + "'";
+        return -1;
+    }
+    std::string devices;
+    for (const DeviceEntry& e : all)
+        devices += (devices.empty() ? "" : ", ") + e.platform + " / " + e.name + " (" + e.type + ")";
+    why = "no OpenCL device matches " + describe(s) + " (devices: " + devices + ")";
     return -1;
 }
 
+std::string environment(const char* variable) {
+    const char* value = std::getenv(variable);
+    return value ? value : "";
+}
+
 }  // namespace
+
+DeviceSelector environment_selector() {
+    return {environment("CLFRACTAL_DEVICE"), environment("CLFRACTAL_DEVICE_TYPE")};
+}
 
 std::vector<DeviceEntry> list_devices() {
     return with_cl_errors([] {
         auto all = enumerate();
         std::string why;
-        long i = pick(all, why);
+        long i = pick(all, environment_selector(), why);
         if (i >= 0) all[std::size_t(i)].chosen = true;
         return all;
     });
 }
 
-cl::Device choose_device() {
-    return with_cl_errors([] {
-        auto all = enumerate();
-        std::string why;
-        long i = pick(all, why);
-        if (i < 0) throw DeviceError(why, CL_DEVICE_NOT_FOUND);
-        return all[std::size_t(i)].device;
-    });
+DeviceEntry select_device(const DeviceSelector& selector) {
+    std::vector<DeviceEntry> all = list_devices();
+    std::string why;
+    const long i = pick(all, selector, why);
+    if (i < 0) throw DeviceError(why, CL_DEVICE_NOT_FOUND);
+    return all[std::size_t(i)];
 }
+
+cl::Device choose_device() { return select_device(environment_selector()).device; }
 
 struct detail::FaultState {
     mutable std::mutex mutex;

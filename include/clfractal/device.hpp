@@ -41,9 +41,25 @@ struct DeviceEntry {
 /// Every device of every platform; the one choose_device() picks is marked chosen.
 std::vector<DeviceEntry> list_devices();
 
-/// The device selected by CLFRACTAL_DEVICE (substring of platform or device name,
-/// case-insensitive) and CLFRACTAL_DEVICE_TYPE (cpu|gpu|accelerator); without either,
-/// the first GPU, else the first device. Throws DeviceError when nothing matches.
+/// The one rule that picks a device, for CLFRACTAL_DEVICE / CLFRACTAL_DEVICE_TYPE,
+/// clf_context_create's filter and the Python `device` argument. `name`, when not empty: a
+/// case-insensitive substring of "platform / device" (Context::description()), so of the
+/// platform or the device name. `type`, when not empty: cpu, gpu, accelerator or all
+/// (case-insensitive). Neither (or type all alone): the first GPU, else the first device.
+struct DeviceSelector {
+    std::string name;
+    std::string type;
+};
+
+/// The selector of the environment: CLFRACTAL_DEVICE and CLFRACTAL_DEVICE_TYPE.
+DeviceSelector environment_selector();
+
+/// The first device of list_devices() that `selector` picks (`chosen` as listed there).
+/// Throws DeviceError (CL_DEVICE_NOT_FOUND) naming the selector and every device when none
+/// matches, when the type is none of cpu, gpu, accelerator, all, or when there is no device.
+DeviceEntry select_device(const DeviceSelector& selector);
+
+/// select_device(environment_selector()).device.
 cl::Device choose_device();
 
 /// Kernel variants (Tuning), chosen per device type and forced by tests.
