@@ -10,6 +10,7 @@
 
 #include "device/fault_injection.hpp"
 #include "device/kernel_sources.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 
@@ -54,62 +55,31 @@ void check_cl(int code, const char* call) {
     throw DeviceError(s.str(), code);
 }
 
-namespace {
-
-template <class E> struct VariantTable;
-template <> struct VariantTable<SpanVariant> {
+template <> struct detail::NameTable<SpanVariant> {
     static constexpr const char* what = "span variant";
     static constexpr std::pair<SpanVariant, const char*> names[] = {{SpanVariant::private_histograms, "private"},
                                                                     {SpanVariant::atomic, "atomic"}};
 };
-template <> struct VariantTable<SatVariant> {
+template <> struct detail::NameTable<SatVariant> {
     static constexpr const char* what = "summed-area table variant";
     static constexpr std::pair<SatVariant, const char*> names[] = {{SatVariant::sequential, "sequential"},
                                                                    {SatVariant::workgroup, "workgroup"}};
 };
-template <> struct VariantTable<LocalVariant> {
+template <> struct detail::NameTable<LocalVariant> {
     static constexpr const char* what = "local-dimension variant";
     static constexpr std::pair<LocalVariant, const char*> names[] = {{LocalVariant::rows, "rows"},
                                                                      {LocalVariant::vertices, "vertices"}};
 };
-template <> struct VariantTable<FilterVariant> {
+template <> struct detail::NameTable<FilterVariant> {
     static constexpr const char* what = "filter variant";
     static constexpr std::pair<FilterVariant, const char*> names[] = {
         {FilterVariant::rows, "rows"}, {FilterVariant::vertices, "vertices"}, {FilterVariant::tiled, "tiled"}};
 };
 
-}  // namespace
-
-template <class E> const char* variant_name(E v) {
-    for (const auto& [e, name] : VariantTable<E>::names)
-        if (e == v) return name;
-    throw std::logic_error(std::string("unknown ") + VariantTable<E>::what);
-}
-
-template <class E> E parse_variant(const std::string& name) {
-    std::string all;
-    for (const auto& [e, n] : VariantTable<E>::names) {
-        if (name == n) return e;
-        all += std::string(all.empty() ? "" : ", ") + n;
-    }
-    throw InputError(std::string(VariantTable<E>::what) + " '" + name + "': expected one of " + all);
-}
-
-template <class E> std::vector<E> all_variants() {
-    std::vector<E> out;
-    for (const auto& entry : VariantTable<E>::names) out.push_back(entry.first);
-    return out;
-}
-
-#define CLF_VARIANT(E)                                           \
-    template const char* variant_name<E>(E);                     \
-    template E parse_variant<E>(const std::string&);             \
-    template std::vector<E> all_variants<E>();
-CLF_VARIANT(SpanVariant)
-CLF_VARIANT(SatVariant)
-CLF_VARIANT(LocalVariant)
-CLF_VARIANT(FilterVariant)
-#undef CLF_VARIANT
+CLFRACTAL_NAME_TABLE(SpanVariant)
+CLFRACTAL_NAME_TABLE(SatVariant)
+CLFRACTAL_NAME_TABLE(LocalVariant)
+CLFRACTAL_NAME_TABLE(FilterVariant)
 
 namespace {
 

@@ -17,16 +17,20 @@
 #include "device/slab_plan.hpp"
 #include "device/type_options.hpp"
 #include "device/kernel_call.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 
-Connectivity parse_connectivity(const std::string& name) {
-    if (name == "cube") return Connectivity::cube;
-    if (name == "freudenthal") return Connectivity::freudenthal;
-    throw InputError("--connectivity '" + name + "': expected cube or freudenthal");
-}
+template <> struct detail::NameTable<Connectivity> {
+    static constexpr const char* what = "--connectivity";
+    static constexpr std::pair<Connectivity, const char*> names[] = {{Connectivity::cube, "cube"},
+                                                                     {Connectivity::freudenthal, "freudenthal"}};
+};
+CLFRACTAL_NAME_TABLE(Connectivity)
 
-const char* connectivity_name(Connectivity c) { return c == Connectivity::cube ? "cube" : "freudenthal"; }
+Connectivity parse_connectivity(const std::string& name) { return parse_variant<Connectivity>(name); }
+
+const char* connectivity_name(Connectivity c) { return variant_name(c); }
 
 namespace {
 

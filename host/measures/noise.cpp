@@ -17,6 +17,7 @@
 #include "device/slab_plan.hpp"
 #include "device/type_options.hpp"
 #include "device/kernel_call.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 
@@ -169,13 +170,16 @@ double expected_edge_dimension(double r) {
 
 // ------------------------------------------------------------------ beyond the thesis
 
-const char* noise_kind_name(NoiseKind k) { return k == NoiseKind::uniform ? "uniform" : "gaussian"; }
+template <> struct detail::NameTable<NoiseKind> {
+    static constexpr const char* what = "--noise";
+    static constexpr std::pair<NoiseKind, const char*> names[] = {{NoiseKind::uniform, "uniform"},
+                                                                  {NoiseKind::gaussian, "gaussian"}};
+};
+CLFRACTAL_NAME_TABLE(NoiseKind)
 
-NoiseKind parse_noise_kind(const std::string& name) {
-    if (name == "uniform") return NoiseKind::uniform;
-    if (name == "gaussian") return NoiseKind::gaussian;
-    throw InputError("--noise " + name + ": must be uniform or gaussian");
-}
+const char* noise_kind_name(NoiseKind k) { return variant_name(k); }
+
+NoiseKind parse_noise_kind(const std::string& name) { return parse_variant<NoiseKind>(name); }
 
 double edge_span_measure(double delta, NoiseKind kind, double amplitude) {
     check_amplitude(amplitude);

@@ -76,9 +76,11 @@ enum class LocalVariant { rows, vertices };
 /// work-item per vertex ("vertices") or the median through local-memory tiles ("tiled", GPUs).
 enum class FilterVariant { rows, vertices, tiled };
 
-/// The one name <-> enum table of the variants, for the command line, tests and benchmarks:
-/// variant_name(SpanVariant::private_histograms) is "private"; parse_variant<E>(name)
-/// throws InputError listing the names of E.
+/// The one name <-> enum mechanism of the library, for the command line, tests and
+/// benchmarks: these variants and Connectivity, MeshMethod, NoiseKind and SmoothVariant
+/// (whose parse_ and _name functions call it). variant_name(SpanVariant::private_histograms)
+/// is "private"; parse_variant<E>(name) throws InputError "<what> '<name>': expected one of
+/// <the names of E>".
 template <class E> const char* variant_name(E v);
 template <class E> E parse_variant(const std::string& name);
 /// Every value of E, in declaration order (tests walk them).
