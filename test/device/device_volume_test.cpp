@@ -18,6 +18,7 @@
 #include "clfractal/smooth.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/synthetic.hpp"
+#include "components_labelling.hpp"
 #include "test_util.hpp"
 
 using namespace clfractal;
