@@ -22,6 +22,7 @@
 #include "bench_harness.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/synthetic.hpp"
+#include "components_labelling.hpp"
 
 using namespace clfractal;
 

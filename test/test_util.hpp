@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "clfractal/device.hpp"
+#include "clfractal/error.hpp"
 #include "clfractal/volume.hpp"
 
 namespace testutil {
@@ -42,6 +44,31 @@ struct Case {
     clfractal::ValueType t;
     long lo, hi;
 };
+
+/// Whether `text` contains `part`.
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+/// The message of the InputError thrown by f, checked to be one line; fails the test when
+/// none is thrown.
+template <class F> std::string input_error(F&& f) {
+    try {
+        f();
+    } catch (const clfractal::InputError& e) {
+        const std::string message = e.what();
+        CHECK_MESSAGE(message.find('\n') == std::string::npos, "not one line: ", message);
+        return message;
+    }
+    FAIL_CHECK("no InputError thrown");
+    return {};
+}
+
+/// Checks that two volumes have the same dims, type and bytes.
+inline void check_same(const clfractal::Volume& a, const clfractal::Volume& b) {
+    REQUIRE(a.dims() == b.dims());
+    REQUIRE(a.type() == b.type());
+    REQUIRE(a.size_bytes() == b.size_bytes());
+    CHECK(std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
+}
 
 /// Restores the shared context's tuning when it goes out of scope.
 struct TuningGuard {

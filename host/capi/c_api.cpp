@@ -3,7 +3,6 @@
 #include "clfractal/clfractal.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <iterator>
@@ -101,12 +100,6 @@ SpanKind to_span_kind(int kind, const char* call) {
     throw InputError(std::string(call) + ": kind " + std::to_string(kind) + " must be CLF_BOX or CLF_EDGE");
 }
 
-
-std::string lower(std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return s;
-}
-
 void require(bool ok, const char* what) {
     if (!ok) throw InputError(what);
 }
@@ -131,21 +124,8 @@ clf_status clf_context_create(const char* device_filter, clf_context** out) {
     if (!out) return fail(CLF_ERROR_INPUT, "clf_context_create: out is NULL");
     *out = nullptr;
     return guarded([&] {
-        cl::Device device;
-        const std::string filter = device_filter ? lower(device_filter) : std::string();
-        if (filter.empty()) {
-            device = choose_device();
-        } else {
-            bool found = false;
-            for (auto& d : list_devices())
-                if (lower(d.platform).find(filter) != std::string::npos ||
-                    lower(d.name).find(filter) != std::string::npos) {
-                    device = d.device;
-                    found = true;
-                    break;
-                }
-            if (!found) throw InputError("device '" + std::string(device_filter) + "': no OpenCL device matches");
-        }
+        const bool by_filter = device_filter && *device_filter;
+        const cl::Device device = by_filter ? select_device({device_filter, ""}).device : choose_device();
         auto c = std::make_unique<clf_context>();
         c->ctx = std::make_unique<Context>(device);
         c->description = c->ctx->description();

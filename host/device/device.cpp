@@ -10,6 +10,7 @@
 
 #include "device/fault_injection.hpp"
 #include "device/kernel_sources.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 
@@ -54,62 +55,31 @@ void check_cl(int code, const char* call) {
     throw DeviceError(s.str(), code);
 }
 
-namespace {
-
-template <class E> struct VariantTable;
-template <> struct VariantTable<SpanVariant> {
+template <> struct detail::NameTable<SpanVariant> {
     static constexpr const char* what = "span variant";
     static constexpr std::pair<SpanVariant, const char*> names[] = {{SpanVariant::private_histograms, "private"},
                                                                     {SpanVariant::atomic, "atomic"}};
 };
-template <> struct VariantTable<SatVariant> {
+template <> struct detail::NameTable<SatVariant> {
     static constexpr const char* what = "summed-area table variant";
     static constexpr std::pair<SatVariant, const char*> names[] = {{SatVariant::sequential, "sequential"},
                                                                    {SatVariant::workgroup, "workgroup"}};
 };
-template <> struct VariantTable<LocalVariant> {
+template <> struct detail::NameTable<LocalVariant> {
     static constexpr const char* what = "local-dimension variant";
     static constexpr std::pair<LocalVariant, const char*> names[] = {{LocalVariant::rows, "rows"},
                                                                      {LocalVariant::vertices, "vertices"}};
 };
-template <> struct VariantTable<FilterVariant> {
+template <> struct detail::NameTable<FilterVariant> {
     static constexpr const char* what = "filter variant";
     static constexpr std::pair<FilterVariant, const char*> names[] = {
         {FilterVariant::rows, "rows"}, {FilterVariant::vertices, "vertices"}, {FilterVariant::tiled, "tiled"}};
 };
 
-}  // namespace
-
-template <class E> const char* variant_name(E v) {
-    for (const auto& [e, name] : VariantTable<E>::names)
-        if (e == v) return name;
-    throw std::logic_error(std::string("unknown ") + VariantTable<E>::what);
-}
-
-template <class E> E parse_variant(const std::string& name) {
-    std::string all;
-    for (const auto& [e, n] : VariantTable<E>::names) {
-        if (name == n) return e;
-        all += std::string(all.empty() ? "" : ", ") + n;
-    }
-    throw InputError(std::string(VariantTable<E>::what) + " '" + name + "': expected one of " + all);
-}
-
-template <class E> std::vector<E> all_variants() {
-    std::vector<E> out;
-    for (const auto& entry : VariantTable<E>::names) out.push_back(entry.first);
-    return out;
-}
-
-#define CLF_VARIANT(E)                                           \
-    template const char* variant_name<E>(E);                     \
-    template E parse_variant<E>(const std::string&);             \
-    template std::vector<E> all_variants<E>();
-CLF_VARIANT(SpanVariant)
-CLF_VARIANT(SatVariant)
-CLF_VARIANT(LocalVariant)
-CLF_VARIANT(FilterVariant)
-#undef CLF_VARIANT
+CLFRACTAL_NAME_TABLE(SpanVariant)
+CLFRACTAL_NAME_TABLE(SatVariant)
+CLFRACTAL_NAME_TABLE(LocalVariant)
+CLFRACTAL_NAME_TABLE(FilterVariant)
 
 namespace {
 
@@ -155,56 +125,75 @@ std::vector<DeviceEntry> enumerate() {
     return out;
 }
 
-// Index of the device chosen by the environment, or -1 with `why` set.
-long pick(const std::vector<DeviceEntry>& all, std::string& why) {
-    const char* want_name = std::getenv("CLFRACTAL_DEVICE");
-    const char* want_type = std::getenv("CLFRACTAL_DEVICE_TYPE");
-    std::string name = want_name ? lower(want_name) : "";
-    std::string type = want_type ? lower(want_type) : "";
-    if (!type.empty() && type != "cpu" && type != "gpu" && type != "accelerator") {
-        why = "CLFRACTAL_DEVICE_TYPE=" + type + " is not one of cpu, gpu, accelerator";
+bool valid_type(const std::string& type) {
+    return type.empty() || type == "cpu" || type == "gpu" || type == "accelerator" || type == "all";
+}
+
+// "device 'x' of type 'gpu'", "device 'x'" or "type 'gpu'".
+std::string describe(const DeviceSelector& s) {
+    std::string out;
+    if (!s.name.empty()) out = "device '" + s.name + "'";
+    if (!s.type.empty()) out += (out.empty() ? "type '" : " of type '") + s.type + "'";
+    return out;
+}
+
+// Index of the device `s` picks among `all`, or -1 with `why` set.
+long pick(const std::vector<DeviceEntry>& all, const DeviceSelector& s, std::string& why) {
+    const std::string name = lower(s.name), type = lower(s.type);
+    if (!valid_type(type)) {
+        why = "device type '" + s.type + "': expected one of cpu, gpu, accelerator, all";
         return -1;
     }
-    auto matches = [&](const DeviceEntry& e) {
-        if (!type.empty() && e.type != type) return false;
-        if (!name.empty() && lower(e.platform).find(name) == std::string::npos &&
-            lower(e.name).find(name) == std::string::npos)
-            return false;
-        return true;
-    };
-    if (name.empty() && type.empty())
+    const bool any_type = type.empty() || type == "all";
+    if (name.empty() && any_type)
         for (std::size_t i = 0; i < all.size(); ++i)
             if (all[i].type == "gpu") return long(i);
-    for (std::size_t i = 0; i < all.size(); ++i)
-        if (matches(all[i])) return long(i);
-    if (all.empty())
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        const DeviceEntry& e = all[i];
+        if ((any_type || e.type == type) && lower(e.platform + " / " + e.name).find(name) != std::string::npos)
+            return long(i);
+    }
+    if (all.empty()) {
         why = "no OpenCL platform or device found (is an ICD such as pocl-opencl-icd installed?)";
-    else
-        why = "no OpenCL device matches CLFRACTAL_DEVICE='" + name + "' CLFRACTAL_DEVICE_TYPE='" + type + "'";
+        return -1;
+    }
+    std::string devices;
+    for (const DeviceEntry& e : all)
+        devices += (devices.empty() ? "" : ", ") + e.platform + " / " + e.name + " (" + e.type + ")";
+    why = "no OpenCL device matches " + describe(s) + " (devices: " + devices + ")";
     return -1;
 }
 
+std::string environment(const char* variable) {
+    const char* value = std::getenv(variable);
+    return value ? value : "";
+}
+
 }  // namespace
+
+DeviceSelector environment_selector() {
+    return {environment("CLFRACTAL_DEVICE"), environment("CLFRACTAL_DEVICE_TYPE")};
+}
 
 std::vector<DeviceEntry> list_devices() {
     return with_cl_errors([] {
         auto all = enumerate();
         std::string why;
-        long i = pick(all, why);
+        long i = pick(all, environment_selector(), why);
         if (i >= 0) all[std::size_t(i)].chosen = true;
         return all;
     });
 }
 
-cl::Device choose_device() {
-    return with_cl_errors([] {
-        auto all = enumerate();
-        std::string why;
-        long i = pick(all, why);
-        if (i < 0) throw DeviceError(why, CL_DEVICE_NOT_FOUND);
-        return all[std::size_t(i)].device;
-    });
+DeviceEntry select_device(const DeviceSelector& selector) {
+    std::vector<DeviceEntry> all = list_devices();
+    std::string why;
+    const long i = pick(all, selector, why);
+    if (i < 0) throw DeviceError(why, CL_DEVICE_NOT_FOUND);
+    return all[std::size_t(i)];
 }
+
+cl::Device choose_device() { return select_device(environment_selector()).device; }
 
 struct detail::FaultState {
     mutable std::mutex mutex;

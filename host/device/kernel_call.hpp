@@ -11,13 +11,6 @@ namespace clfractal {
 /// with their own layout (e.g. an isovalue of the data's type) overload it.
 template <class T> void set_kernel_arg(cl::Kernel& k, cl_uint index, const T& value) { k.setArg(index, value); }
 
-/// Sets the arguments of `k` in order: set_args(k, a, b, c) for kernels whose argument
-/// list is chosen at run time (e.g. an optional mask tail); never literal indices.
-template <class... Args> void set_args(cl::Kernel& k, const Args&... args) {
-    cl_uint index = 0;
-    (set_kernel_arg(k, index++, args), ...);
-}
-
 /// A kernel with its argument list in its type (a typed kernel call):
 ///   KernelCall<cl::Buffer, int, int, cl::Buffer> sub(ctx, "pyramid", "subsample", options);
 ///   sub(global, local, src, nx, ny, dst);

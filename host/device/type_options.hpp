@@ -32,7 +32,7 @@ inline std::int64_t integer_isovalue(double s) {
 }
 
 /// A scalar kernel argument whose OpenCL type is chosen at run time (a -D type such as
-/// iso_t or BIN_T): long, double or float, set with its own size by KernelCall/set_args.
+/// iso_t or BIN_T): long, double or float, set with its own size by KernelCall.
 struct ScalarArg {
     union {
         cl_long integer;

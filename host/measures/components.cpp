@@ -1,10 +1,6 @@
 #include "clfractal/components.hpp"
 
-#include <clblast.h>
-
-
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -18,16 +14,20 @@
 #include "device/slab_plan.hpp"
 #include "device/type_options.hpp"
 #include "device/kernel_call.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 
-Connectivity parse_connectivity(const std::string& name) {
-    if (name == "cube") return Connectivity::cube;
-    if (name == "freudenthal") return Connectivity::freudenthal;
-    throw InputError("--connectivity '" + name + "': expected cube or freudenthal");
-}
+template <> struct detail::NameTable<Connectivity> {
+    static constexpr const char* what = "--connectivity";
+    static constexpr std::pair<Connectivity, const char*> names[] = {{Connectivity::cube, "cube"},
+                                                                     {Connectivity::freudenthal, "freudenthal"}};
+};
+CLFRACTAL_NAME_TABLE(Connectivity)
 
-const char* connectivity_name(Connectivity c) { return c == Connectivity::cube ? "cube" : "freudenthal"; }
+Connectivity parse_connectivity(const std::string& name) { return parse_variant<Connectivity>(name); }
+
+const char* connectivity_name(Connectivity c) { return variant_name(c); }
 
 namespace {
 
@@ -419,129 +419,6 @@ std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue,
 std::int64_t count_components_at(const DeviceVolume& v, double isovalue, Connectivity mode) {
     if (!std::isfinite(isovalue)) throw InputError("isovalue must be finite");
     return count_components(v, IsovalueSet::single(v.type(), isovalue), mode).components[0];
-}
-
-namespace {
-
-template <class T>
-std::int64_t labelling(const Volume& v, T s, Connectivity mode) {
-    const T* f = v.as<T>();
-    const Dims d = v.dims();
-    const std::size_t n = v.vertices(), nx = d.nx, ny = d.ny, nz = d.nz;
-    std::vector<unsigned char> seen(n, 0);
-    std::vector<std::size_t> stack;
-    std::int64_t b[2] = {0, 0};  // b0(A), b0(C)
-    const std::vector<Offset> nb[2] = {neighbourhood(mode == Connectivity::cube ? 6 : 14),
-                                       neighbourhood(mode == Connectivity::cube ? 26 : 14)};
-    for (std::size_t start = 0; start < n; ++start) {
-        if (seen[start]) continue;
-        const bool positive = f[start] >= s;
-        ++b[positive];
-        seen[start] = 1;
-        stack.push_back(start);
-        while (!stack.empty()) {
-            const std::size_t i = stack.back();
-            stack.pop_back();
-            const long x = long(i % nx), y = long(i / nx % ny), z = long(i / (nx * ny));
-            for (const Offset& o : nb[positive]) {
-                const long a = x + o.dx, bb = y + o.dy, c = z + o.dz;
-                if (a < 0 || bb < 0 || c < 0 || a >= long(nx) || bb >= long(ny) || c >= long(nz)) continue;
-                const std::size_t j = std::size_t(a) + nx * (std::size_t(bb) + ny * std::size_t(c));
-                if (!seen[j] && (f[j] >= s) == positive) {
-                    seen[j] = 1;
-                    stack.push_back(j);
-                }
-            }
-        }
-    }
-    return b[0] && b[1] ? b[0] + b[1] - 1 : 0;
-}
-
-}  // namespace
-
-std::int64_t count_components_by_labelling(const Volume& v, double isovalue, Connectivity mode) {
-    return visit(v, [&](const auto* p) -> std::int64_t {
-        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-        if constexpr (std::is_integral<T>::value) {
-            // f >= s  <=>  f >= ceil(s); clamped to the type's range (all or nothing beyond it).
-            const double c = std::ceil(isovalue);
-            if (c <= double(std::numeric_limits<T>::min())) return 0;  // A empty
-            if (c > double(std::numeric_limits<T>::max())) return 0;   // C empty
-            return labelling<T>(v, T(c), mode);
-        } else {
-            return labelling<T>(v, T(isovalue), mode);
-        }
-    });
-}
-
-// ------------------------------------------------------------------ correlation
-
-namespace {
-
-template <class R> double pearson_clblast(Context& ctx, const std::vector<double>& x, const std::vector<double>& y) {
-    const std::size_t n = x.size();
-    double mx = 0, my = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        mx += x[i];
-        my += y[i];
-    }
-    mx /= double(n);
-    my /= double(n);
-    std::vector<R> cx(n), cy(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        cx[i] = R(x[i] - mx);
-        cy[i] = R(y[i] - my);
-    }
-    std::array<R, 3> dots{};
-    with_cl_errors([&] {
-        Buffer<R> bx(ctx, n, CL_MEM_READ_ONLY), by(ctx, n, CL_MEM_READ_ONLY), out(ctx, 3);
-        bx.write(ctx.queue(), cx.data(), n);
-        by.write(ctx.queue(), cy.data(), n);
-        out.fill(ctx.queue(), R(0));
-        cl_command_queue q = ctx.queue()();
-        const std::array<std::pair<const Buffer<R>*, const Buffer<R>*>, 3> pairs{
-            {{&bx, &by}, {&bx, &bx}, {&by, &by}}};
-        for (std::size_t k = 0; k < 3; ++k) {
-            auto status = clblast::Dot<R>(n, out.get()(), k, pairs[k].first->get()(), 0, 1, pairs[k].second->get()(), 0,
-                                          1, &q);
-            if (status != clblast::StatusCode::kSuccess)
-                throw DeviceError("CLBlast Dot failed with status " + std::to_string(int(status)), int(status));
-        }
-        out.read(ctx.queue(), dots.data(), 3);
-    });
-    const double sxy = double(dots[0]), sxx = double(dots[1]), syy = double(dots[2]);
-    if (!(sxx > 0) || !(syy > 0)) return std::numeric_limits<double>::quiet_NaN();
-    return sxy / std::sqrt(sxx * syy);
-}
-
-}  // namespace
-
-double pearson(Context& ctx, const std::vector<double>& x, const std::vector<double>& y) {
-    if (x.size() != y.size()) throw std::logic_error("pearson: sizes differ");
-    if (x.size() < 2) return std::numeric_limits<double>::quiet_NaN();
-    return ctx.has_fp64() ? pearson_clblast<double>(ctx, x, y) : pearson_clblast<float>(ctx, x, y);
-}
-
-ComponentCorrelation correlate_components(Context& ctx, const std::vector<double>& fd,
-                                          const std::vector<std::uint64_t>& edges,
-                                          const std::vector<std::int64_t>& components, const Dims& dims) {
-    if (fd.size() != edges.size() || fd.size() != components.size())
-        throw std::logic_error("correlate_components: curve lengths differ");
-    std::array<std::size_t, 3> n{dims.nx, dims.ny, dims.nz};
-    std::sort(n.begin(), n.end());
-    const double min_edges = double(n[0]) * double(n[1]) / 4;
-    std::vector<double> d, c, ca;
-    for (std::size_t j = 0; j < fd.size(); ++j) {
-        if (std::isnan(fd[j]) || double(edges[j]) < min_edges || edges[j] == 0) continue;
-        d.push_back(fd[j]);
-        c.push_back(double(components[j]));
-        ca.push_back(double(components[j]) / double(edges[j]));
-    }
-    ComponentCorrelation r;
-    r.used = d.size();
-    r.components = pearson(ctx, d, c);
-    r.components_per_area = pearson(ctx, d, ca);
-    return r;
 }
 
 }  // namespace clfractal

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
@@ -13,85 +12,23 @@
 #include "clfractal/span.hpp"
 #include "clfractal/synthetic.hpp"
 
-#include "volume/counter_rng.hpp"
+#include "kernels/counter_rng.h"
 #include "device/slab_plan.hpp"
 #include "device/type_options.hpp"
 #include "device/kernel_call.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 
 namespace {
 
+using detail::gaussian_draw;
 using detail::pi;
 using detail::splitmix64_mix;
+using detail::uniform_draw;
 
 // Draw `counter` of the stream of a scrambled seed (as uniform_noise in synthetic.cpp).
 constexpr auto noise_bits = detail::counter_bits;
-
-constexpr std::uint64_t gaussian_stream = std::uint64_t(1) << 62;
-
-float uniform_draw(std::uint64_t mixed_seed, std::uint64_t index) {
-    return float(int(noise_bits(mixed_seed, index) >> 40) - 0x800000) * 0x1p-23f;
-}
-
-template <class To, class From> To bit_cast(From v) {
-    To t;
-    std::memcpy(&t, &v, sizeof t);
-    return t;
-}
-
-// Box-Muller with float additions and multiplications only: the same operations in the same
-// order as box_muller in kernels/noise.cl (see there), compiled without contraction.
-float box_muller(std::uint32_t k1, std::uint32_t k2) {
-    int e = 31 - __builtin_clz(k1);
-    float m = float(k1) * bit_cast<float>(std::uint32_t(127 - e) << 23);
-    if (m > 0x1.6a09e6p+0f) {
-        m = m * 0.5f;
-        e = e + 1;
-    }
-    const float s = m - 1.0f;
-    float lp = 0x1.141484p-4f;
-    lp = lp * s + -0x1.e058fp-4f;
-    lp = lp * s + 0x1.e8676ap-4f;
-    lp = lp * s + -0x1.fbdf4p-4f;
-    lp = lp * s + 0x1.2313p-3f;
-    lp = lp * s + -0x1.555c8cp-3f;
-    lp = lp * s + 0x1.99a71cp-3f;
-    lp = lp * s + -0x1.00001p-2f;
-    lp = lp * s + 0x1.55554p-2f;
-    lp = lp * s + -0x1p-1f;
-    lp = lp * s + 0x1p+0f;
-    const float ln_u1 = float(e - 24) * 0x1.62e43p-1f + s * lp;
-    const float x = -2.0f * ln_u1;
-    float y = bit_cast<float>(0x5f3759dfu - (bit_cast<std::uint32_t>(x) >> 1));
-    for (int i = 0; i < 3; ++i) y = y * (1.5f - 0.5f * x * y * y);
-    const float radius = x * y;
-    const std::uint32_t q = k2 >> 22;
-    const float f = float(k2 & 0x3fffffu) * 0x1p-22f;
-    const float t = f * f;
-    float cp = 0x1.e259a6p-22f;
-    cp = cp * t + -0x1.a651ccp-16f;
-    cp = cp * t + 0x1.e1f24ep-11f;
-    cp = cp * t + -0x1.55d3cp-6f;
-    cp = cp * t + 0x1.03c1fp-2f;
-    cp = cp * t + -0x1.3bd3ccp+0f;
-    cp = cp * t + 0x1p+0f;
-    float sp = 0x1.d5467cp-25f;
-    sp = sp * t + -0x1.e29c04p-19f;
-    sp = sp * t + 0x1.507712p-13f;
-    sp = sp * t + -0x1.32d2cap-8f;
-    sp = sp * t + 0x1.466bc6p-4f;
-    sp = sp * t + -0x1.4abbcep-1f;
-    sp = sp * t + 0x1.921fb6p+0f;
-    const float sine = sp * f;
-    const float c = q == 0 ? cp : q == 1 ? -sine : q == 2 ? -cp : sine;
-    return radius * c;
-}
-
-float gaussian_draw(std::uint64_t mixed_seed, std::uint64_t index) {
-    const std::uint64_t c = gaussian_stream + 2 * index;
-    return box_muller(std::uint32_t(noise_bits(mixed_seed, c) >> 40) + 1, std::uint32_t(noise_bits(mixed_seed, c + 1) >> 40));
-}
 
 void check_amplitude(double a) {
     if (!(a >= 0) || !std::isfinite(a))
@@ -169,13 +106,16 @@ double expected_edge_dimension(double r) {
 
 // ------------------------------------------------------------------ beyond the thesis
 
-const char* noise_kind_name(NoiseKind k) { return k == NoiseKind::uniform ? "uniform" : "gaussian"; }
+template <> struct detail::NameTable<NoiseKind> {
+    static constexpr const char* what = "--noise";
+    static constexpr std::pair<NoiseKind, const char*> names[] = {{NoiseKind::uniform, "uniform"},
+                                                                  {NoiseKind::gaussian, "gaussian"}};
+};
+CLFRACTAL_NAME_TABLE(NoiseKind)
 
-NoiseKind parse_noise_kind(const std::string& name) {
-    if (name == "uniform") return NoiseKind::uniform;
-    if (name == "gaussian") return NoiseKind::gaussian;
-    throw InputError("--noise " + name + ": must be uniform or gaussian");
-}
+const char* noise_kind_name(NoiseKind k) { return variant_name(k); }
+
+NoiseKind parse_noise_kind(const std::string& name) { return parse_variant<NoiseKind>(name); }
 
 double edge_span_measure(double delta, NoiseKind kind, double amplitude) {
     check_amplitude(amplitude);

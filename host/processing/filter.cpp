@@ -90,6 +90,58 @@ std::size_t accumulator_size(ValueType t) { return is_wide(t) ? sizeof(double) :
 // (block_selection; median_rows only); ld_guided: the LD-guided bilateral filter.
 enum class Mask { none, threshold, blocks, ld_guided };
 
+// The arguments that end a masked kernel's list (kernels/filter.cl MASK_ARGS, ROW_MASK_ARGS,
+// BILATERAL_ARGS): (ld, h) for Mask::threshold, (selection, bnx, bny, phase, tally) for
+// Mask::blocks, (ld) for Mask::ld_guided, none for Mask::none.
+struct MaskArgs {
+    const cl::Buffer* field = nullptr;  // the LD field or the block selection
+    cl_float h = 0;
+    cl_int bnx = 0, bny = 0, phase = 0;
+    const cl::Buffer* tally = nullptr;
+};
+
+// A masked kernel: the arguments Head..., then those of the mask it was built for (-DMASKED,
+// -DBLOCK_MASKED, -DLD_GUIDED or none), each list a typed call of its own.
+template <class... Head> class MaskedCall {
+public:
+    MaskedCall() = default;
+    MaskedCall(Context& ctx, const std::string& name, const std::string& options, Mask mask) : mask_(mask) {
+        switch (mask) {
+        case Mask::none: none_ = KernelCall<Head...>(ctx, "filter", name, options); break;
+        case Mask::threshold: threshold_ = decltype(threshold_)(ctx, "filter", name, options); break;
+        case Mask::blocks: blocks_ = decltype(blocks_)(ctx, "filter", name, options); break;
+        case Mask::ld_guided: ld_guided_ = decltype(ld_guided_)(ctx, "filter", name, options); break;
+        }
+    }
+
+    void operator()(const cl::NDRange& global, const cl::NDRange& local, const MaskArgs& m, const Head&... head) {
+        switch (mask_) {
+        case Mask::none: none_(global, local, head...); break;
+        case Mask::threshold: threshold_(global, local, head..., *m.field, m.h); break;
+        case Mask::blocks: blocks_(global, local, head..., *m.field, m.bnx, m.bny, m.phase, *m.tally); break;
+        case Mask::ld_guided: ld_guided_(global, local, head..., *m.field); break;
+        }
+    }
+
+private:
+    Mask mask_ = Mask::none;
+    KernelCall<Head...> none_;
+    KernelCall<Head..., cl::Buffer, cl_float> threshold_;
+    KernelCall<Head..., cl::Buffer, cl_int, cl_int, cl_int, cl::Buffer> blocks_;
+    KernelCall<Head..., cl::Buffer> ld_guided_;
+};
+
+// kernels/filter.cl: median_*(in, nx, ny, nz_in, z_begin, nz_out, out, mask...);
+// gauss_z_*(in, nx, ny, nz_in, z_begin, nz_out, w, tmp); gauss_y_*(tmp, nx, ny, nz, w, tmp2);
+// gauss_x_*(tmp2, nx, ny, nz, w, out, orig, z_begin, mask...);
+// bilateral_*(in, nx, ny, nz_in, z_begin, nz_out, w, inv_2sr2 (acc_t), out, mask...).
+using MedianCall = MaskedCall<cl::Buffer, cl_int, cl_int, cl_int, cl_int, cl_int, cl::Buffer>;
+using GaussZCall = KernelCall<cl::Buffer, cl_int, cl_int, cl_int, cl_int, cl_int, cl::Buffer, cl::Buffer>;
+using GaussYCall = KernelCall<cl::Buffer, cl_int, cl_int, cl_int, cl::Buffer, cl::Buffer>;
+using GaussXCall = MaskedCall<cl::Buffer, cl_int, cl_int, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int>;
+template <class Acc>
+using BilateralCall = MaskedCall<cl::Buffer, cl_int, cl_int, cl_int, cl_int, cl_int, cl::Buffer, Acc, cl::Buffer>;
+
 // Compiles and launches the kernels of one filter on one slab.
 class Runner {
 public:
@@ -117,14 +169,15 @@ public:
         if (mask == Mask::ld_guided) options_ += " -DLD_GUIDED";
         const std::string suffix = rows_ ? "_rows" : "_vertices";
         if (spec.kind == FilterKind::median) {
-            main_ = ctx.kernel("filter", tiled_ ? "median_tiled" : "median" + suffix, options_);
+            median_ = MedianCall(ctx, tiled_ ? "median_tiled" : "median" + suffix, options_, mask);
         } else if (spec.kind == FilterKind::gaussian) {
-            gz_ = ctx.kernel("filter", "gauss_z" + suffix, options_);
-            gy_ = ctx.kernel("filter", "gauss_y" + suffix, options_);
-            main_ = ctx.kernel("filter", "gauss_x" + suffix, options_);
+            gauss_z_ = GaussZCall(ctx, "filter", "gauss_z" + suffix, options_);
+            gauss_y_ = GaussYCall(ctx, "filter", "gauss_y" + suffix, options_);
+            gauss_x_ = GaussXCall(ctx, "gauss_x" + suffix, options_, mask);
             weights_ = accumulator_buffer(gaussian_weights(spec.sigma, spec.radius()));
         } else {
-            main_ = ctx.kernel("filter", "bilateral" + suffix, options_);
+            if (is_wide(type)) bilateral_double_ = BilateralCall<cl_double>(ctx, "bilateral" + suffix, options_, mask);
+            else bilateral_float_ = BilateralCall<cl_float>(ctx, "bilateral" + suffix, options_, mask);
             weights_ = accumulator_buffer(spatial_weights(spec.sigma_s, spec.radius()));
         }
     }
@@ -140,24 +193,18 @@ public:
                   : tiled_ ? cl::NDRange(round_up(d_.nx, tile_x), round_up(d_.ny, tile_y), std::size_t(nz_out))
                            : cl::NDRange(d_.nx, d_.ny, std::size_t(nz_out));
         const cl::NDRange local = rows_ ? cl::NDRange(1) : tiled_ ? cl::NDRange(tile_x, tile_y, 1) : cl::NullRange;
-        // The kernels' arguments in order (kernels/filter.cl); the masked kernels end with
-        // (ld, h) (-DMASKED), (selection, bnx, bny, phase, tally) (-DBLOCK_MASKED) or (ld)
-        // (-DLD_GUIDED).
-        const auto plain = [&](cl::Kernel& k, const auto&... args) {
-            set_args(k, args...);
-            ctx_.launch(k, global, local);
-        };
-        const auto masked = [&](cl::Kernel& k, const auto&... args) {
-            if (mask_ == Mask::none) set_args(k, args...);
-            else if (mask_ == Mask::threshold) set_args(k, args..., *ld, h);
-            else if (mask_ == Mask::blocks) {
-                const Dims hb = ld_block_dims(d_, window_);
-                set_args(k, args..., *ld, int(hb.nx), int(hb.ny), ld_block_phase(window_), tally_.get());
-            } else set_args(k, args..., *ld);
-            ctx_.launch(k, global, local);
-        };
+        MaskArgs m;
+        m.field = ld;
+        m.h = h;
+        if (mask_ == Mask::blocks) {
+            const Dims hb = ld_block_dims(d_, window_);
+            m.bnx = cl_int(hb.nx);
+            m.bny = cl_int(hb.ny);
+            m.phase = ld_block_phase(window_);
+            m.tally = &tally_.get();
+        }
         if (spec_.kind == FilterKind::median) {
-            masked(main_, in, nx, ny, nz_in, z_begin, nz_out, out);
+            median_(global, local, m, in, nx, ny, nz_in, z_begin, nz_out, out);
         } else if (spec_.kind == FilterKind::gaussian) {
             const std::size_t n = d_.nx * d_.ny * std::size_t(nz_out);
             if (tmp_size_ < n) {
@@ -165,14 +212,17 @@ public:
                 tmp_b_ = Buffer<unsigned char>(ctx_, n * accumulator_size(type_));
                 tmp_size_ = n;
             }
-            plain(gz_, in, nx, ny, nz_in, z_begin, nz_out, weights_, tmp_a_.get());
+            gauss_z_(global, local, in, nx, ny, nz_in, z_begin, nz_out, weights_, tmp_a_.get());
             // The y and x passes read the previous pass's float slab of nz_out slices.
-            plain(gy_, tmp_a_.get(), nx, ny, nz_out, weights_, tmp_b_.get());
-            masked(main_, tmp_b_.get(), nx, ny, nz_out, weights_, out, in, z_begin);
+            gauss_y_(global, local, tmp_a_.get(), nx, ny, nz_out, weights_, tmp_b_.get());
+            gauss_x_(global, local, m, tmp_b_.get(), nx, ny, nz_out, weights_, out, in, z_begin);
         } else {
-            const double inv_2sr2 = 1.0 / (2 * spec_.sigma_r * spec_.sigma_r);
-            if (is_wide(type_)) masked(main_, in, nx, ny, nz_in, z_begin, nz_out, weights_, cl_double(inv_2sr2), out);
-            else masked(main_, in, nx, ny, nz_in, z_begin, nz_out, weights_, cl_float(float(inv_2sr2)), out);
+            const double inv = 1.0 / (2 * spec_.sigma_r * spec_.sigma_r);  // inv_2sr2 in the accumulator type
+            if (is_wide(type_))
+                bilateral_double_(global, local, m, in, nx, ny, nz_in, z_begin, nz_out, weights_, cl_double(inv), out);
+            else
+                bilateral_float_(global, local, m, in, nx, ny, nz_in, z_begin, nz_out, weights_, cl_float(float(inv)),
+                                 out);
         }
     }
 
@@ -213,7 +263,12 @@ private:
     bool rows_ = true, tiled_ = false;
     std::size_t items_ = 1;
     std::string options_;
-    cl::Kernel main_, gz_, gy_;
+    MedianCall median_;
+    GaussZCall gauss_z_;
+    GaussYCall gauss_y_;
+    GaussXCall gauss_x_;
+    BilateralCall<cl_float> bilateral_float_;
+    BilateralCall<cl_double> bilateral_double_;
     cl::Buffer weights_;
     Buffer<unsigned char> tmp_a_, tmp_b_;  // acc_t values
     Buffer<cl_ulong> tally_;               // Mask::blocks: per work-item selected and changed counts

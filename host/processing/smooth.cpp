@@ -13,6 +13,7 @@
 #include "clfractal/span.hpp"
 #include "device/type_options.hpp"
 #include "device/kernel_call.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 
@@ -159,13 +160,16 @@ Counters run_queue(T* f, std::uint8_t* flags, const Dims& d, S s, bool gaussian,
 
 }  // namespace
 
-SmoothVariant parse_smooth_variant(const std::string& name) {
-    if (name == "plain") return SmoothVariant::plain;
-    if (name == "gaussian") return SmoothVariant::gaussian;
-    throw InputError("--variant '" + name + "': must be plain or gaussian");
-}
+template <> struct detail::NameTable<SmoothVariant> {
+    static constexpr const char* what = "--variant";
+    static constexpr std::pair<SmoothVariant, const char*> names[] = {{SmoothVariant::plain, "plain"},
+                                                                      {SmoothVariant::gaussian, "gaussian"}};
+};
+CLFRACTAL_NAME_TABLE(SmoothVariant)
 
-const char* smooth_variant_name(SmoothVariant v) { return v == SmoothVariant::plain ? "plain" : "gaussian"; }
+SmoothVariant parse_smooth_variant(const std::string& name) { return parse_variant<SmoothVariant>(name); }
+
+const char* smooth_variant_name(SmoothVariant v) { return variant_name(v); }
 
 namespace {
 

@@ -18,6 +18,7 @@
 #include <stdexcept>
 
 #include "clfractal/local.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 namespace {
@@ -374,11 +375,17 @@ Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& s
 
 }  // namespace
 
-MeshMethod parse_mesh_method(const std::string& name) {
-    if (name == "mc" || name == "marching-cubes") return MeshMethod::marching_cubes;
-    if (name == "mt" || name == "marching-tetrahedra") return MeshMethod::marching_tetrahedra;
-    throw InputError("--method '" + name + "': expected mc or mt");
-}
+template <> struct detail::NameTable<MeshMethod> {
+    static constexpr const char* what = "--method";
+    static constexpr std::pair<MeshMethod, const char*> names[] = {
+        {MeshMethod::marching_cubes, "mc"},
+        {MeshMethod::marching_cubes, "marching-cubes"},
+        {MeshMethod::marching_tetrahedra, "mt"},
+        {MeshMethod::marching_tetrahedra, "marching-tetrahedra"}};
+};
+CLFRACTAL_NAME_TABLE(MeshMethod)
+
+MeshMethod parse_mesh_method(const std::string& name) { return parse_variant<MeshMethod>(name); }
 
 Mesh extract_isosurface(const Volume& v, double s, MeshMethod method) {
     if (!std::isfinite(s)) throw InputError("isovalue must be a finite number");

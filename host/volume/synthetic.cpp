@@ -8,7 +8,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "volume/counter_rng.hpp"
+#include "kernels/counter_rng.h"
 
 namespace clfractal {
 namespace {

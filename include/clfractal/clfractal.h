@@ -104,7 +104,8 @@ const char* clf_last_error(void);
 
 /* A context on the device whose platform or device name contains `device_filter`
  * (case-insensitive); NULL or "" picks the default (environment CLFRACTAL_DEVICE /
- * CLFRACTAL_DEVICE_TYPE, else the first GPU, else the first device). */
+ * CLFRACTAL_DEVICE_TYPE, else the first GPU, else the first device). No device that
+ * matches: CLF_ERROR_DEVICE, the message naming the filter and every device. */
 clf_status clf_context_create(const char* device_filter, clf_context** out);
 void clf_context_destroy(clf_context* ctx);
 /* "platform / device", valid while the context lives. */

@@ -60,12 +60,6 @@ std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue,
 /// The same for a volume already on the device (no upload).
 std::int64_t count_components_at(const DeviceVolume& v, double isovalue, Connectivity mode = Connectivity::cube);
 
-/// The same number at one isovalue by labelling: breadth-first search over A and over C
-/// with the mode's neighbourhoods, b0(A) + b0(C) - 1 (0 when either is empty). O(N) per
-/// isovalue, 1 byte per vertex: the obvious per-isovalue alternative, kept as the
-/// benchmark's peer and for `clfractal components --verify`.
-std::int64_t count_components_by_labelling(const Volume& v, double isovalue, Connectivity mode = Connectivity::cube);
-
 /// Pearson correlation of x and y (population moments, centred on the host, the three dot
 /// products with CLBlast on the device). NaN with fewer than 2 points or zero variance.
 double pearson(Context& ctx, const std::vector<double>& x, const std::vector<double>& y);

@@ -41,9 +41,25 @@ struct DeviceEntry {
 /// Every device of every platform; the one choose_device() picks is marked chosen.
 std::vector<DeviceEntry> list_devices();
 
-/// The device selected by CLFRACTAL_DEVICE (substring of platform or device name,
-/// case-insensitive) and CLFRACTAL_DEVICE_TYPE (cpu|gpu|accelerator); without either,
-/// the first GPU, else the first device. Throws DeviceError when nothing matches.
+/// The one rule that picks a device, for CLFRACTAL_DEVICE / CLFRACTAL_DEVICE_TYPE,
+/// clf_context_create's filter and the Python `device` argument. `name`, when not empty: a
+/// case-insensitive substring of "platform / device" (Context::description()), so of the
+/// platform or the device name. `type`, when not empty: cpu, gpu, accelerator or all
+/// (case-insensitive). Neither (or type all alone): the first GPU, else the first device.
+struct DeviceSelector {
+    std::string name;
+    std::string type;
+};
+
+/// The selector of the environment: CLFRACTAL_DEVICE and CLFRACTAL_DEVICE_TYPE.
+DeviceSelector environment_selector();
+
+/// The first device of list_devices() that `selector` picks (`chosen` as listed there).
+/// Throws DeviceError (CL_DEVICE_NOT_FOUND) naming the selector and every device when none
+/// matches, when the type is none of cpu, gpu, accelerator, all, or when there is no device.
+DeviceEntry select_device(const DeviceSelector& selector);
+
+/// select_device(environment_selector()).device.
 cl::Device choose_device();
 
 /// Kernel variants (Tuning), chosen per device type and forced by tests.
@@ -60,9 +76,11 @@ enum class LocalVariant { rows, vertices };
 /// work-item per vertex ("vertices") or the median through local-memory tiles ("tiled", GPUs).
 enum class FilterVariant { rows, vertices, tiled };
 
-/// The one name <-> enum table of the variants, for the command line, tests and benchmarks:
-/// variant_name(SpanVariant::private_histograms) is "private"; parse_variant<E>(name)
-/// throws InputError listing the names of E.
+/// The one name <-> enum mechanism of the library, for the command line, tests and
+/// benchmarks: these variants and Connectivity, MeshMethod, NoiseKind and SmoothVariant
+/// (whose parse_ and _name functions call it). variant_name(SpanVariant::private_histograms)
+/// is "private"; parse_variant<E>(name) throws InputError "<what> '<name>': expected one of
+/// <the names of E>".
 template <class E> const char* variant_name(E v);
 template <class E> E parse_variant(const std::string& name);
 /// Every value of E, in declaration order (tests walk them).

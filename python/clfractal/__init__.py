@@ -19,7 +19,8 @@ Definitions (the library's, from "The Nature of the Isosurface Fractal Dimension
 
 The OpenCL device is chosen by the ``device`` argument (a substring of "platform / device"
 as ``devices()`` lists them) or, without it, by the environment variables
-``CLFRACTAL_DEVICE`` (substring) and ``CLFRACTAL_DEVICE_TYPE`` (cpu|gpu); by default the
+``CLFRACTAL_DEVICE`` (the same substring) and ``CLFRACTAL_DEVICE_TYPE``
+(cpu|gpu|accelerator|all); by default the
 first GPU, else the first device. Contexts and compiled kernels are kept for the life of the
 process. Device work runs with the GIL released. Bad input raises ValueError with the
 library's message; device failures raise RuntimeError.

@@ -14,7 +14,6 @@
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -46,19 +45,15 @@ namespace {
 
 // ------------------------------------------------------------------ devices and contexts
 
-std::string lower(std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return s;
-}
-
 /// One OpenCL context with the lock that serialises the calls made on it.
 struct Device {
     Context* ctx = nullptr;
     std::mutex* lock = nullptr;
 };
 
-/// The context for `selector` (a substring of "platform / device", case-insensitive), or the
-/// library's shared context (CLFRACTAL_DEVICE, CLFRACTAL_DEVICE_TYPE) when it is empty.
+/// The context for `selector` (select_device: a substring of "platform / device",
+/// case-insensitive), or the library's shared context (CLFRACTAL_DEVICE,
+/// CLFRACTAL_DEVICE_TYPE) when it is empty.
 /// One context per device, created on first use and kept for the life of the process, so
 /// every selector naming the same device shares its compiled programs.
 std::mutex registry_lock;
@@ -73,21 +68,12 @@ Device device_for(const std::optional<std::string>& selector) {
     if (!selector || selector->empty()) {
         ctx = &Context::shared();
     } else {
-        std::vector<DeviceEntry> all = list_devices();
-        auto match = std::find_if(all.begin(), all.end(), [&](const DeviceEntry& e) {
-            return lower(e.platform + " / " + e.name).find(lower(*selector)) != std::string::npos;
-        });
-        if (match == all.end()) {
-            std::string names;
-            for (auto& e : all) names += (names.empty() ? "" : ", ") + e.platform + " / " + e.name;
-            throw DeviceError("device '" + *selector + "': no OpenCL device matches (devices: " + names + ")",
-                              CL_DEVICE_NOT_FOUND);
-        }
-        if (match->chosen) {
+        const DeviceEntry match = select_device({*selector, ""});
+        if (match.chosen) {
             ctx = &Context::shared();  // the default device: its context
         } else {
-            auto& owned_ctx = contexts[match->device()];
-            if (!owned_ctx) owned_ctx = std::make_unique<Context>(match->device);
+            auto& owned_ctx = contexts[match.device()];
+            if (!owned_ctx) owned_ctx = std::make_unique<Context>(match.device);
             ctx = owned_ctx.get();
         }
     }

@@ -244,7 +244,7 @@ TEST_CASE("bad input through the C ABI: a status, a message, NULL handles, no ex
     CHECK(clf_local_dimension(cc.c, cv, 35, 3, ld) == CLF_ERROR_INPUT);  // odd window
     CHECK(clf_context_create("no such device anywhere", nullptr) == CLF_ERROR_INPUT);
     clf_context* none = reinterpret_cast<clf_context*>(1);
-    CHECK(clf_context_create("no such device anywhere", &none) == CLF_ERROR_INPUT);
+    CHECK(clf_context_create("no such device anywhere", &none) == CLF_ERROR_DEVICE);
     CHECK(none == nullptr);
     CHECK(std::string(clf_last_error()).find("no such device anywhere") != std::string::npos);
     clf_volume_destroy(cv);

@@ -14,9 +14,11 @@
 #include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
+#include "clfractal/noise.hpp"
 #include "clfractal/smooth.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/synthetic.hpp"
+#include "components_labelling.hpp"
 #include "test_util.hpp"
 
 using namespace clfractal;
@@ -195,7 +197,7 @@ TEST_CASE("D4, LD4, the pyramid, the noise estimate and components at S of a Dev
 
 TEST_SUITE("device") {
 
-TEST_CASE("kernel variants: one name table, round trip, unknown names refused with the choices") {
+TEST_CASE("named enums: one name table, round trip, unknown names refused with the choices") {
     const auto round_trip = [](auto tag) {
         using E = decltype(tag);
         const std::vector<E> all = all_variants<E>();
@@ -207,8 +209,26 @@ TEST_CASE("kernel variants: one name table, round trip, unknown names refused wi
     round_trip(SatVariant{});
     round_trip(LocalVariant{});
     round_trip(FilterVariant{});
+    round_trip(Connectivity{});
+    round_trip(MeshMethod{});
+    round_trip(NoiseKind{});
+    round_trip(SmoothVariant{});
     CHECK(std::string(variant_name(SpanVariant::private_histograms)) == "private");
     CHECK_THROWS_WITH(parse_variant<FilterVariant>("tile"), doctest::Contains("rows, vertices, tiled"));
+    // The named functions of the other enums are the same tables.
+    CHECK(std::string(connectivity_name(Connectivity::freudenthal)) == "freudenthal");
+    CHECK(std::string(noise_kind_name(NoiseKind::gaussian)) == "gaussian");
+    CHECK(std::string(smooth_variant_name(SmoothVariant::plain)) == "plain");
+    CHECK(std::string(variant_name(MeshMethod::marching_tetrahedra)) == "mt");
+    CHECK(parse_mesh_method("marching-cubes") == MeshMethod::marching_cubes);
+    CHECK(all_variants<MeshMethod>().size() == 2);
+    CHECK_THROWS_WITH_AS(parse_connectivity("six"), "--connectivity 'six': expected one of cube, freudenthal",
+                         InputError);
+    CHECK_THROWS_WITH_AS(parse_noise_kind("pink"), "--noise 'pink': expected one of uniform, gaussian", InputError);
+    CHECK_THROWS_WITH_AS(parse_smooth_variant("blocky"), "--variant 'blocky': expected one of plain, gaussian",
+                         InputError);
+    CHECK_THROWS_WITH_AS(parse_mesh_method("dual"),
+                         "--method 'dual': expected one of mc, marching-cubes, mt, marching-tetrahedra", InputError);
 }
 
 }  // TEST_SUITE

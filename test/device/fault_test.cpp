@@ -1,7 +1,7 @@
 // Device faults (FaultPlan): the N-th buffer allocation, kernel enqueue or program build
 // fails; walked over every step of fd, local, filter, components, noise and a stream. Each
-// run ends with a clean DeviceError (or InputError) or with the fault-free result; never a
-// crash or another exception. A failed allocation is recovered from: fd, local, noise and
+// run ends with a clean DeviceError naming the injected fault or with the fault-free result;
+// never a crash or another exception (an InputError is about the input, which is valid here). A failed allocation is recovered from: fd, local, noise and
 // the filters' slab path retry with smaller slabs, components with its host steps. Leaks are
 // left to the sanitizer build, which runs this suite too.
 #include <doctest/doctest.h>
@@ -83,8 +83,9 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
         } catch (const DeviceError& e) {
             ++failed;
             CHECK(std::string(e.what()).find("injected fault") != std::string::npos);
-        } catch (const InputError&) {
-            ++failed;
+        } catch (const InputError& e) {
+            // No fault makes the (valid) input bad: the message says which step claimed it did.
+            FAIL_CHECK("InputError after a device fault: " << e.what());
         }
         // The context works again once the fault is gone.
         set_fault_plan(c, FaultPlan{});

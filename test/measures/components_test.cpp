@@ -15,6 +15,7 @@
 #include "clfractal/components.hpp"
 #include "clfractal/mesh.hpp"
 #include "clfractal/volume_io.hpp"
+#include "components_labelling.hpp"
 #include "reference/mesh_reference.hpp"
 #include "test_util.hpp"
 

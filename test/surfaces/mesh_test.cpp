@@ -302,16 +302,26 @@ TEST_CASE("LD colouring follows the thesis colour map") {
     color_by_ld(mesh, ld);
     REQUIRE(mesh.colors.size() == mesh.positions.size());
     REQUIRE(mesh.ld.size() == mesh.positions.size());
-    std::size_t red = 0, blue = 0;
+    // The noise grows from 0 at x = 0 to 16 at x = N - 1: the clean half of the sphere (x below
+    // its centre) is smooth, the noisy half rough. Red vertices lie almost all on the noisy
+    // half, blue ones mostly on the clean half.
+    const double centre = (o.size - 1) / 2.0;
+    std::size_t red = 0, blue = 0, red_noisy = 0, blue_clean = 0;
     for (std::size_t i = 0; i < mesh.colors.size(); ++i) {
         const Rgb c = ld_colour(mesh.ld[i]);
         CHECK(mesh.colors[i] == std::array<std::uint8_t, 3>{c.r, c.g, c.b});
+        const bool noisy_half = mesh.positions[i][0] > centre;
         red += mesh.ld[i] >= ld_red;
         blue += mesh.ld[i] <= ld_blue;
+        red_noisy += mesh.ld[i] >= ld_red && noisy_half;
+        blue_clean += mesh.ld[i] <= ld_blue && !noisy_half;
     }
-    // The clean side (x = 0) is smooth, the noisy side (x = N - 1) rough.
+    CAPTURE(red);
+    CAPTURE(blue);
     CHECK(red > 0);
     CHECK(blue > 0);
+    CHECK(10 * red_noisy >= 9 * red);
+    CHECK(4 * blue_clean >= 3 * blue);
 }
 
 TEST_CASE("PLY files read back identically, with and without colours and LD") {

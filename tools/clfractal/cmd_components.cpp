@@ -10,6 +10,7 @@
 
 #include "clfractal/components.hpp"
 #include "cli.hpp"
+#include "components_labelling.hpp"
 #include "output.hpp"
 #include "plots.hpp"
 
