@@ -101,8 +101,14 @@ TEST_CASE("local memory and allocation limits are checked before the device sees
     Buffer<cl_uchar> vol(ctx(), 8);
     Buffer<float> iso(ctx(), 1);
     Buffer<cl_int> partial(ctx(), 16);
-    set_args(k, vol.get(), 2, 2, 2, cl_long(0), iso.get(), 1, 2, partial.get(),
-             cl::Local(ctx().local_mem() + 4096));
+    k.setArg(0, vol.get());
+    for (cl_uint i : {1u, 2u, 3u}) k.setArg(i, 2);
+    k.setArg(4, cl_long(0));
+    k.setArg(5, iso.get());
+    k.setArg(6, 1);
+    k.setArg(7, 2);
+    k.setArg(8, partial.get());
+    k.setArg(9, cl::Local(ctx().local_mem() + 4096));
     CHECK_THROWS_WITH_AS(ctx().launch(k, cl::NDRange(1), cl::NDRange(1)), doctest::Contains("CL_DEVICE_LOCAL_MEM_SIZE"),
                          DeviceError);
     CHECK_THROWS_WITH_AS(create_buffer(ctx(), CL_MEM_READ_WRITE, ctx().max_alloc() + 1),
