@@ -176,8 +176,12 @@ double shorth_centre(const std::vector<double>& sorted) {
     return 0.5 * (sorted[best + (h - 1) / 2] + sorted[best + h / 2]);
 }
 
-// Usable blocks: enough residuals, some non-zero, none reading the volume's extremes.
-std::vector<bool> usable_blocks(const NoiseBlocks& b) {
+// What a block is to the estimate: left out; usable but its residuals all 0 (a constant or
+// exactly polynomial stretch); usable with noise.
+enum class BlockUse : char { left_out, silent, noisy };
+
+// Usable blocks have enough residuals and read none of the volume's extremes.
+std::vector<BlockUse> usable_blocks(const NoiseBlocks& b) {
     const std::size_t n = b.count.size(), cube = b.block * b.block * b.block;
     std::uint32_t most = 0;
     double lo = 0, hi = 0;
@@ -190,14 +194,15 @@ std::vector<bool> usable_blocks(const NoiseBlocks& b) {
         any = true;
     }
     const std::uint32_t min_count = std::max<std::uint32_t>(1, std::min<std::uint32_t>(std::uint32_t(cube / 8), most));
-    std::vector<bool> use(n);
+    std::vector<BlockUse> use(n, BlockUse::left_out);
     for (std::size_t i = 0; i < n; ++i)
-        use[i] = b.count[i] >= min_count && b.sum_squares[i] > 0 && b.low[i] > lo && b.high[i] < hi;
+        if (b.count[i] >= min_count && b.low[i] > lo && b.high[i] < hi)
+            use[i] = b.sum_squares[i] > 0 ? BlockUse::noisy : BlockUse::silent;
     return use;
 }
 
 // The noise map of `result` from the usable blocks.
-void noise_map(const NoiseBlocks& b, const std::vector<bool>& use, std::size_t map_block, NoiseLevel& result) {
+void noise_map(const NoiseBlocks& b, const std::vector<BlockUse>& use, std::size_t map_block, NoiseLevel& result) {
     const std::size_t per = map_block / b.block;
     const Dims g = b.grid;
     const Dims m{blocks_along(g.nx, per), blocks_along(g.ny, per), blocks_along(g.nz, per)};
@@ -206,7 +211,7 @@ void noise_map(const NoiseBlocks& b, const std::vector<bool>& use, std::size_t m
         for (std::size_t y = 0; y < g.ny; ++y)
             for (std::size_t x = 0; x < g.nx; ++x) {
                 const std::size_t i = x + g.nx * (y + g.ny * z);
-                if (!use[i]) continue;
+                if (use[i] == BlockUse::left_out) continue;
                 const std::size_t c = x / per + m.nx * (y / per + m.ny * (z / per));
                 sum[c] += b.sum_squares[i];
                 count[c] += double(b.count[i]);
@@ -242,19 +247,27 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     NoiseLevel r;
     r.block = b.block;
     r.blocks = b.count.size();
-    const std::vector<bool> use = usable_blocks(b);
-    std::vector<double> y(use.size(), 0.0), sorted;
-    for (std::size_t i = 0; i < use.size(); ++i)
-        if (use[i]) sorted.push_back(y[i] = std::log(b.sum_squares[i] / double(b.count[i])) / 3);
-    r.usable_blocks = sorted.size();
+    const std::vector<BlockUse> use = usable_blocks(b);
     noise_map(b, use, o.map_block, r);
-    if (sorted.empty()) return r;
+    std::vector<double> y(use.size(), 0.0), sorted;
+    double silent = 0;
+    for (std::size_t i = 0; i < use.size(); ++i) {
+        if (use[i] == BlockUse::noisy) sorted.push_back(y[i] = std::log(b.sum_squares[i] / double(b.count[i])) / 3);
+        if (use[i] == BlockUse::silent) silent += double(b.count[i]), ++r.flat_blocks;
+    }
+    r.usable_blocks = sorted.size() + r.flat_blocks;
+    if (sorted.empty()) {
+        // No noise anywhere: sigma 0 on the silent blocks, NaN without any usable block.
+        if (r.flat_blocks) r.sigma = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
+        return r;
+    }
+    r.flat_blocks = 0;
     std::sort(sorted.begin(), sorted.end());
     const double centre = shorth_centre(sorted);
     r.typical_variance = std::exp(3 * centre);
     double sum = 0, count = 0;
     for (std::size_t i = 0; i < use.size(); ++i) {
-        if (!use[i] || std::abs(y[i] - centre) > o.clip * root_spread(b.count[i])) continue;
+        if (use[i] != BlockUse::noisy || std::abs(y[i] - centre) > o.clip * root_spread(b.count[i])) continue;
         sum += b.sum_squares[i];
         count += double(b.count[i]);
         ++r.flat_blocks;

@@ -12,12 +12,14 @@
 //
 // Blocks. The volume is cut into blocks of block^3 vertices (kernels/noise_level.cl sums R^2
 // per block on the device, with the range of the values the block's residuals read). A block
-// is usable when it has at least min(block^3 / 8, the largest block's count) residuals, some
-// of them non-zero, and its residuals read neither the volume's smallest nor its largest
-// value: values at the extremes are clipped (at an integer type's limits, a scanner's floor,
-// a zeroed background), where the noise is cut off or absent.
+// is usable when it has at least min(block^3 / 8, the largest block's count) residuals and its
+// residuals read neither the volume's smallest nor its largest value: values at the extremes
+// are clipped (at an integer type's limits, a scanner's floor, a zeroed background), where the
+// noise is cut off or absent. Usable blocks whose residuals are all 0 (constant or exactly
+// polynomial stretches) take no part in the estimate; when no usable block has any residual,
+// sigma is 0 (estimated on those blocks), and NaN when no block is usable.
 //
-// Estimate. Per usable block y_b = log(v_b) / 3, v_b = (sum of R^2 / 216) / count. For white
+// Estimate. Per usable block with residual y_b = log(v_b) / 3, v_b = (sum of R^2 / 216) / count. For white
 // Gaussian noise y_b is near-normal (the cube root of a sum of squares, Wilson-Hilferty) with
 // standard deviation s(n) = sqrt(2 k / n) / 3 for n residuals, k = (70/36)^3 = 7.35 the sum of
 // R's squared autocorrelations. The centre c is the shorth of the y_b: the median of the
@@ -77,7 +79,7 @@ struct NoiseLevel {
     std::size_t block = 0;
     double typical_variance = std::numeric_limits<double>::quiet_NaN();  ///< exp(3 c), grey values^2
     /// The noise map: per cell of map_block^3 vertices (x fastest), the residual's RMS over
-    /// the cell's usable blocks, sqrt(sum of R^2 / 216 / count): the local noise where the
+    /// the cell's usable blocks (silent ones included), sqrt(sum of R^2 / 216 / count): the local noise where the
     /// cell is flat, more where it holds structure; NaN where the cell has no usable block.
     std::size_t map_block = 0;
     Dims map_dims{};

@@ -347,7 +347,8 @@ def noise_level(volume, block: int = 0, map_block: int = 32, clip: float = 3.0,
     block of ``block**3`` vertices (0: 8, or 4 for volumes that hold fewer than 64 blocks of
     8), blocks that read the volume's smallest or largest value (clipping) are left out; the
     centre is the shorth of ``log(v) / 3`` over the block variances ``v``, the flat blocks lie
-    within ``clip`` white-noise spreads of it, and ``sigma**2`` is their pooled mean. Returns
+    within ``clip`` white-noise spreads of it, and ``sigma**2`` is their pooled mean (0 when no
+    usable block has any residual, NaN when no block is usable). Returns
     ``{"sigma", "flat_share" (the flat blocks' voxels over all voxels), "block", "blocks",
     "blocks_usable", "blocks_flat", "typical_variance", "seconds", "map_cell", "map"}``;
     ``map`` is the residual's RMS per cell of ``map_block**3`` vertices, a (z, y, x) float32

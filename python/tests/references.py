@@ -223,8 +223,8 @@ def noise_level(v, block, clip=3.0):
     """The noise level of include/clfractal/noise_level.hpp in NumPy: R, the product of
     [1, -2, 1] along the three axes at every interior vertex; per block of block**3 vertices
     the sum of R**2 / 216, the count and the range of the values read; blocks reading the
-    volume's extremes, with fewer than min(block**3 / 8, the largest count) residuals or none
-    non-zero left out; the shorth of log(v) / 3 and the pooled mean within clip white-noise
+    volume's extremes or with fewer than min(block**3 / 8, the largest count) residuals left
+    out, and those whose residuals are all 0; the shorth of log(v) / 3 and the pooled mean within clip white-noise
     spreads. Returns (sigma, flat_share, usable blocks, flat blocks)."""
     f = v.astype(np.float64)
     nz, ny, nx = f.shape
@@ -249,9 +249,11 @@ def noise_level(v, block, clip=3.0):
     np.minimum.at(low, index, lo.ravel())
     np.maximum.at(high, index, hi.ravel())
     min_count = max(1, min(block ** 3 // 8, count.max()))
-    use = (count >= min_count) & (sums > 0) & (low > f.min()) & (high < f.max())
-    if not use.any():
-        return float("nan"), 0.0, 0, 0
+    usable = (count >= min_count) & (low > f.min()) & (high < f.max())
+    use = usable & (sums > 0)
+    if not use.any():  # sigma 0 on blocks whose residuals are all 0, NaN without usable blocks
+        n = int(usable.sum())
+        return (0.0 if n else float("nan")), float(count[usable].sum() / f.size), n, n
     y = np.log(sums[use] / count[use]) / 3
     ys = np.sort(y)
     h = (len(ys) + 1) // 2
@@ -261,4 +263,4 @@ def noise_level(v, block, clip=3.0):
     spread = np.sqrt(2 * (70 / 36) ** 3 / count[use]) / 3
     flat = np.abs(y - centre) <= clip * spread
     total = count[use][flat].sum()
-    return float(np.sqrt(sums[use][flat].sum() / total)), float(total / f.size), int(use.sum()), int(flat.sum())
+    return float(np.sqrt(sums[use][flat].sum() / total)), float(total / f.size), int(usable.sum()), int(flat.sum())

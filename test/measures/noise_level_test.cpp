@@ -212,6 +212,15 @@ TEST_CASE("Noise level: no residual, no usable block, bad options") {
     CHECK(std::isnan(l.sigma));
     CHECK(l.block == 4);
     CHECK(l.blocks == 64);
+    // An exact ramp has no residual anywhere: no noise, on every block that reads no extreme.
+    Volume ramp(Dims{40, 30, 20}, ValueType::float32);
+    for (std::size_t i = 0; i < ramp.vertices(); ++i)
+        ramp.as<float>()[i] = float(2 * (i % 40) + (i / 40 % 30) + 0.5 * double(i / 1200));
+    l = estimate_noise_level(ctx(), ramp);
+    CHECK(l.sigma == 0);
+    CHECK(l.flat_blocks == l.usable_blocks);
+    CHECK(l.flat_share > 0.3);
+    check_level(l, ref::noise_level(ref::noise_blocks(ramp, l.block), 32, 3.0), ValueType::float32);
     NoiseLevelOptions o;
     o.block = 1;
     CHECK_THROWS_AS(estimate_noise_level(ctx(), flat, o), InputError);

@@ -70,13 +70,15 @@ NoiseLevel noise_level(const NoiseBlocks& b, std::size_t map_block, double clip)
     for (std::size_t i = 0; i < r.blocks; ++i)
         if (b.count[i]) lo = std::min(lo, b.low[i]), hi = std::max(hi, b.high[i]), most = std::max(most, b.count[i]);
     const std::uint32_t min_count = std::max<std::uint32_t>(1, std::min<std::uint32_t>(std::uint32_t(b.block * b.block * b.block / 8), most));
-    std::vector<char> use(r.blocks);
+    std::vector<char> use(r.blocks);  // 0 left out, 1 usable with every residual 0, 2 usable with noise
     std::vector<double> variances;
+    double silent = 0;
     for (std::size_t i = 0; i < r.blocks; ++i) {
-        use[i] = b.count[i] >= min_count && b.sum_squares[i] > 0 && b.low[i] > lo && b.high[i] < hi;
-        if (use[i]) variances.push_back(b.sum_squares[i] / b.count[i]);
+        if (b.count[i] >= min_count && b.low[i] > lo && b.high[i] < hi) use[i] = b.sum_squares[i] > 0 ? 2 : 1;
+        if (use[i] == 2) variances.push_back(b.sum_squares[i] / b.count[i]);
+        if (use[i] == 1) silent += b.count[i];
     }
-    r.usable_blocks = variances.size();
+    r.usable_blocks = std::size_t(std::count_if(use.begin(), use.end(), [](char u) { return u > 0; }));
     // The map: cells of map_block / block blocks per axis.
     const std::size_t per = map_block / b.block;
     r.map_block = map_block;
@@ -87,11 +89,15 @@ NoiseLevel noise_level(const NoiseBlocks& b, std::size_t map_block, double clip)
         double sum = 0, count = 0;
         for (std::size_t i = 0; i < r.blocks; ++i) {
             const std::size_t x = i % b.grid.nx, y = i / b.grid.nx % b.grid.ny, z = i / (b.grid.nx * b.grid.ny);
-            if (use[i] && x / per == cx && y / per == cy && z / per == cz) sum += b.sum_squares[i], count += b.count[i];
+            if (use[i] > 0 && x / per == cx && y / per == cy && z / per == cz) sum += b.sum_squares[i], count += b.count[i];
         }
         if (count > 0) r.map[c] = float(std::sqrt(sum / count));
     }
-    if (variances.empty()) return r;
+    if (variances.empty()) {
+        r.flat_blocks = r.usable_blocks;
+        if (r.usable_blocks) r.sigma = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
+        return r;
+    }
     // The shorth of y = log(v) / 3: the shortest run of ceil(N / 2) sorted values, its median.
     std::vector<double> y;
     for (double v : variances) y.push_back(std::log(v) / 3);
@@ -104,7 +110,7 @@ NoiseLevel noise_level(const NoiseBlocks& b, std::size_t map_block, double clip)
     r.typical_variance = std::exp(3 * centre);
     double sum = 0, count = 0;
     for (std::size_t i = 0; i < r.blocks; ++i) {
-        if (!use[i]) continue;
+        if (use[i] != 2) continue;
         const double spread = std::sqrt(2 * std::pow(70.0 / 36, 3) / b.count[i]) / 3;
         if (std::abs(std::log(b.sum_squares[i] / b.count[i]) / 3 - centre) <= clip * spread)
             sum += b.sum_squares[i], count += b.count[i], ++r.flat_blocks;
