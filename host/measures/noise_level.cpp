@@ -51,13 +51,28 @@ NoiseBlocks empty_blocks(const Dims& d, std::size_t block) {
     return b;
 }
 
-// The largest power of two within the kernel's, local memory's and the block's limits.
-std::size_t work_group(const Context& ctx, std::size_t kernel_limit, std::size_t item_bytes, std::size_t block) {
-    const std::size_t limit =
-        std::min({max_work_group, kernel_limit, ctx.local_mem() / item_bytes, block * block * block});
+// The largest power of two within the kernel's, local memory's and the block's limits, for
+// items of item_bytes local memory each beside fixed_bytes for the group.
+std::size_t work_group(const Context& ctx, std::size_t kernel_limit, std::size_t item_bytes, std::size_t fixed_bytes,
+                       std::size_t block) {
+    const std::size_t free_bytes = ctx.local_mem() > fixed_bytes ? ctx.local_mem() - fixed_bytes : 0;
+    const std::size_t limit = std::min({max_work_group, kernel_limit, free_bytes / item_bytes, block * block * block});
     std::size_t wg = 1;
     while (wg * 2 <= limit) wg *= 2;
     return wg;
+}
+
+// kernels/noise_level.cl block_residuals and block_residuals_tiled (two more local arrays).
+using DirectCall = KernelCall<cl::Buffer, int, int, int, int, int, int, int, int, int, cl::Buffer, cl::Buffer,
+                              cl::Buffer, cl::Buffer, cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg,
+                              cl::LocalSpaceArg>;
+using TiledCall = KernelCall<cl::Buffer, int, int, int, int, int, int, int, int, int, cl::Buffer, cl::Buffer,
+                             cl::Buffer, cl::Buffer, cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg,
+                             cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg>;
+
+// Local memory of the tiled kernel's two arrays: (b + 2)^3 and b (b + 2)^2 values.
+std::size_t tile_bytes(SumKind k, std::size_t b) {
+    return ((b + 2) * (b + 2) * (b + 2) + b * (b + 2) * (b + 2)) * (k == SumKind::wide ? 8 : 4);
 }
 
 // The `count` sums of kind k in `buffer`, each over 216, into out[0..count).
@@ -83,21 +98,33 @@ void slab_blocks(const DeviceVolume& slab, std::size_t nz, std::size_t z_first, 
     const std::size_t count = rows * per_row, first = z_block / b.block * per_row;
     std::string options = type_options(slab.type()) + defines({{"BLOCK", std::to_string(b.block)}});
     if (kind == SumKind::integer) options += " -DINTEGER_SUMS";
-    // kernels/noise_level.cl block_residuals(v, nx, ny, nz, z_first, z_block, bx, by, sums,
-    // counts, lows, highs, local_sums, local_counts, local_lows, local_highs).
-    KernelCall<cl::Buffer, int, int, int, int, int, int, int, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-               cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg>
-        kernel(ctx, "noise_level", "block_residuals", options);
-    const std::size_t item_bytes = sum_bytes(kind) + 4 + 2 * value_bytes;
-    const std::size_t wg = work_group(ctx, kernel.work_group_limit(), item_bytes, b.block);
+    const std::size_t item_bytes = sum_bytes(kind) + 4 + 2 * value_bytes, tiles = tile_bytes(kind, b.block);
+    // The tiled kernel where its tile and at least 32 items fit in local memory.
+    const bool tiled = ctx.tuning.noise_tiles && ctx.local_mem() >= tiles + 32 * item_bytes;
     const cl::Buffer sums = create_buffer(ctx, CL_MEM_WRITE_ONLY, count * sum_bytes(kind));
     Buffer<cl_uint> counts(ctx, count, CL_MEM_WRITE_ONLY);
     const cl::Buffer lows = create_buffer(ctx, CL_MEM_WRITE_ONLY, count * value_bytes);
     const cl::Buffer highs = create_buffer(ctx, CL_MEM_WRITE_ONLY, count * value_bytes);
-    kernel(cl::NDRange(wg * count), cl::NDRange(wg), slab.buffer(), int(d.nx), int(d.ny), int(nz), int(z_first),
-           int(z_block), int(b.grid.nx), int(b.grid.ny), sums, counts.get(), lows, highs,
-           cl::Local(wg * sum_bytes(kind)), cl::Local(wg * 4), cl::Local(wg * value_bytes),
-           cl::Local(wg * value_bytes));
+    // kernels/noise_level.cl block_residuals[_tiled](v, nx, ny, nz, z_first, z_block, bx, by,
+    // blocks, per_group, sums, counts, lows, highs, local_sums, local_counts, local_lows,
+    // local_highs[, tile, along_x]). CPUs: a few groups per compute unit, each walking its blocks.
+    const std::size_t per_group = ctx.is_cpu() ? std::max<std::size_t>(1, count / (16 * ctx.compute_units())) : 1;
+    const std::size_t groups = (count + per_group - 1) / per_group;
+    const auto launch = [&](auto& kernel, auto... tile_args) {
+        const std::size_t wg = work_group(ctx, kernel.work_group_limit(), item_bytes, tiled ? tiles : 0, b.block);
+        kernel(cl::NDRange(wg * groups), cl::NDRange(wg), slab.buffer(), int(d.nx), int(d.ny), int(nz), int(z_first),
+               int(z_block), int(b.grid.nx), int(b.grid.ny), int(count), int(per_group), sums, counts.get(), lows, highs,
+               cl::Local(wg * sum_bytes(kind)), cl::Local(wg * 4), cl::Local(wg * value_bytes),
+               cl::Local(wg * value_bytes), tile_args...);
+    };
+    if (tiled) {
+        const std::size_t edge = b.block + 2, value = kind == SumKind::wide ? 8 : 4;
+        TiledCall kernel(ctx, "noise_level", "block_residuals_tiled", options);
+        launch(kernel, cl::Local(edge * edge * edge * value), cl::Local(b.block * edge * edge * value));
+    } else {
+        DirectCall kernel(ctx, "noise_level", "block_residuals", options);
+        launch(kernel);
+    }
     read_sums(ctx, sums, kind, count, b.sum_squares.data() + first);
     counts.read(ctx.queue(), b.count.data() + first, count);
     visit_type(slab.type(), [&](auto zero) {

@@ -103,10 +103,14 @@ double std_of_difference(const Volume& a, const Volume& b) {
 TEST_SUITE("noise") {
 
 TEST_CASE("Noise level: device block statistics equal the reference on awkward sizes and every type") {
+    testutil::TuningGuard guard;
     const Dims sizes[] = {{37, 23, 19}, {5, 40, 3}, {18, 3, 33}, {64, 17, 9}};
+    for (bool tiles : {true, false})
     for (ValueType t : all_value_types)
         for (const Dims& d : sizes)
             for (std::size_t block : {std::size_t(4), std::size_t(7), std::size_t(16)}) {
+                ctx().tuning.noise_tiles = tiles;
+                CAPTURE(tiles);
                 CAPTURE(value_type_name(t));
                 CAPTURE(dims_string(d));
                 CAPTURE(block);
