@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "clfractal/noise.hpp"
@@ -44,22 +45,55 @@ std::vector<CleanBand> clean_bands(const FdCurve& f, const BandOptions& o) {
     return bands;
 }
 
-double noise_ratio_from_edge_dimension(double d) {
+namespace {
+
+// A(g) of the Gaussian edge model (advice.hpp), for tau > 0.
+double gaussian_average_span(double g, double tau) {
+    const double pi = 3.14159265358979323846;
+    const double f = 0.5 * (g * g + tau * tau) * std::erf(g / (tau * std::sqrt(2.0))) +
+                     tau * g / std::sqrt(2 * pi) * std::exp(-g * g / (2 * tau * tau));
+    return f / g;
+}
+
+// The r in [0, inf) at which the increasing `dimension` reaches d (2 < d < 3): bracket, then
+// bisect to double precision.
+template <class F> double invert_dimension(const F& dimension, double d) {
     if (std::isnan(d)) return d;
     if (d <= 2) return 0;
     if (d >= 3) return INFINITY;
-    // expected_edge_dimension increases in r; bracket d, then bisect to double precision.
     double lo = 0, hi = 1;
-    while (expected_edge_dimension(hi) < d) {
+    while (dimension(hi) < d) {
         lo = hi;
         hi *= 2;
         if (hi > 1e12) return INFINITY;  // d within rounding of 3
     }
     for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
         const double mid = 0.5 * (lo + hi);
-        (expected_edge_dimension(mid) < d ? lo : hi) = mid;
+        (dimension(mid) < d ? lo : hi) = mid;
     }
     return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+double gaussian_edge_dimension(double r) {
+    if (!(r >= 0)) throw std::invalid_argument("gaussian_edge_dimension: r must be >= 0");
+    if (r == 0) return 2;
+    const double tau = r * std::sqrt(2.0);
+    return std::log2(8 * gaussian_average_span(1, tau) / gaussian_average_span(2, tau));
+}
+
+double noise_ratio_from_edge_dimension(double d) {
+    return invert_dimension([](double r) { return expected_edge_dimension(r); }, d);
+}
+
+double gaussian_noise_ratio_from_edge_dimension(double d) {
+    return invert_dimension([](double r) { return gaussian_edge_dimension(r); }, d);
+}
+
+double mean_edge_span_gaussian(double r) {
+    if (r == 0) return 0.5;
+    return gaussian_average_span(1, r * std::sqrt(2.0));
 }
 
 double mean_edge_span(double r) {
@@ -161,6 +195,20 @@ void check_share(double min_share) {
     if (!(min_share >= 0 && min_share <= 1)) throw InputError("the noise estimate's count share must be in [0, 1]");
 }
 
+// Theorem 1 inverted at isovalue j of e (uniform and Gaussian), from its edge dimension d.
+void invert_at(NoiseEstimate& e, std::size_t j, double d) {
+    const double r = noise_ratio_from_edge_dimension(d);
+    const double gamma = e.mean_span[j] * mean_edge_span(r) / (1.0 / 3 + 2 * r * r / 3);
+    e.ratio[j] = r;
+    e.gamma[j] = gamma;
+    e.amplitude[j] = r * gamma;
+    const double rg = gaussian_noise_ratio_from_edge_dimension(d);
+    const double gamma_g = e.mean_span[j] * mean_edge_span_gaussian(rg) / (1.0 / 3 + 2 * rg * rg);
+    e.ratio_gaussian[j] = rg;
+    e.gamma_gaussian[j] = gamma_g;
+    e.sigma_gaussian[j] = rg * gamma_g;
+}
+
 // The estimate from the edge counts of levels 0 and 1 and the host values of `v`.
 NoiseEstimate noise_from(Context& ctx, const Volume& v, const SpanResult& spans, const IsovalueSet& iso,
                          double min_share) {
@@ -172,28 +220,27 @@ NoiseEstimate noise_from(Context& ctx, const Volume& v, const SpanResult& spans,
     e.isovalues = iso;
     e.edge_fd = f.fd;
     e.edges = f.counts[0];
-    e.mean_span.assign(k, nan);
-    e.ratio.assign(k, nan);
-    e.gamma.assign(k, nan);
-    e.amplitude.assign(k, nan);
+    for (auto* field : {&e.mean_span, &e.ratio, &e.gamma, &e.amplitude, &e.ratio_gaussian, &e.gamma_gaussian,
+                        &e.sigma_gaussian})
+        field->assign(k, nan);
     const std::uint64_t largest = *std::max_element(f.counts[1].begin(), f.counts[1].end());
     const double floor_count = std::max(1.0, min_share * double(largest));
-    std::vector<double> ratios, amplitudes;
+    std::vector<double> ratios, amplitudes, ratios_g, sigmas_g;
     for (std::size_t j = 0; j < k; ++j) {
         if (sums.count[j]) e.mean_span[j] = sums.sum[j] / double(sums.count[j]);
         const double d = f.fd[j];
         if (std::isnan(d) || d < noise_fd_min || d > noise_fd_max || double(f.counts[1][j]) < floor_count) continue;
-        const double r = noise_ratio_from_edge_dimension(d);
-        const double gamma = e.mean_span[j] * mean_edge_span(r) / (1.0 / 3 + 2 * r * r / 3);
-        e.ratio[j] = r;
-        e.gamma[j] = gamma;
-        e.amplitude[j] = r * gamma;
-        ratios.push_back(r);
-        amplitudes.push_back(r * gamma);
+        invert_at(e, j, d);
+        ratios.push_back(e.ratio[j]);
+        amplitudes.push_back(e.amplitude[j]);
+        ratios_g.push_back(e.ratio_gaussian[j]);
+        sigmas_g.push_back(e.sigma_gaussian[j]);
     }
     e.used = ratios.size();
     e.median_ratio = median(ratios);
     e.median_amplitude = median(amplitudes);
+    e.median_ratio_gaussian = median(ratios_g);
+    e.median_sigma_gaussian = median(sigmas_g);
     return e;
 }
 

@@ -47,6 +47,21 @@ std::vector<CleanBand> clean_bands(const FdCurve& f, const BandOptions& o = {});
 /// +infinity for d >= 3, NaN for NaN.
 double noise_ratio_from_edge_dimension(double d);
 
+/// The edge model of noise.hpp for Gaussian noise of standard deviation r (gamma = 1) in
+/// closed form: with tau = r sqrt(2) the standard deviation of n_b - n_a,
+///   E|delta + n_b - n_a| = delta erf(delta / (tau sqrt 2)) + tau sqrt(2 / pi) exp(-delta^2 / (2 tau^2)),
+///   A(g) = F(g) / g,  F(g) = (g^2 + tau^2) / 2 erf(g / (tau sqrt 2)) + tau g / sqrt(2 pi) exp(-g^2 / (2 tau^2)),
+///   D = log2(8 A(1) / A(2)): 2 at r = 0, increasing to 3. expected_edge_dimension(r,
+/// NoiseKind::gaussian) integrates the same numerically (they agree to about 1e-6).
+double gaussian_edge_dimension(double r);
+
+/// The Gaussian inversion: the r = sigma_n / gamma whose gaussian_edge_dimension is `d`
+/// (0 for d <= 2, +infinity for d >= 3, NaN for NaN).
+double gaussian_noise_ratio_from_edge_dimension(double d);
+
+/// E|u + r (n1 - n2)| for u uniform on [0, 1] and n1, n2 standard normal: A(1) above.
+double mean_edge_span_gaussian(double r);
+
 /// The range of edge dimensions in which the inversion is trusted: below it D - 2 is within
 /// a few hundredths (the scatter of measured dimensions) of a clean surface, above it the
 /// curve is so flat that a hundredth in D moves r by more than 10%.
@@ -72,9 +87,15 @@ struct NoiseEstimate {
     std::vector<double> ratio;            ///< r(s) = mu / gamma; NaN outside the trusted range
     std::vector<double> gamma;            ///< gradient gamma(s) in grey values per voxel
     std::vector<double> amplitude;        ///< mu(s) = r(s) gamma(s), in grey values
+    /// The same under Gaussian noise: r(s) = sigma_n / gamma from gaussian_edge_dimension,
+    /// gamma(s) from the mean span E[w^2] / E[w] = gamma (1/3 + 2 r^2) / mean_edge_span_gaussian(r),
+    /// sigma_n(s) = r(s) gamma(s) in grey values; NaN outside the trusted range.
+    std::vector<double> ratio_gaussian, gamma_gaussian, sigma_gaussian;
     std::size_t used = 0;                 ///< isovalues with an estimate
     double median_ratio = std::numeric_limits<double>::quiet_NaN();
     double median_amplitude = std::numeric_limits<double>::quiet_NaN();  ///< uniform noise +-mu
+    double median_ratio_gaussian = std::numeric_limits<double>::quiet_NaN();
+    double median_sigma_gaussian = std::numeric_limits<double>::quiet_NaN();  ///< Gaussian noise std
 };
 
 /// Estimates the noise of `v` at every isovalue of `iso` whose edge count E_G'(s) is at least

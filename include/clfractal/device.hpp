@@ -114,6 +114,9 @@ struct Tuning {
     /// Use cl_khr_fp64 where the device has it (fd4.hpp: bins in double on the device);
     /// tests clear it to force the path for devices without it.
     bool use_fp64 = true;
+    /// Noise level (noise_level.hpp): blocks through local-memory tiles where they fit; tests
+    /// clear it to force the kernel that reads each residual's 27 values from global memory.
+    bool noise_tiles = true;
 };
 
 namespace detail {

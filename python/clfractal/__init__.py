@@ -35,7 +35,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "fd4", "components", "median", "gaussian",
-    "bilateral", "targeted_filter", "smooth", "mesh", "noise_dimension", "read_volume",
+    "bilateral", "targeted_filter", "smooth", "mesh", "noise_dimension", "noise_level", "read_volume",
     "devices", "device_description",
 ]
 
@@ -335,6 +335,30 @@ def mesh(volume, iso: float, method: str = "mc", color_by_ld: bool = False, wind
     verts = np.asarray(verts).reshape(-1, 3)
     faces = np.asarray(faces).reshape(-1, 3)
     return (verts, faces) if ld is None else (verts, faces, np.asarray(ld))
+
+
+def noise_level(volume, block: int = 0, map_block: int = 32, clip: float = 3.0,
+                device: str | None = None) -> dict:
+    """The standard deviation of the volume's noise in grey values, from the flat parts of the
+    volume (include/clfractal/noise_level.hpp; ``clfractal fd --noise-level``).
+
+    At every interior vertex the residual ``R`` is the product of the second differences
+    ``[1, -2, 1]`` along the three axes; ``R**2 / 216`` estimates the noise variance for every
+    noise distribution, and is 0 on fields that are at most quadratic along any one axis. Per
+    block of ``block**3`` vertices (0: 8, or 4 for volumes that hold fewer than 64 blocks of
+    8), blocks that read the volume's smallest or largest value (clipping) are left out; the
+    centre is the shorth of ``log(v) / 3`` over the block variances ``v``, the flat blocks lie
+    within ``clip`` white-noise spreads of it, and ``sigma**2`` is their pooled mean (0 when no
+    usable block has any residual, NaN when no block is usable). Returns
+    ``{"sigma", "flat_share" (the flat blocks' voxels over all voxels), "block", "blocks",
+    "blocks_usable", "blocks_flat", "typical_variance", "seconds", "map_cell", "map"}``;
+    ``map`` is the residual's RMS per cell of ``map_block**3`` vertices, a (z, y, x) float32
+    array, NaN where a cell has no usable block.
+    """
+    a, type_name = _volume(volume, uploaded=True)
+    r = dict(_clfractal.noise_level(a, type_name, int(block), int(map_block), float(clip), device))
+    r["map"] = np.asarray(r["map"]).reshape(r.pop("map_shape"))
+    return r
 
 
 def noise_dimension(mu, gamma: float = 1.0, kind: str = "uniform"):

@@ -33,6 +33,7 @@
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
 #include "clfractal/noise.hpp"
+#include "clfractal/noise_level.hpp"
 #include "clfractal/smooth.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
@@ -307,6 +308,30 @@ nb::dict fd4_call(const InArray& a, const std::string& type, double q, const std
                       {"d4", nb::cast(r.d4)}});
 }
 
+nb::dict noise_level_call(nb::handle a, const std::string& type, std::size_t block, std::size_t map_block, double clip,
+                          const std::optional<std::string>& device) {
+    const Input in = input_of(a, type);
+    NoiseLevelOptions o;
+    o.block = block;
+    o.map_block = map_block;
+    o.clip = clip;
+    NoiseLevel r = on_input(in, device, [&](Context& ctx) {
+        return in.device() ? estimate_noise_level(*in.device(), o) : estimate_noise_level(ctx, in.host(), o);
+    });
+    const Dims m = r.map_dims;
+    return make_dict({{"sigma", nb::cast(r.sigma)},
+                      {"flat_share", nb::cast(r.flat_share)},
+                      {"block", nb::cast(r.block)},
+                      {"blocks", nb::cast(r.blocks)},
+                      {"blocks_usable", nb::cast(r.usable_blocks)},
+                      {"blocks_flat", nb::cast(r.flat_blocks)},
+                      {"typical_variance", nb::cast(r.typical_variance)},
+                      {"seconds", nb::cast(r.seconds)},
+                      {"map_cell", nb::cast(r.map_block)},
+                      {"map_shape", nb::make_tuple(m.nz, m.ny, m.nx)},
+                      {"map", nb::cast(owned(std::move(r.map)))}});
+}
+
 nb::tuple components_call(nb::handle a, const std::string& type, const std::string& connectivity,
                           const std::optional<std::vector<double>>& isovalues, std::size_t bins,
                           const std::optional<std::string>& device) {
@@ -475,6 +500,7 @@ NB_MODULE(_clfractal, m) {
           "min_count"_a, "device"_a.none());
     m.def("local_fd", &local_fd_call, "volume"_a, "type"_a, "iso"_a, "window"_a, "device"_a.none());
     m.def("fd4", &fd4_call, "volume"_a, "type"_a, "q"_a, "device"_a.none());
+    m.def("noise_level", &noise_level_call, "volume"_a, "type"_a, "block"_a, "map_block"_a, "clip"_a, "device"_a.none());
     m.def("components", &components_call, "volume"_a, "type"_a, "connectivity"_a, "isovalues"_a.none(), "bins"_a,
           "device"_a.none());
     m.def("filter", &filter_call, "volume"_a, "type"_a, "method"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a,

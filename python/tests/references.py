@@ -217,3 +217,50 @@ def theorem1(r):
         mid = np.log2((32 * r ** 3 + 8 * r - 1) / (r ** 4 + 6 * r ** 2))
     low = np.log2(8 * (2 * r ** 2 + 3) / (r ** 2 + 6))
     return np.where(r >= 1, high, np.where(r >= 0.5, mid, low))
+
+
+def noise_level(v, block, clip=3.0):
+    """The noise level of include/clfractal/noise_level.hpp in NumPy: R, the product of
+    [1, -2, 1] along the three axes at every interior vertex; per block of block**3 vertices
+    the sum of R**2 / 216, the count and the range of the values read; blocks reading the
+    volume's extremes or with fewer than min(block**3 / 8, the largest count) residuals left
+    out, and those whose residuals are all 0; the shorth of log(v) / 3 and the pooled mean within clip white-noise
+    spreads. Returns (sigma, flat_share, usable blocks, flat blocks)."""
+    f = v.astype(np.float64)
+    nz, ny, nx = f.shape
+    w = {-1: 1.0, 0: -2.0, 1: 1.0}
+    r = np.zeros((nz - 2, ny - 2, nx - 2))
+    lo, hi = np.full(r.shape, np.inf), np.full(r.shape, -np.inf)
+    for dz in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                s = f[1 + dz:nz - 1 + dz, 1 + dy:ny - 1 + dy, 1 + dx:nx - 1 + dx]
+                r += w[dz] * w[dy] * w[dx] * s
+                lo, hi = np.minimum(lo, s), np.maximum(hi, s)
+    # Block index of every interior vertex (coordinates 1..n-2 of the volume).
+    gz, gy, gx = [-(-n // block) for n in (nz, ny, nx)]
+    iz, iy, ix = np.meshgrid(*[np.arange(1, n - 1) // block for n in (nz, ny, nx)], indexing="ij")
+    index = ((iz * gy + iy) * gx + ix).ravel()
+    nblocks = gz * gy * gx
+    sums = np.bincount(index, weights=(r ** 2).ravel() / 216, minlength=nblocks)
+    count = np.bincount(index, minlength=nblocks)
+    low = np.full(nblocks, np.inf)
+    high = np.full(nblocks, -np.inf)
+    np.minimum.at(low, index, lo.ravel())
+    np.maximum.at(high, index, hi.ravel())
+    min_count = max(1, min(block ** 3 // 8, count.max()))
+    usable = (count >= min_count) & (low > f.min()) & (high < f.max())
+    use = usable & (sums > 0)
+    if not use.any():  # sigma 0 on blocks whose residuals are all 0, NaN without usable blocks
+        n = int(usable.sum())
+        return (0.0 if n else float("nan")), float(count[usable].sum() / f.size), n, n
+    y = np.log(sums[use] / count[use]) / 3
+    ys = np.sort(y)
+    h = (len(ys) + 1) // 2
+    widths = ys[h - 1:] - ys[:len(ys) - h + 1]
+    best = int(np.argmin(widths))
+    centre = (ys[best + (h - 1) // 2] + ys[best + h // 2]) / 2
+    spread = np.sqrt(2 * (70 / 36) ** 3 / count[use]) / 3
+    flat = np.abs(y - centre) <= clip * spread
+    total = count[use][flat].sum()
+    return float(np.sqrt(sums[use][flat].sum() / total)), float(total / f.size), int(usable.sum()), int(flat.sum())

@@ -153,6 +153,34 @@ def test_fd4_matches_definition_and_cli(dtype, cli, tmp_path):
         clfractal.fd4(v, q=-1.0)
 
 
+# ------------------------------------------------------------------ noise_level
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int16, np.uint16, np.float32, np.float64])
+def test_noise_level_matches_definition_and_cli(dtype, cli, tmp_path):
+    rng = np.random.default_rng(4)
+    z, y, x = np.meshgrid(np.arange(30), np.arange(27), np.arange(41), indexing="ij")
+    clean = 120 + 60 * np.sin(0.2 * x) * np.cos(0.15 * y) + 2 * z
+    noisy = clean + rng.normal(0, 3, clean.shape)
+    if np.issubdtype(dtype, np.integer):
+        info = np.iinfo(dtype)
+        noisy = np.clip(np.round(noisy), info.min, min(info.max, 200))  # the top clipped at 200
+    v = noisy.astype(dtype)
+    for block in (4, 8):
+        r = clfractal.noise_level(v, block=block)
+        sigma, share, usable, flat = ref.noise_level(v, block)
+        assert (r["blocks_usable"], r["blocks_flat"]) == (usable, flat)
+        assert r["sigma"] == pytest.approx(sigma, rel=1e-5) and r["flat_share"] == pytest.approx(share, rel=1e-12)
+        assert r["sigma"] == pytest.approx(3.0, rel=0.08)
+        assert r["map"].dtype == np.float32 and r["map"].shape == (1, 1, 2)
+    assert clfractal.noise_level(clfractal.DeviceVolume(v))["sigma"] == clfractal.noise_level(v)["sigma"]
+    out = tmp_path / "fd.json"
+    cli("fd", write_raw(tmp_path, "v", v), "--noise-level", "--isovalues", "150", "--json", out)
+    j = json.loads(out.read_text())["noise"]
+    assert j["sigma"] == pytest.approx(clfractal.noise_level(v)["sigma"], rel=1e-12)
+    with pytest.raises(ValueError, match="block"):
+        clfractal.noise_level(v, block=1)
+
+
 # ------------------------------------------------------------------ local_fd
 
 def test_local_fd_reference_is_the_brute_force_count():

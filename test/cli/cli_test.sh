@@ -286,7 +286,10 @@ expect 2 'clfractal: error: /dev/zero: not a regular file' -- timeout 20 "$bin" 
 expect 0 'best 1 \.\. [0-9]+ .* use [0-9]+' -- "$bin" -q fd synthetic:sphere:40 --json adv.json --noise-level
 expect 0 'clean bands none' -- "$bin" -q fd synthetic:noisy-sphere:64 --clean-fd 2.0
 expect 0 '' -- "$bin" -q gen sphere --size 32 --noise 60 -o rough.nrrd
-expect 0 'noise +\+-[0-9.]+ grey values' -- "$bin" -q fd rough.nrrd --noise-level --json rough.json
+expect 0 'uniform r [0-9.]+ \(\+-[0-9.]+ grey values' -- "$bin" -q fd rough.nrrd --noise-level --json rough.json
+# The noise level: uniform noise +-6 on a uint8 sphere, rounded (std sqrt(12 + 1/12) = 3.476).
+expect 0 '' -- "$bin" -q gen sphere --size 64 --noise 6 -o grainy.nrrd
+expect 0 'noise sigma 3\.[0-9]+ grey levels \(estimated on [0-9.]+% of voxels\)' -- "$bin" -q fd grainy.nrrd --noise-level --json grainy.json
 python3 - <<'PY' && pass || fail "fd JSON clean_bands/noise"
 import json
 j = json.load(open("adv.json"))
@@ -297,9 +300,16 @@ for s in range(int(b[0]["first"]), int(b[0]["last"]) + 1):
     assert rows[s]["fd"] is not None and rows[s]["fd"] <= 2.2, (s, rows[s])
 r = json.load(open("rough.json"))
 assert r["clean_bands"] == [], r["clean_bands"]
-# uniform noise +-60 added to the clean sphere: estimated within 10%
-assert abs(r["noise"]["amplitude"] - 60) <= 6, r["noise"]["amplitude"]
-assert j["noise"]["amplitude"] is None or j["noise"]["amplitude"] < r["noise"]["amplitude"] / 10
+# uniform noise +-60 added to the clean sphere: Theorem 1 inverted per isovalue gives it within 10%
+surface = r["noise"]["surface"]
+assert abs(surface["amplitude"] - 60) <= 6, surface["amplitude"]
+assert j["noise"]["surface"]["amplitude"] is None or j["noise"]["surface"]["amplitude"] < surface["amplitude"] / 10
+assert surface["sigma_gaussian"] > 0 and all("ratio_gaussian" in p for p in surface["per_isovalue"]), surface
+# the clean sphere's noise level is its rounding; the grainy one's the added noise within 3%
+assert j["noise"]["sigma"] < 0.5, j["noise"]
+g = json.load(open("grainy.json"))["noise"]
+assert abs(g["sigma"] / (12 + 1 / 12) ** 0.5 - 1) < 0.03, g
+assert 0 < g["flat_share"] <= 1 and g["block"] == 8 and g["map"]["dims"] == [2, 2, 2] and len(g["map"]["rms"]) == 8, g
 PY
 expect 0 'auto: isovalue [0-9]+, the middle of the clean band' -- "$bin" local synthetic:sphere:40 --iso auto -o auto_ld.nrrd
 expect 2 'clfractal: error: --iso auto: rough.nrrd has no clean band' -- "$bin" -q mesh rough.nrrd --iso auto -o auto.ply

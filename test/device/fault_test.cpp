@@ -1,8 +1,8 @@
 // Device faults (FaultPlan): the N-th buffer allocation, kernel enqueue or program build
-// fails; walked over every step of fd, local, filter, components, noise and a stream. Each
+// fails; walked over every step of fd, local, filter, components, noise, the noise level and a stream. Each
 // run ends with a clean DeviceError naming the injected fault or with the fault-free result;
-// never a crash or another exception (an InputError is about the input, which is valid here). A failed allocation is recovered from: fd, local, noise and
-// the filters' slab path retry with smaller slabs, components with its host steps. Leaks are
+// never a crash or another exception (an InputError is about the input, which is valid here). A failed allocation is recovered from: fd, local, noise, the noise
+// level and the filters' slab path retry with smaller slabs, components with its host steps. Leaks are
 // left to the sanitizer build, which runs this suite too.
 #include <doctest/doctest.h>
 
@@ -15,6 +15,7 @@
 #include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/noise.hpp"
+#include "clfractal/noise_level.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
 #include "test_util.hpp"
@@ -105,7 +106,7 @@ void walk(const std::string& what, const Run& run, FaultSite site) {
 
 TEST_SUITE("faults") {
 
-TEST_CASE("every device step of fd, local, filter, components, noise and a stream fails cleanly or recovers") {
+TEST_CASE("every device step of fd, local, filter, components, noise, noise level and a stream fails cleanly or recovers") {
     const Volume v = testutil::random_volume({11, 9, 7}, ValueType::uint8, 0, 20, 31);
     const IsovalueSet iso = IsovalueSet::for_volume(v);
     const std::vector<std::pair<std::string, Run>> runs = {
@@ -130,6 +131,13 @@ TEST_CASE("every device step of fd, local, filter, components, noise and a strea
              opt.amplitude = 3;
              opt.keep_type = true;
              return bytes_of(add_noise(c, v, opt));
+         }},
+        {"noise level", [&](Context& c) {
+             const NoiseBlocks b = noise_blocks(c, v, 4);
+             auto out = bytes_of(b.sum_squares.data(), b.sum_squares.size());
+             const auto n = bytes_of(b.count.data(), b.count.size());
+             out.insert(out.end(), n.begin(), n.end());
+             return out;
          }},
         {"stream", [&](Context& c) {
              SpanStream s(c, v.dims().nx, v.dims().ny, v.type(), iso, 2);

@@ -87,6 +87,48 @@ TEST_CASE("mean edge span of the noise model against Monte Carlo") {
     }
 }
 
+TEST_CASE("Gaussian edge model: the closed form against the numerical integral, inverted, mean span") {
+    CHECK(gaussian_edge_dimension(0) == 2);
+    for (double r : {0.05, 0.2, 0.5, 1.0, 2.0, 5.0}) {
+        CAPTURE(r);
+        const double d = gaussian_edge_dimension(r);
+        CHECK(d == doctest::Approx(expected_edge_dimension(r, NoiseKind::gaussian)).epsilon(2e-6));
+        CHECK(gaussian_noise_ratio_from_edge_dimension(d) == doctest::Approx(r).epsilon(1e-9));
+    }
+    CHECK(gaussian_noise_ratio_from_edge_dimension(2.0) == 0);
+    CHECK(std::isinf(gaussian_noise_ratio_from_edge_dimension(3.0)));
+    CHECK(std::isnan(gaussian_noise_ratio_from_edge_dimension(std::nan(""))));
+    CHECK(mean_edge_span_gaussian(0) == 0.5);
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::normal_distribution<double> n(0, 1);
+    for (double r : {0.3, 1.0, 2.5}) {
+        double sum = 0;
+        const int samples = 400000;
+        for (int i = 0; i < samples; ++i) sum += std::abs(u(rng) + r * (n(rng) - n(rng)));
+        CAPTURE(r);
+        CHECK(mean_edge_span_gaussian(r) == doctest::Approx(sum / samples).epsilon(0.005));
+    }
+}
+
+TEST_CASE("the noise estimate's Gaussian inversion recovers Gaussian noise within 10%") {
+    const std::size_t n = 128;
+    const Volume clean = noise_experiment_volume("points", n, 10, 1);
+    const IsovalueSet iso = IsovalueSet::floats(default_noise_isovalues("points", n));
+    for (double sd : {0.5, 1.0, 2.0}) {
+        NoiseOptions o;
+        o.kind = NoiseKind::gaussian;
+        o.amplitude = sd;
+        o.seed = 12;
+        const NoiseEstimate e = estimate_noise(ctx(), add_noise(ctx(), clean, o), iso);
+        MESSAGE("Gaussian noise sd = " << sd << ": estimated " << e.median_sigma_gaussian << " (r "
+                                       << e.median_ratio_gaussian << ") from " << e.used << " isovalues");
+        CAPTURE(sd);
+        CHECK(e.used >= 4);
+        CHECK(std::abs(e.median_sigma_gaussian - sd) <= 0.1 * sd);
+    }
+}
+
 TEST_CASE("intersected edge spans: counts equal the device's E(s), sums the brute force") {
     std::uint32_t seed = 3;
     for (auto [d, t, lo, hi] : {std::tuple{Dims{9, 7, 5}, ValueType::uint8, 0L, 20L},

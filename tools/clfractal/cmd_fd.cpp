@@ -12,6 +12,7 @@
 #include "clfractal/advice.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/fd.hpp"
+#include "clfractal/noise_level.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
 #include "cli.hpp"
@@ -51,6 +52,7 @@ struct FdRun {
     ComponentCorrelation corr;
     std::vector<CleanBand> bands;
     NoiseEstimate noise;
+    NoiseLevel level;
 };
 
 FdRun count_fd(const FdArgs& a) {
@@ -97,9 +99,75 @@ FdRun count_fd(const FdArgs& a) {
     r.bands = clean_bands(r.f, BandOptions{a.clean_fd, a.clean_share});
     if (a.noise_level) {
         if (a.stream) throw InputError("--noise-level: not with --stream (it needs the whole volume)");
+        r.level = estimate_noise_level(ctx, v);
         r.noise = estimate_noise(ctx, v, r.iso, a.clean_share);
     }
     return r;
+}
+
+// A number with 3 significant digits ("4.01", "34.6", "0.000123").
+std::string short_number(double x) {
+    std::ostringstream o;
+    o << std::defaultfloat << std::setprecision(3) << x;
+    return o.str();
+}
+
+// The noise level, its map's range and the per-isovalue Theorem 1 inversion.
+void print_noise_level(std::ostream& out, const NoiseLevel& l, const NoiseEstimate& e) {
+    if (std::isnan(l.sigma)) {
+        out << "noise sigma n/a: no block of " << l.block << "^3 voxels is usable (each reads the volume's smallest "
+            << "or largest value, or has too few interior voxels)\n";
+    } else {
+        out << "noise sigma " << short_number(l.sigma) << " grey levels (estimated on "
+            << short_number(100 * l.flat_share) << "% of voxels)\n";
+        std::vector<float> cells;
+        for (float c : l.map)
+            if (!std::isnan(c)) cells.push_back(c);
+        std::sort(cells.begin(), cells.end());
+        out << "noise map   " << dims_string(l.map_dims) << " cells of " << l.map_block << "^3: residual RMS "
+            << short_number(cells.front()) << " .. " << short_number(cells.back()) << ", median "
+            << short_number(cells[cells.size() / 2]) << " (" << cells.size() << " cells with usable blocks)\n";
+    }
+    out << "surface     is the surface at s noise-dominated? r(s) = noise / gradient per isovalue (Theorem 1 "
+           "inverted)\n";
+    if (e.used == 0) {
+        out << "            n/a: no well-populated isovalue has an edge dimension in [" << noise_fd_min << ", "
+            << noise_fd_max << "] (below: too clean to measure; above: noise dominates)\n";
+        return;
+    }
+    out << "            median over " << e.used << " isovalues: uniform r " << short_number(e.median_ratio) << " (+-"
+        << short_number(e.median_amplitude) << " grey values, std " << short_number(e.median_amplitude / std::sqrt(3.0))
+        << "), Gaussian r " << short_number(e.median_ratio_gaussian) << " (std "
+        << short_number(e.median_sigma_gaussian) << ")\n";
+}
+
+// The noise object of the JSON report: the noise level with its map, and the per-isovalue
+// inversion (uniform and Gaussian) under "surface".
+json noise_level_json(const NoiseLevel& l, const NoiseEstimate& e) {
+    json map = json::array();
+    for (float c : l.map) map.push_back(std::isnan(c) ? json(nullptr) : json(double(c)));
+    json surface = noise_json(e);
+    surface["question"] = "is the surface at s noise-dominated: r(s) = noise / gradient, Theorem 1 inverted";
+    surface["ratio_gaussian"] = fd_json(e.median_ratio_gaussian);
+    surface["sigma_gaussian"] = fd_json(e.median_sigma_gaussian);
+    // noise_json lists the isovalues with an estimate in order.
+    std::size_t row = 0;
+    for (std::size_t k = 0; k < e.isovalues.size(); ++k) {
+        if (std::isnan(e.ratio[k])) continue;
+        json& r = surface["per_isovalue"][row++];
+        r["ratio_gaussian"] = e.ratio_gaussian[k];
+        r["gamma_gaussian"] = e.gamma_gaussian[k];
+        r["sigma_gaussian"] = e.sigma_gaussian[k];
+    }
+    return {{"sigma", fd_json(l.sigma)},
+            {"flat_share", l.flat_share},
+            {"block", l.block},
+            {"blocks", l.blocks},
+            {"blocks_usable", l.usable_blocks},
+            {"blocks_flat", l.flat_blocks},
+            {"seconds", l.seconds},
+            {"map", {{"cell", l.map_block}, {"dims", {l.map_dims.nx, l.map_dims.ny, l.map_dims.nz}}, {"rms", map}}},
+            {"surface", surface}};
 }
 
 void print_fd(const FdArgs& a, const FdRun& r) {
@@ -121,7 +189,7 @@ void print_fd(const FdArgs& a, const FdRun& r) {
     } else {
         std::cout << "mean FD     n/a (no isovalue intersects both grids)\n";
     }
-    if (a.noise_level) print_noise(std::cout, r.noise);
+    if (a.noise_level) print_noise_level(std::cout, r.level, r.noise);
     if (a.components)
         std::cout << "components  corr(D, components) " << fd_string(r.corr.components).substr(0, 6)
                   << "  corr(D, components / E) " << fd_string(r.corr.components_per_area).substr(0, 6) << " over "
@@ -155,7 +223,7 @@ json fd_json_report(const FdArgs& a, const FdRun& r) {
     j["seconds_compile"] = ctx.compile_seconds();
     j["slabs"] = r.spans.slabs;
     j["clean_bands"] = bands_json(f, r.bands);
-    if (a.noise_level) j["noise"] = noise_json(r.noise);
+    if (a.noise_level) j["noise"] = noise_level_json(r.level, r.noise);
     if (a.components) {
         j["corr_components"] = fd_json(r.corr.components);
         j["corr_components_per_area"] = fd_json(r.corr.components_per_area);
@@ -212,7 +280,8 @@ void setup_fd(CLI::App* fd, FdArgs& fa) {
     fd->add_option("--clean-fd", fa.clean_fd, "clean bands: D(s) at most this");
     fd->add_option("--clean-share", fa.clean_share, "clean bands: I(s) at least this share of the largest");
     fd->add_flag("--noise-level", fa.noise_level,
-                 "estimate the noise in grey values from the edge dimension (Theorem 1 inverted)");
+                 "the noise's standard deviation in grey values (residuals of flat blocks), and per isovalue "
+                 "whether the surface is noise-dominated (Theorem 1 inverted)");
     fa.raw.add(fd);
 }
 

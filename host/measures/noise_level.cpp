@@ -1,0 +1,329 @@
+// The noise level (noise_level.hpp): block statistics on the device, the robust estimate
+// from them on the host.
+#include "clfractal/noise_level.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <type_traits>
+
+#include "device/kernel_call.hpp"
+#include "device/slab_plan.hpp"
+#include "device/type_options.hpp"
+
+namespace clfractal {
+
+namespace {
+
+constexpr double residual_weight_squares = 216;  // (1 + 4 + 1)^3
+constexpr std::size_t max_work_group = 256;
+// Sum over all lags of the squared autocorrelation of R for white noise: per axis the
+// autocorrelation of [1 -2 1] is (1, -4/6, 1/6) at lags 0, 1, 2, so (1 + 2 (16 + 1) / 36)^3.
+constexpr double residual_correlation = (70.0 / 36) * (70.0 / 36) * (70.0 / 36);
+
+void check_block(std::size_t block) {
+    if (block < 2 || block > 64) throw InputError("noise level: block side " + std::to_string(block) + ": must be 2..64");
+}
+
+std::size_t blocks_along(std::size_t n, std::size_t block) { return (n + block - 1) / block; }
+
+// How the kernel sums: exactly in integers for 8- and 16-bit integer data, in double for
+// float64 data, in float otherwise (kernels/noise_level.cl).
+enum class SumKind { integer, wide, single };
+
+SumKind sum_kind(ValueType t) {
+    if (is_integer(t) && value_size(t) <= 2) return SumKind::integer;
+    return t == ValueType::float64 ? SumKind::wide : SumKind::single;
+}
+
+std::size_t sum_bytes(SumKind k) { return k == SumKind::single ? 4 : 8; }
+
+NoiseBlocks empty_blocks(const Dims& d, std::size_t block) {
+    NoiseBlocks b;
+    b.volume = d;
+    b.block = block;
+    b.grid = {blocks_along(d.nx, block), blocks_along(d.ny, block), blocks_along(d.nz, block)};
+    const std::size_t n = b.grid.vertices();
+    b.sum_squares.assign(n, 0.0);
+    b.count.assign(n, 0);
+    b.low.assign(n, 0.0);
+    b.high.assign(n, 0.0);
+    return b;
+}
+
+// The largest power of two within the kernel's, local memory's and the block's limits, for
+// items of item_bytes local memory each beside fixed_bytes for the group.
+std::size_t work_group(const Context& ctx, std::size_t kernel_limit, std::size_t item_bytes, std::size_t fixed_bytes,
+                       std::size_t block) {
+    const std::size_t free_bytes = ctx.local_mem() > fixed_bytes ? ctx.local_mem() - fixed_bytes : 0;
+    const std::size_t limit = std::min({max_work_group, kernel_limit, free_bytes / item_bytes, block * block * block});
+    std::size_t wg = 1;
+    while (wg * 2 <= limit) wg *= 2;
+    return wg;
+}
+
+// kernels/noise_level.cl block_residuals and block_residuals_tiled (two more local arrays).
+using DirectCall = KernelCall<cl::Buffer, int, int, int, int, int, int, int, int, int, cl::Buffer, cl::Buffer,
+                              cl::Buffer, cl::Buffer, cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg,
+                              cl::LocalSpaceArg>;
+using TiledCall = KernelCall<cl::Buffer, int, int, int, int, int, int, int, int, int, cl::Buffer, cl::Buffer,
+                             cl::Buffer, cl::Buffer, cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg,
+                             cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg>;
+
+// Local memory of the tiled kernel's two arrays: (b + 2)^3 and b (b + 2)^2 values.
+std::size_t tile_bytes(SumKind k, std::size_t b) {
+    return ((b + 2) * (b + 2) * (b + 2) + b * (b + 2) * (b + 2)) * (k == SumKind::wide ? 8 : 4);
+}
+
+// The `count` sums of kind k in `buffer`, each over 216, into out[0..count).
+void read_sums(Context& ctx, const cl::Buffer& buffer, SumKind k, std::size_t count, double* out) {
+    const auto read = [&](auto zero) {
+        std::vector<decltype(zero)> host(count);
+        ctx.queue().enqueueReadBuffer(buffer, CL_TRUE, 0, count * sizeof zero, host.data());
+        for (std::size_t i = 0; i < count; ++i) out[i] = double(host[i]) / residual_weight_squares;
+    };
+    if (k == SumKind::integer) read(cl_ulong());
+    else if (k == SumKind::wide) read(cl_double());
+    else read(cl_float());
+}
+
+// The statistics of `rows` block rows of `slab`, from the row starting at volume slice
+// z_block on; the slab's first slice is slice z_first of a volume of nz slices.
+void slab_blocks(const DeviceVolume& slab, std::size_t nz, std::size_t z_first, std::size_t z_block, std::size_t rows,
+                 NoiseBlocks& b) {
+    Context& ctx = slab.context();
+    const Dims d = slab.dims();
+    const SumKind kind = sum_kind(slab.type());
+    const std::size_t value_bytes = value_size(slab.type()), per_row = b.grid.nx * b.grid.ny;
+    const std::size_t count = rows * per_row, first = z_block / b.block * per_row;
+    std::string options = type_options(slab.type()) + defines({{"BLOCK", std::to_string(b.block)}});
+    if (kind == SumKind::integer) options += " -DINTEGER_SUMS";
+    const std::size_t item_bytes = sum_bytes(kind) + 4 + 2 * value_bytes, tiles = tile_bytes(kind, b.block);
+    // The tiled kernel where its tile and at least 32 items fit in local memory.
+    const bool tiled = ctx.tuning.noise_tiles && ctx.local_mem() >= tiles + 32 * item_bytes;
+    const cl::Buffer sums = create_buffer(ctx, CL_MEM_WRITE_ONLY, count * sum_bytes(kind));
+    Buffer<cl_uint> counts(ctx, count, CL_MEM_WRITE_ONLY);
+    const cl::Buffer lows = create_buffer(ctx, CL_MEM_WRITE_ONLY, count * value_bytes);
+    const cl::Buffer highs = create_buffer(ctx, CL_MEM_WRITE_ONLY, count * value_bytes);
+    // kernels/noise_level.cl block_residuals[_tiled](v, nx, ny, nz, z_first, z_block, bx, by,
+    // blocks, per_group, sums, counts, lows, highs, local_sums, local_counts, local_lows,
+    // local_highs[, tile, along_x]). CPUs: a few groups per compute unit, each walking its blocks.
+    const std::size_t per_group = ctx.is_cpu() ? std::max<std::size_t>(1, count / (16 * ctx.compute_units())) : 1;
+    const std::size_t groups = (count + per_group - 1) / per_group;
+    const auto launch = [&](auto& kernel, auto... tile_args) {
+        const std::size_t wg = work_group(ctx, kernel.work_group_limit(), item_bytes, tiled ? tiles : 0, b.block);
+        kernel(cl::NDRange(wg * groups), cl::NDRange(wg), slab.buffer(), int(d.nx), int(d.ny), int(nz), int(z_first),
+               int(z_block), int(b.grid.nx), int(b.grid.ny), int(count), int(per_group), sums, counts.get(), lows, highs,
+               cl::Local(wg * sum_bytes(kind)), cl::Local(wg * 4), cl::Local(wg * value_bytes),
+               cl::Local(wg * value_bytes), tile_args...);
+    };
+    if (tiled) {
+        const std::size_t edge = b.block + 2, value = kind == SumKind::wide ? 8 : 4;
+        TiledCall kernel(ctx, "noise_level", "block_residuals_tiled", options);
+        launch(kernel, cl::Local(edge * edge * edge * value), cl::Local(b.block * edge * edge * value));
+    } else {
+        DirectCall kernel(ctx, "noise_level", "block_residuals", options);
+        launch(kernel);
+    }
+    read_sums(ctx, sums, kind, count, b.sum_squares.data() + first);
+    counts.read(ctx.queue(), b.count.data() + first, count);
+    visit_type(slab.type(), [&](auto zero) {
+        using T = decltype(zero);
+        std::vector<T> lo(count), hi(count);
+        ctx.queue().enqueueReadBuffer(lows, CL_TRUE, 0, count * sizeof(T), lo.data());
+        ctx.queue().enqueueReadBuffer(highs, CL_TRUE, 0, count * sizeof(T), hi.data());
+        for (std::size_t i = 0; i < count; ++i) {
+            const bool any = b.count[first + i] > 0;
+            b.low[first + i] = any ? double(lo[i]) : 0.0;
+            b.high[first + i] = any ? double(hi[i]) : 0.0;
+        }
+    });
+}
+
+bool has_residuals(const Dims& d) { return d.nx >= 3 && d.ny >= 3 && d.nz >= 3; }
+
+}  // namespace
+
+std::size_t noise_block_side(const Dims& d) {
+    const Dims g{blocks_along(d.nx, 8), blocks_along(d.ny, 8), blocks_along(d.nz, 8)};
+    return g.vertices() >= 64 ? 8 : 4;
+}
+
+NoiseBlocks noise_blocks(const DeviceVolume& v, std::size_t block) {
+    check_block(block);
+    NoiseBlocks b = empty_blocks(v.dims(), block);
+    if (!has_residuals(v.dims())) return b;
+    check_int_axes(v.dims());
+    with_cl_errors([&] { slab_blocks(v, v.dims().nz, 0, 0, b.grid.nz, b); });
+    return b;
+}
+
+NoiseBlocks noise_blocks(Context& ctx, const Volume& v, std::size_t block, std::size_t slab_slices) {
+    check_block(block);
+    const Dims d = v.dims();
+    NoiseBlocks b = empty_blocks(d, block);
+    if (!has_residuals(d)) return b;
+    check_int_axes(d);
+    const std::size_t slice = d.nx * d.ny, bytes = value_size(v.type());
+    SlabNeed need;
+    need.nz = d.nz;
+    need.input_slice_bytes = slice * bytes;
+    need.halo = 1;
+    need.forced = slab_slices;
+    const auto* src = static_cast<const unsigned char*>(v.data());
+    // Slabs of whole block rows, one slice of halo on each side; a block's sums depend only
+    // on its own values, so every depth gives the same statistics.
+    with_smaller_slabs(plan_slab(ctx, need, d), [&](std::size_t depth) {
+        const std::size_t rows_per_slab = std::max<std::size_t>(1, depth / block);
+        with_cl_errors([&] {
+            for (std::size_t row = 0; row < b.grid.nz; row += rows_per_slab) {
+                const std::size_t rows = std::min(rows_per_slab, b.grid.nz - row), z_block = row * block;
+                const std::size_t z_first = z_block ? z_block - 1 : 0;
+                const std::size_t z_end = std::min(d.nz, z_block + rows * block + 1);
+                const DeviceVolume slab(ctx, src + z_first * slice * bytes, Dims{d.nx, d.ny, z_end - z_first},
+                                        v.type());
+                slab_blocks(slab, d.nz, z_first, z_block, rows, b);
+            }
+        });
+        return 0;
+    });
+    return b;
+}
+
+namespace {
+
+// The middle of the shortest run of ceil(n / 2) consecutive sorted values (the first such
+// run on ties): the median of that run, the midpoint of its two middle values when it has an
+// even count.
+double shorth_centre(const std::vector<double>& sorted) {
+    const std::size_t n = sorted.size(), h = (n + 1) / 2;
+    std::size_t best = 0;
+    for (std::size_t i = 1; i + h <= n; ++i)
+        if (sorted[i + h - 1] - sorted[i] < sorted[best + h - 1] - sorted[best]) best = i;
+    return 0.5 * (sorted[best + (h - 1) / 2] + sorted[best + h / 2]);
+}
+
+// What a block is to the estimate: left out; usable but its residuals all 0 (a constant or
+// exactly polynomial stretch); usable with noise.
+enum class BlockUse : char { left_out, silent, noisy };
+
+// Usable blocks have enough residuals and read none of the volume's extremes.
+std::vector<BlockUse> usable_blocks(const NoiseBlocks& b) {
+    const std::size_t n = b.count.size(), cube = b.block * b.block * b.block;
+    std::uint32_t most = 0;
+    double lo = 0, hi = 0;
+    bool any = false;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!b.count[i]) continue;
+        most = std::max(most, b.count[i]);
+        lo = any ? std::min(lo, b.low[i]) : b.low[i];
+        hi = any ? std::max(hi, b.high[i]) : b.high[i];
+        any = true;
+    }
+    const std::uint32_t min_count = std::max<std::uint32_t>(1, std::min<std::uint32_t>(std::uint32_t(cube / 8), most));
+    std::vector<BlockUse> use(n, BlockUse::left_out);
+    for (std::size_t i = 0; i < n; ++i)
+        if (b.count[i] >= min_count && b.low[i] > lo && b.high[i] < hi)
+            use[i] = b.sum_squares[i] > 0 ? BlockUse::noisy : BlockUse::silent;
+    return use;
+}
+
+// The noise map of `result` from the usable blocks.
+void noise_map(const NoiseBlocks& b, const std::vector<BlockUse>& use, std::size_t map_block, NoiseLevel& result) {
+    const std::size_t per = map_block / b.block;
+    const Dims g = b.grid;
+    const Dims m{blocks_along(g.nx, per), blocks_along(g.ny, per), blocks_along(g.nz, per)};
+    std::vector<double> sum(m.vertices(), 0.0), count(m.vertices(), 0.0);
+    for (std::size_t z = 0; z < g.nz; ++z)
+        for (std::size_t y = 0; y < g.ny; ++y)
+            for (std::size_t x = 0; x < g.nx; ++x) {
+                const std::size_t i = x + g.nx * (y + g.ny * z);
+                if (use[i] == BlockUse::left_out) continue;
+                const std::size_t c = x / per + m.nx * (y / per + m.ny * (z / per));
+                sum[c] += b.sum_squares[i];
+                count[c] += double(b.count[i]);
+            }
+    result.map_block = map_block;
+    result.map_dims = m;
+    result.map.resize(m.vertices());
+    for (std::size_t c = 0; c < m.vertices(); ++c)
+        result.map[c] = count[c] > 0 ? float(std::sqrt(sum[c] / count[c])) : std::numeric_limits<float>::quiet_NaN();
+}
+
+}  // namespace
+
+namespace {
+
+void check_options(const NoiseLevelOptions& o, std::size_t block) {
+    check_block(block);
+    if (!(o.clip > 0)) throw InputError("noise level: clip must be > 0");
+    if (o.map_block == 0 || o.map_block % block)
+        throw InputError("noise level: the map's cells (" + std::to_string(o.map_block) +
+                         ") must be a multiple of the block side (" + std::to_string(block) + ")");
+}
+
+// The standard deviation of log(v) / 3 for the variance v of a block of n residuals of
+// white Gaussian noise: v has relative variance 2 k / n, k the sum of the residual's squared
+// autocorrelations (residual_correlation), and log(v) / 3 a third of v's relative spread.
+double root_spread(std::uint32_t n) { return std::sqrt(2 * residual_correlation / double(n)) / 3; }
+
+}  // namespace
+
+NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions& o) {
+    check_options(o, b.block);
+    NoiseLevel r;
+    r.block = b.block;
+    r.blocks = b.count.size();
+    const std::vector<BlockUse> use = usable_blocks(b);
+    noise_map(b, use, o.map_block, r);
+    std::vector<double> y(use.size(), 0.0), sorted;
+    double silent = 0;
+    for (std::size_t i = 0; i < use.size(); ++i) {
+        if (use[i] == BlockUse::noisy) sorted.push_back(y[i] = std::log(b.sum_squares[i] / double(b.count[i])) / 3);
+        if (use[i] == BlockUse::silent) silent += double(b.count[i]), ++r.flat_blocks;
+    }
+    r.usable_blocks = sorted.size() + r.flat_blocks;
+    if (sorted.empty()) {
+        // No noise anywhere: sigma 0 on the silent blocks, NaN without any usable block.
+        if (r.flat_blocks) r.sigma = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
+        return r;
+    }
+    r.flat_blocks = 0;
+    std::sort(sorted.begin(), sorted.end());
+    const double centre = shorth_centre(sorted);
+    r.typical_variance = std::exp(3 * centre);
+    double sum = 0, count = 0;
+    for (std::size_t i = 0; i < use.size(); ++i) {
+        if (use[i] != BlockUse::noisy || std::abs(y[i] - centre) > o.clip * root_spread(b.count[i])) continue;
+        sum += b.sum_squares[i];
+        count += double(b.count[i]);
+        ++r.flat_blocks;
+    }
+    r.sigma = std::sqrt(sum / count);
+    r.flat_share = count / double(b.volume.vertices());
+    return r;
+}
+
+NoiseLevel estimate_noise_level(const DeviceVolume& v, const NoiseLevelOptions& o) {
+    const std::size_t block = o.block ? o.block : noise_block_side(v.dims());
+    check_options(o, block);
+    const ComputeTimer timer(v.context());
+    const NoiseBlocks b = noise_blocks(v, block);
+    const double seconds = timer.seconds();
+    NoiseLevel r = noise_level_from_blocks(b, o);
+    r.seconds = seconds;
+    return r;
+}
+
+NoiseLevel estimate_noise_level(Context& ctx, const Volume& v, const NoiseLevelOptions& o) {
+    const std::size_t block = o.block ? o.block : noise_block_side(v.dims());
+    check_options(o, block);
+    const ComputeTimer timer(ctx);
+    const NoiseBlocks b = noise_blocks(ctx, v, block, o.slab_slices);
+    const double seconds = timer.seconds();
+    NoiseLevel r = noise_level_from_blocks(b, o);
+    r.seconds = seconds;
+    return r;
+}
+
+}  // namespace clfractal

@@ -1,0 +1,106 @@
+// The noise level of a scan: the standard deviation of its noise in grey values, estimated
+// where the signal is locally flat, so that anatomy and edges do not count as noise.
+//
+// Residual. At every interior vertex the 3D second difference
+//     R(x) = sum over d in {-1,0,1}^3 of w(dx) w(dy) w(dz) v(x + d),  w(+-1) = 1, w(0) = -2
+// (the product of [1 -2 1] along the three axes, the 3D form of Immerkaer's mask). For
+// independent noise of standard deviation sigma, E[R^2] = 216 sigma^2 for every distribution
+// of the noise (216 is the sum of the squared weights), so R^2 / 216 estimates sigma^2 without
+// assuming Gaussian noise: uniform noise, the rounding of integer data and Gaussian noise are
+// measured alike. R is 0 on every field that is at most quadratic along any one axis, so
+// smooth anatomy, ramps and axis-aligned edges leave it almost untouched.
+//
+// Blocks. The volume is cut into blocks of block^3 vertices (kernels/noise_level.cl sums R^2
+// per block on the device, with the range of the values the block's residuals read). A block
+// is usable when it has at least min(block^3 / 8, the largest block's count) residuals and its
+// residuals read neither the volume's smallest nor its largest value: values at the extremes
+// are clipped (at an integer type's limits, a scanner's floor, a zeroed background), where the
+// noise is cut off or absent. Usable blocks whose residuals are all 0 (constant or exactly
+// polynomial stretches) take no part in the estimate; when no usable block has any residual,
+// sigma is 0 (estimated on those blocks), and NaN when no block is usable.
+//
+// Estimate. Per usable block with residual y_b = log(v_b) / 3, v_b = (sum of R^2 / 216) / count. For white
+// Gaussian noise y_b is near-normal (the cube root of a sum of squares, Wilson-Hilferty) with
+// standard deviation s(n) = sqrt(2 k / n) / 3 for n residuals, k = (70/36)^3 = 7.35 the sum of
+// R's squared autocorrelations. The centre c is the shorth of the y_b: the median of the
+// shortest run of ceil(N / 2) consecutive sorted values (the first on ties), which lies where
+// most blocks agree and which structure, inflating some blocks, does not pull. Flat blocks
+// have |y_b - c| <= clip s(count_b): they agree with c as well as pure noise would. sigma^2 is
+// the pooled mean over the flat blocks (their sum of R^2 / 216 over their count): unbiased for
+// every noise distribution, since the window is symmetric about c and wide. flat_share is the
+// flat blocks' residuals over all vertices. Where the noise itself varies across the volume,
+// sigma is the level most blocks share, and flat_share says how many.
+//
+// What it measures: the noise's white (vertex-to-vertex) part. Noise correlated across
+// neighbouring vertices (a reconstruction kernel, earlier smoothing) reads lower, as it does
+// for every residual-based estimator.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "clfractal/device.hpp"
+#include "clfractal/device_volume.hpp"
+#include "clfractal/volume.hpp"
+
+namespace clfractal {
+
+struct NoiseLevelOptions {
+    /// Block side in vertices, 2..64; 0: noise_block_side(dims).
+    std::size_t block = 0;
+    std::size_t map_block = 32;  ///< side of the noise map's cells, a multiple of block
+    double clip = 3;             ///< flat blocks lie within clip x s(count) of the centre
+    /// Largest z-slab of the host-volume overload in slices (0: from the device's memory);
+    /// rounded down to a multiple of block. Every slab depth gives the same result.
+    std::size_t slab_slices = 0;
+};
+
+/// The automatic block side: 8 when the volume holds at least 64 blocks of 8 (counted as
+/// ceil(n / 8) per axis), else 4. Blocks of 8 separate noise from structure well (a block's
+/// y varies by s = 5.7% from noise alone) while still fitting between clipped regions.
+std::size_t noise_block_side(const Dims& d);
+
+/// The per-block statistics, blocks x fastest, then y, then z; block (i, j, k) covers
+/// vertices [i b, (i + 1) b) x [j b, (j + 1) b) x [k b, (k + 1) b) of the volume.
+struct NoiseBlocks {
+    Dims volume{};                      ///< the volume's dims
+    std::size_t block = 0;              ///< block side
+    Dims grid{};                        ///< blocks per axis, ceil(n / block)
+    std::vector<double> sum_squares;    ///< sum of R^2 / 216 over the block's residuals
+    std::vector<std::uint32_t> count;   ///< residuals (interior vertices) of the block
+    std::vector<double> low, high;      ///< range of the values its residuals read (0 if none)
+};
+
+struct NoiseLevel {
+    double sigma = std::numeric_limits<double>::quiet_NaN();  ///< NaN: no usable block
+    double flat_share = 0;              ///< residuals of the flat blocks / all vertices
+    std::size_t blocks = 0, usable_blocks = 0, flat_blocks = 0;
+    std::size_t block = 0;
+    double typical_variance = std::numeric_limits<double>::quiet_NaN();  ///< exp(3 c), grey values^2
+    /// The noise map: per cell of map_block^3 vertices (x fastest), the residual's RMS over
+    /// the cell's usable blocks (silent ones included), sqrt(sum of R^2 / 216 / count): the local noise where the
+    /// cell is flat, more where it holds structure; NaN where the cell has no usable block.
+    std::size_t map_block = 0;
+    Dims map_dims{};
+    std::vector<float> map;
+    double seconds = 0;                 ///< device time of the block statistics (no compilation)
+};
+
+/// The block statistics of a volume on the device, in one piece. Throws InputError for a
+/// block side outside 2..64. A volume with an axis shorter than 3 has no residual (all
+/// counts 0).
+NoiseBlocks noise_blocks(const DeviceVolume& v, std::size_t block = 16);
+/// The same for a host volume, z-slab by z-slab (each slab of whole block rows uploads one
+/// slice more on each side); smaller slabs when the device runs out of memory.
+NoiseBlocks noise_blocks(Context& ctx, const Volume& v, std::size_t block = 16, std::size_t slab_slices = 0);
+
+/// The estimate from block statistics (the header's definition). Throws InputError for a
+/// map_block that is not a positive multiple of the blocks' side or a clip that is not > 0.
+NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions& o = {});
+
+/// noise_blocks, then noise_level_from_blocks.
+NoiseLevel estimate_noise_level(const DeviceVolume& v, const NoiseLevelOptions& o = {});
+NoiseLevel estimate_noise_level(Context& ctx, const Volume& v, const NoiseLevelOptions& o = {});
+
+}  // namespace clfractal

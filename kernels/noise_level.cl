@@ -1,0 +1,226 @@
+// The block statistics of the noise level (include/clfractal/noise_level.hpp).
+//
+// The residual of an interior vertex is the 3D second difference
+//     R = sum over the 27 offsets d in {-1,0,1}^3 of w(dx) w(dy) w(dz) v(x + d),
+//     w(-1) = w(1) = 1, w(0) = -2,
+// the product of [1 -2 1] along the three axes (the 3D form of Immerkaer's 2D mask). It is 0
+// on every field that is constant along any one axis or quadratic in it, and for independent
+// noise of standard deviation sigma it has variance 216 sigma^2 (the sum of the squared
+// weights, (1 + 4 + 1)^3), whatever the noise's distribution. Since the weights sum to 0,
+// R = sum w(d) (v(x + d) - v(x)): integer data subtracts in long first (exact).
+//
+// One work-group per block of BLOCK^3 vertices (x fastest, blocks x fastest, then y, z, of a
+// z-slab). Each item sums R^2 over its vertices, counts them and keeps the smallest and largest
+// value its residuals read; the group reduces the four in local memory (a tree over the
+// work-group size, a power of two). Vertices on the volume's faces have no residual. Two ways
+// to R: block_residuals_tiled loads the block with one vertex around it into local memory and
+// applies [1 -2 1] along x, y and z in turn (three passes); block_residuals reads the 27
+// values of every residual from global memory, for devices whose local memory cannot hold a
+// tile. Integer data gives the same sums either way.
+//
+// Defines: T (kernels/common.cl), BLOCK; INTEGER_SUMS for 8- and 16-bit integer data (R is
+// an integer, |R| <= 64 x 65535, R^2 and its sums exact in ulong); otherwise R and its sums in
+// float, or in double for float64 data (FP64).
+#pragma OPENCL FP_CONTRACT OFF
+
+#if defined(INTEGER_SUMS)
+typedef long residual_t;
+typedef int tile_t;  // |R| and every partial difference fit in int
+typedef ulong sum_t;
+#elif defined(T_IS_double)
+typedef double residual_t;
+typedef double tile_t;
+typedef double sum_t;
+#else
+typedef float residual_t;
+typedef float tile_t;
+typedef float sum_t;
+#endif
+
+inline residual_t residual_difference(T u, T c) {
+#if defined(T_IS_float) || defined(T_IS_double)
+    return (residual_t)u - (residual_t)c;
+#else
+    return (residual_t)((long)u - (long)c);
+#endif
+}
+
+inline int weight(int d) { return d == 0 ? -2 : 1; }
+
+// The residual of interior vertex (x, y, z) of the slab (z counted from the slab's first
+// slice), widening [lo, hi] by the values it reads.
+inline residual_t vertex_residual(__global const T* restrict v, int nx, int ny, int x, int y, int z, T* lo, T* hi) {
+    const long sy = nx, sz = (long)nx * (long)ny;
+    const long c = x + sy * y + sz * z;
+    const T vc = v[c];
+    residual_t r = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const T u = v[c + dx + sy * dy + sz * dz];
+                *lo = min(*lo, u);
+                *hi = max(*hi, u);
+                r += (residual_t)(weight(dx) * weight(dy) * weight(dz)) * residual_difference(u, vc);
+            }
+    return r;
+}
+
+// The group's sums, counts and ranges reduced in local memory; item 0 writes block b's.
+inline void reduce_block(sum_t s, uint n, T lo, T hi, int b, __global sum_t* restrict sums,
+                         __global uint* restrict counts, __global T* restrict lows, __global T* restrict highs,
+                         __local sum_t* local_sums, __local uint* local_counts, __local T* local_lows,
+                         __local T* local_highs) {
+    const int lid = (int)get_local_id(0), wg = (int)get_local_size(0);
+    local_sums[lid] = s;
+    local_counts[lid] = n;
+    local_lows[lid] = lo;
+    local_highs[lid] = hi;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int step = wg / 2; step > 0; step /= 2) {
+        if (lid < step) {
+            local_sums[lid] += local_sums[lid + step];
+            local_counts[lid] += local_counts[lid + step];
+            local_lows[lid] = min(local_lows[lid], local_lows[lid + step]);
+            local_highs[lid] = max(local_highs[lid], local_highs[lid + step]);
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid == 0) {
+        sums[b] = local_sums[0];
+        counts[b] = local_counts[0];
+        lows[b] = local_lows[0];
+        highs[b] = local_highs[0];
+    }
+}
+
+// Block b of a z-slab by the direct kernel: R from global memory, reduced and written.
+// The slab holds slices z_first .. of a volume of nz slices; its blocks start at volume slice
+// z_block (a multiple of BLOCK), and a vertex has a residual when it is interior to the whole
+// volume. Out: per block the sum of R^2, the residual count, and the range of the values read
+// (the first interior vertex's value where there is none).
+inline void direct_block(__global const T* restrict v, int nx, int ny, int nz, int z_first, int z_block, int bx,
+                         int by, int b, __global sum_t* restrict sums, __global uint* restrict counts,
+                         __global T* restrict lows, __global T* restrict highs, __local sum_t* local_sums,
+                         __local uint* local_counts, __local T* local_lows, __local T* local_highs) {
+    const int lid = (int)get_local_id(0), wg = (int)get_local_size(0);
+    const int x0 = (b % bx) * BLOCK, y0 = (b / bx % by) * BLOCK, z0 = z_block + b / (bx * by) * BLOCK;
+    // Every residual of the block reads its first interior vertex, so its value starts the range.
+    const int fx = max(x0, 1), fy = max(y0, 1), fz = max(z0, 1);
+    const bool any = fx <= nx - 2 && fy <= ny - 2 && fz <= nz - 2;
+    const size_t first = any ? (size_t)fx + (size_t)nx * ((size_t)fy + (size_t)ny * (size_t)(fz - z_first)) : 0;
+    T lo = v[first], hi = lo;
+    sum_t s = 0;
+    uint n = 0;
+    for (int i = lid; any && i < BLOCK * BLOCK * BLOCK; i += wg) {
+        const int x = x0 + i % BLOCK, y = y0 + i / BLOCK % BLOCK, z = z0 + i / (BLOCK * BLOCK);
+        if (x < 1 || y < 1 || z < 1 || x > nx - 2 || y > ny - 2 || z > nz - 2) continue;
+        const residual_t r = vertex_residual(v, nx, ny, x, y, z - z_first, &lo, &hi);
+#if defined(INTEGER_SUMS)
+        s += (sum_t)(r * r);
+#else
+        s += r * r;
+#endif
+        ++n;
+    }
+    reduce_block(s, n, lo, hi, b, sums, counts, lows, highs, local_sums, local_counts, local_lows, local_highs);
+}
+
+// Global size: work-group size x ceil(blocks / per_group), local: the work-group size. Each
+// group takes blocks g per_group .. (g + 1) per_group - 1 of the slab's `blocks` (bx by per
+// block row) in turn: several per group where launching groups costs more than their work
+// (CPUs).
+__kernel void block_residuals(__global const T* restrict v, int nx, int ny, int nz, int z_first, int z_block, int bx,
+                              int by, int blocks, int per_group, __global sum_t* restrict sums,
+                              __global uint* restrict counts, __global T* restrict lows, __global T* restrict highs,
+                              __local sum_t* local_sums, __local uint* local_counts, __local T* local_lows,
+                              __local T* local_highs) {
+    const int g = (int)get_group_id(0);
+    for (int b = g * per_group; b < min(blocks, (g + 1) * per_group); ++b) {
+        direct_block(v, nx, ny, nz, z_first, z_block, bx, by, b, sums, counts, lows, highs, local_sums, local_counts,
+                     local_lows, local_highs);
+        barrier(CLK_LOCAL_MEM_FENCE);  // the next block reuses local memory
+    }
+}
+
+// v - ref in tile_t: integers subtract in long (exact), float data in its own type. The
+// weights sum to 0, so R does not change, and a float tile keeps the precision of values far
+// from 0 (int32, uint32) relative to the block's own spread.
+inline tile_t tile_value(T u, T ref) {
+#if defined(T_IS_float) || defined(T_IS_double)
+    return (tile_t)(u - ref);
+#else
+    return (tile_t)((long)u - (long)ref);
+#endif
+}
+
+#define EDGE (BLOCK + 2)
+
+// As direct_block (the same results), through local memory: `tile` holds EDGE^3 values (the
+// block and one vertex around it, x fastest; 0 outside the volume, which no residual reads),
+// `along_x` BLOCK x EDGE x EDGE. The second difference along y goes back into `tile` (BLOCK x
+// BLOCK x EDGE), the one along z gives R.
+inline void tiled_block(__global const T* restrict v, int nx, int ny, int nz, int z_first, int z_block, int bx, int by,
+                        int b, __global sum_t* restrict sums, __global uint* restrict counts, __global T* restrict lows,
+                        __global T* restrict highs, __local sum_t* local_sums, __local uint* local_counts,
+                        __local T* local_lows, __local T* local_highs, __local tile_t* tile, __local tile_t* along_x) {
+    const int lid = (int)get_local_id(0), wg = (int)get_local_size(0);
+    const int x0 = (b % bx) * BLOCK, y0 = (b / bx % by) * BLOCK, z0 = z_block + b / (bx * by) * BLOCK;
+    const int fx = max(x0, 1), fy = max(y0, 1), fz = max(z0, 1);
+    const bool any = fx <= nx - 2 && fy <= ny - 2 && fz <= nz - 2;
+    const size_t first = any ? (size_t)fx + (size_t)nx * ((size_t)fy + (size_t)ny * (size_t)(fz - z_first)) : 0;
+    const T ref = v[first];
+    T lo = ref, hi = ref;
+    // The tile: vertices x0 - 1 .. x0 + BLOCK (y, z alike) that lie in the volume, exactly the
+    // values the block's residuals read.
+    for (int i = lid; i < EDGE * EDGE * EDGE; i += wg) {
+        const int x = x0 - 1 + i % EDGE, y = y0 - 1 + i / EDGE % EDGE, z = z0 - 1 + i / (EDGE * EDGE);
+        tile_t t = 0;
+        if (any && x >= 0 && y >= 0 && z >= 0 && x < nx && y < ny && z < nz) {
+            const T u = v[(size_t)x + (size_t)nx * ((size_t)y + (size_t)ny * (size_t)(z - z_first))];
+            lo = min(lo, u);
+            hi = max(hi, u);
+            t = tile_value(u, ref);
+        }
+        tile[i] = t;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int i = lid; i < BLOCK * EDGE * EDGE; i += wg) {
+        const int t = i / BLOCK * EDGE + i % BLOCK;
+        along_x[i] = tile[t] + tile[t + 2] - 2 * tile[t + 1];
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int i = lid; i < BLOCK * BLOCK * EDGE; i += wg) {
+        const int a = i % BLOCK + BLOCK * (i / BLOCK % BLOCK + EDGE * (i / (BLOCK * BLOCK)));
+        tile[i] = along_x[a] + along_x[a + 2 * BLOCK] - 2 * along_x[a + BLOCK];
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    sum_t s = 0;
+    uint n = 0;
+    for (int i = lid; any && i < BLOCK * BLOCK * BLOCK; i += wg) {
+        const int x = x0 + i % BLOCK, y = y0 + i / BLOCK % BLOCK, z = z0 + i / (BLOCK * BLOCK);
+        if (x < 1 || y < 1 || z < 1 || x > nx - 2 || y > ny - 2 || z > nz - 2) continue;
+        const tile_t r = tile[i] + tile[i + 2 * BLOCK * BLOCK] - 2 * tile[i + BLOCK * BLOCK];
+#if defined(INTEGER_SUMS)
+        s += (sum_t)((long)r * (long)r);
+#else
+        s += r * r;
+#endif
+        ++n;
+    }
+    reduce_block(s, n, lo, hi, b, sums, counts, lows, highs, local_sums, local_counts, local_lows, local_highs);
+}
+
+// As block_residuals, with the two tile arrays.
+__kernel void block_residuals_tiled(__global const T* restrict v, int nx, int ny, int nz, int z_first, int z_block,
+                                    int bx, int by, int blocks, int per_group, __global sum_t* restrict sums,
+                                    __global uint* restrict counts, __global T* restrict lows,
+                                    __global T* restrict highs, __local sum_t* local_sums, __local uint* local_counts,
+                                    __local T* local_lows, __local T* local_highs, __local tile_t* tile,
+                                    __local tile_t* along_x) {
+    const int g = (int)get_group_id(0);
+    for (int b = g * per_group; b < min(blocks, (g + 1) * per_group); ++b) {
+        tiled_block(v, nx, ny, nz, z_first, z_block, bx, by, b, sums, counts, lows, highs, local_sums, local_counts,
+                    local_lows, local_highs, tile, along_x);
+        barrier(CLK_LOCAL_MEM_FENCE);  // the next block reuses local memory
+    }
+}

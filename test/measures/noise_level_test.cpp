@@ -1,0 +1,239 @@
+// The noise level (noise_level.hpp): the device's block statistics against the plain
+// reference on awkward sizes, every value type and every slab split; the estimate against
+// the reference's; accuracy on fields of known noise.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include "clfractal/device_volume.hpp"
+#include "clfractal/noise.hpp"
+#include "clfractal/noise_level.hpp"
+#include "clfractal/synthetic.hpp"
+#include "reference/noise_level_reference.hpp"
+#include "test_util.hpp"
+
+using namespace clfractal;
+using testutil::ctx;
+
+namespace {
+
+// A smooth field plus Gaussian noise of `sigma`, rounded and clamped to t's range for
+// integer types (the field reaches past both limits of the 8-bit types, so some blocks are
+// clipped), offset far from 0 for the wide types.
+Volume field_volume(Dims d, ValueType t, double sigma, std::uint32_t seed) {
+    Volume v(d, t);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0.0, sigma);
+    const bool narrow = value_size(t) == 1;
+    const double centre = narrow ? (is_integer(t) && type_min(t) < 0 ? 0.0 : 128.0)
+                          : t == ValueType::uint32 ? 3.0e9 : t == ValueType::int32 ? -2.0e9
+                          : t == ValueType::float64 ? 1.0e7 : t == ValueType::uint16 ? 30000.0 : 0.0;
+    const double amplitude = narrow ? 150.0 : 400.0;
+    visit(v, [&](auto* p) {
+        using T = std::remove_pointer_t<decltype(p)>;
+        for (std::size_t z = 0; z < d.nz; ++z)
+            for (std::size_t y = 0; y < d.ny; ++y)
+                for (std::size_t x = 0; x < d.nx; ++x) {
+                    double f = centre + amplitude * std::sin(0.21 * double(x)) * std::cos(0.17 * double(y)) +
+                               3.0 * double(z) + noise(rng);
+                    if constexpr (std::is_integral_v<T>)
+                        f = std::clamp(std::round(f), double(std::numeric_limits<T>::min()),
+                                       double(std::numeric_limits<T>::max()));
+                    p[x + d.nx * (y + d.ny * z)] = T(f);
+                }
+    });
+    return v;
+}
+
+// Exact for 8- and 16-bit integer data (integer sums), float sums within 2e-5 otherwise.
+void check_blocks(const NoiseBlocks& got, const NoiseBlocks& want, ValueType t) {
+    REQUIRE(got.grid == want.grid);
+    REQUIRE(got.count.size() == want.count.size());
+    const bool exact = is_integer(t) && value_size(t) <= 2;
+    const double tolerance = t == ValueType::float64 ? 1e-12 : 2e-5;
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < got.count.size(); ++i) {
+        if (got.count[i] != want.count[i] || got.low[i] != want.low[i] || got.high[i] != want.high[i]) ++bad;
+        const double a = got.sum_squares[i], b = want.sum_squares[i];
+        if (exact ? a != b : std::abs(a - b) > tolerance * std::max(1.0, std::abs(b))) ++bad;
+    }
+    CHECK(bad == 0);
+}
+
+void check_level(const NoiseLevel& got, const NoiseLevel& want, ValueType t) {
+    const bool exact = is_integer(t) && value_size(t) <= 2;
+    CHECK(got.blocks == want.blocks);
+    CHECK(got.usable_blocks == want.usable_blocks);
+    CHECK(got.flat_blocks == want.flat_blocks);
+    CHECK(got.map_dims == want.map_dims);
+    REQUIRE(got.map.size() == want.map.size());
+    if (std::isnan(want.sigma)) {
+        CHECK(std::isnan(got.sigma));
+    } else if (exact) {
+        CHECK(got.sigma == want.sigma);
+        CHECK(got.flat_share == want.flat_share);
+    } else {
+        CHECK(got.sigma == doctest::Approx(want.sigma).epsilon(2e-5));
+        CHECK(got.flat_share == doctest::Approx(want.flat_share).epsilon(1e-12));
+    }
+    std::size_t bad = 0;
+    for (std::size_t c = 0; c < got.map.size(); ++c) {
+        const float a = got.map[c], b = want.map[c];
+        if (std::isnan(a) != std::isnan(b) || (!std::isnan(b) && std::abs(a - b) > 2e-5f * std::max(1.0f, b))) ++bad;
+    }
+    CHECK(bad == 0);
+}
+
+// The standard deviation of a - b over every vertex.
+double std_of_difference(const Volume& a, const Volume& b) {
+    const Volume fa = convert_volume(a, ValueType::float64), fb = convert_volume(b, ValueType::float64);
+    const double* p = fa.as<double>();
+    const double* q = fb.as<double>();
+    double s = 0, s2 = 0;
+    const std::size_t n = a.vertices();
+    for (std::size_t i = 0; i < n; ++i) s += p[i] - q[i], s2 += (p[i] - q[i]) * (p[i] - q[i]);
+    return std::sqrt(s2 / double(n) - (s / double(n)) * (s / double(n)));
+}
+
+}  // namespace
+
+TEST_SUITE("noise") {
+
+TEST_CASE("Noise level: device block statistics equal the reference on awkward sizes and every type") {
+    testutil::TuningGuard guard;
+    const Dims sizes[] = {{37, 23, 19}, {5, 40, 3}, {18, 3, 33}, {64, 17, 9}};
+    for (bool tiles : {true, false})
+    for (ValueType t : all_value_types)
+        for (const Dims& d : sizes)
+            for (std::size_t block : {std::size_t(4), std::size_t(7), std::size_t(16)}) {
+                ctx().tuning.noise_tiles = tiles;
+                CAPTURE(tiles);
+                CAPTURE(value_type_name(t));
+                CAPTURE(dims_string(d));
+                CAPTURE(block);
+                const Volume v = field_volume(d, t, 6.0, std::uint32_t(d.nx * 131 + block));
+                const NoiseBlocks want = ref::noise_blocks(v, block);
+                const DeviceVolume dv(ctx(), v);
+                check_blocks(noise_blocks(dv, block), want, t);
+                // Host overload, whole and in slabs of one and two block rows.
+                for (std::size_t slab : {std::size_t(0), block, 2 * block + 1})
+                    check_blocks(noise_blocks(ctx(), v, block, slab), want, t);
+                const std::size_t map_block = 2 * block;
+                NoiseLevelOptions o;
+                o.block = block;
+                o.map_block = map_block;
+                check_level(estimate_noise_level(dv, o), ref::noise_level(want, map_block, 3.0), t);
+            }
+}
+
+TEST_CASE("Noise level: the estimate equals the reference's on a clipped uint8 volume, and slab splits agree") {
+    // 128 + 60 sin(0.21 x) cos(0.17 y) + 2 z + Gaussian noise of 4, rounded: the top slices
+    // pass 255 and are clipped.
+    const Dims d{96, 80, 64};
+    Volume v(d, ValueType::uint8);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, 4.0);
+    for (std::size_t i = 0; i < d.vertices(); ++i) {
+        const double x = double(i % d.nx), y = double(i / d.nx % d.ny), z = double(i / (d.nx * d.ny));
+        const double f = 128 + 60 * std::sin(0.21 * x) * std::cos(0.17 * y) + 2 * z + noise(rng);
+        v.as<std::uint8_t>()[i] = std::uint8_t(std::clamp(std::round(f), 0.0, 255.0));
+    }
+    REQUIRE(noise_block_side(d) == 8);
+    const NoiseBlocks want = ref::noise_blocks(v, 8);
+    const NoiseLevel r = ref::noise_level(want, 32, 3.0);
+    const DeviceVolume dv(ctx(), v);
+    const NoiseLevel got = estimate_noise_level(dv);
+    CHECK(got.block == 8);
+    check_level(got, r, ValueType::uint8);
+    // The clipped blocks (reading 255) are left out, the rest give the added noise and its rounding.
+    CHECK(got.usable_blocks < got.blocks);
+    CHECK(got.usable_blocks > got.blocks / 3);
+    CHECK(got.sigma == doctest::Approx(std::sqrt(16.0 + 1.0 / 12)).epsilon(0.03));
+    for (std::size_t slab : {std::size_t(8), std::size_t(33)}) {
+        NoiseLevelOptions o;
+        o.slab_slices = slab;
+        const NoiseLevel s = estimate_noise_level(ctx(), v, o);
+        CHECK(s.sigma == got.sigma);
+        CHECK(s.flat_share == got.flat_share);
+    }
+}
+
+TEST_CASE("Noise level: Gaussian and uniform noise of known standard deviation on smooth fields") {
+    SyntheticOptions so;
+    so.size = 96;
+    so.type = ValueType::float32;
+    const Volume sphere = make_synthetic("sphere", so);
+    for (NoiseKind kind : {NoiseKind::gaussian, NoiseKind::uniform})
+        for (double sd : {0.5, 2.0, 8.0}) {
+            CAPTURE(noise_kind_name(kind));
+            CAPTURE(sd);
+            NoiseOptions no;
+            no.kind = kind;
+            no.amplitude = kind == NoiseKind::uniform ? sd * std::sqrt(3.0) : sd;
+            no.seed = 5;
+            const Volume noisy = add_noise(ctx(), sphere, no);
+            const double truth = std_of_difference(noisy, sphere);
+            const NoiseLevel l = estimate_noise_level(ctx(), noisy);
+            CHECK(l.sigma == doctest::Approx(truth).epsilon(0.02));
+            CHECK(l.flat_share > 0.5);
+        }
+}
+
+TEST_CASE("Noise level: rounding and clipping of integer data") {
+    // A ramp 20..235 in uint8 plus Gaussian noise of 3, rounded: the truth includes the
+    // rounding of the noisy values (the clean ramp is exact integers).
+    const Dims d{80, 80, 80};
+    Volume clean(d, ValueType::uint8);
+    for (std::size_t i = 0; i < d.vertices(); ++i) clean.as<std::uint8_t>()[i] = std::uint8_t(20 + (i % d.nx) * 215 / 79);
+    NoiseOptions no;
+    no.kind = NoiseKind::gaussian;
+    no.amplitude = 3;
+    no.keep_type = true;
+    const Volume noisy = add_noise(ctx(), clean, no);
+    CHECK(estimate_noise_level(ctx(), noisy).sigma == doctest::Approx(std_of_difference(noisy, clean)).epsilon(0.02));
+    // Half the volume a background at 0: its clipped noise is left out, the other half
+    // gives the noise.
+    for (std::size_t i = 0; i < d.vertices(); ++i)
+        if (i / (d.nx * d.ny) < d.nz / 2) clean.as<std::uint8_t>()[i] = 0;
+    const Volume clipped = add_noise(ctx(), clean, no);
+    const NoiseLevel l = estimate_noise_level(ctx(), clipped);
+    CHECK(l.sigma == doctest::Approx(std::sqrt(9.0 + 1.0 / 12)).epsilon(0.03));
+    CHECK(l.flat_share < 0.5);
+    CHECK(l.flat_share > 0.3);
+}
+
+TEST_CASE("Noise level: no residual, no usable block, bad options") {
+    const Volume flat(Dims{20, 20, 20}, ValueType::uint8);  // all 0: every block reads the extremes
+    NoiseLevel l = estimate_noise_level(ctx(), flat);
+    CHECK(std::isnan(l.sigma));
+    CHECK(l.usable_blocks == 0);
+    CHECK(l.flat_share == 0);
+    const Volume thin = testutil::random_volume({30, 2, 30}, ValueType::float32, 0, 100, 3);
+    l = estimate_noise_level(ctx(), thin);
+    CHECK(std::isnan(l.sigma));
+    CHECK(l.block == 4);
+    CHECK(l.blocks == 64);
+    // An exact ramp has no residual anywhere: no noise, on every block that reads no extreme.
+    Volume ramp(Dims{40, 30, 20}, ValueType::float32);
+    for (std::size_t i = 0; i < ramp.vertices(); ++i)
+        ramp.as<float>()[i] = float(2 * (i % 40) + (i / 40 % 30) + 0.5 * double(i / 1200));
+    l = estimate_noise_level(ctx(), ramp);
+    CHECK(l.sigma == 0);
+    CHECK(l.flat_blocks == l.usable_blocks);
+    CHECK(l.flat_share > 0.3);
+    check_level(l, ref::noise_level(ref::noise_blocks(ramp, l.block), 32, 3.0), ValueType::float32);
+    NoiseLevelOptions o;
+    o.block = 1;
+    CHECK_THROWS_AS(estimate_noise_level(ctx(), flat, o), InputError);
+    o.block = 16;
+    o.map_block = 24;
+    CHECK_THROWS_AS(estimate_noise_level(ctx(), flat, o), InputError);
+    o.map_block = 32;
+    o.clip = 0;
+    CHECK_THROWS_AS(estimate_noise_level(ctx(), flat, o), InputError);
+}
+
+}  // TEST_SUITE
