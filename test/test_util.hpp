@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "clfractal/device.hpp"
+#include "clfractal/fd.hpp"
 #include "clfractal/error.hpp"
 #include "clfractal/volume.hpp"
 
@@ -124,6 +125,16 @@ inline std::vector<RealVolume> real_volumes(const std::string& what) {
         out.push_back(v);
     }
     return out;
+}
+
+/// A curve over the integer isovalues 0..n-1 with the given D and the same counts on both
+/// levels.
+inline clfractal::FdCurve curve(const std::vector<double>& fd, const std::vector<std::uint64_t>& count) {
+    clfractal::FdCurve f;
+    f.isovalues = clfractal::IsovalueSet::integers(0, std::int64_t(fd.size()) - 1);
+    f.fd = fd;
+    f.counts = {count, count};
+    return f;
 }
 
 }  // namespace testutil

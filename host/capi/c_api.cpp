@@ -11,6 +11,7 @@
 #include <new>
 #include <string>
 
+#include "clfractal/analysis.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/fd4.hpp"
 #include "clfractal/local.hpp"
@@ -31,6 +32,11 @@ struct clf_volume {
 
 struct clf_curve {
     FdCurve curve;
+};
+
+struct clf_analysis {
+    Analysis analysis;
+    std::string json;
 };
 
 struct clf_stream {
@@ -346,6 +352,78 @@ clf_status clf_fd4_compute(clf_context* ctx, const clf_volume* volume, double q,
         const Fd4Result r = fractal_dimension_4d(*ctx->ctx, volume->volume, q);
         *out = clf_fd4{r.q, r.vmin, r.i4, r.i4_sub, r.d4};
     });
+}
+
+void clf_analysis_options_default(clf_analysis_options* options) {
+    if (!options) return;
+    const AnalysisOptions o;
+    *options = clf_analysis_options{o.advice.clean_fd, o.advice.noisy_fd, o.advice.clean_share, o.bins, 1, 1, 0, 1,
+                                    o.window};
+}
+
+clf_status clf_analyse(clf_context* ctx, const clf_volume* volume, const clf_analysis_options* options,
+                       clf_analysis** out) {
+    return guarded([&] {
+        require(ctx && volume && out, "clf_analyse: context, volume or out is NULL");
+        *out = nullptr;
+        clf_analysis_options c;
+        clf_analysis_options_default(&c);
+        if (options) c = *options;
+        require(c.components >= 0 && c.components <= 2, "clf_analyse: components must be 0, 1 or 2");
+        require(c.bins > 0, "clf_analyse: bins must be > 0");
+        AnalysisOptions o;
+        o.advice.clean_fd = c.clean_fd;
+        o.advice.noisy_fd = c.noisy_fd;
+        o.advice.clean_share = c.clean_share;
+        o.bins = c.bins;
+        o.components = c.components == 0 ? ComponentsScope::none
+                       : c.components == 1 ? ComponentsScope::recommended
+                                           : ComponentsScope::curve;
+        o.noise_level = o.surface_noise = c.noise_level != 0;
+        o.fd4 = c.fd4 != 0;
+        o.denoise = c.denoise != 0;
+        require(window_problem(c.window).empty(), "clf_analyse: window must be even and >= 2");
+        o.window = c.window;
+        auto a = std::make_unique<clf_analysis>();
+        a->analysis = analyse(*ctx->ctx, volume->volume, o);
+        a->json = to_json(a->analysis);
+        *out = a.release();
+    });
+}
+
+void clf_analysis_destroy(clf_analysis* analysis) {
+    delete analysis;
+    last_error.clear();
+}
+
+size_t clf_analysis_recommended(const clf_analysis* analysis) {
+    return got<size_t>(analysis != nullptr, analysis ? analysis->analysis.recommended.size() : 0, 0,
+                       "clf_analysis_recommended: analysis is NULL");
+}
+
+clf_status clf_analysis_recommendation(const clf_analysis* analysis, size_t i, clf_recommendation* out) {
+    return guarded([&] {
+        require(analysis && out, "clf_analysis_recommendation: analysis or out is NULL");
+        const Analysis& a = analysis->analysis;
+        require(i < a.recommended.size(), "clf_analysis_recommendation: index out of range");
+        const Recommendation& e = a.recommended[i];
+        *out = clf_recommendation{e.isovalue, e.fd, e.count, e.count_sub, e.components, int(e.verdict),
+                                  a.isovalues.value(e.first), a.isovalues.value(e.last)};
+    });
+}
+
+int clf_analysis_clean(const clf_analysis* analysis) {
+    return got(analysis != nullptr, analysis && analysis->analysis.clean ? 1 : 0, 0, "clf_analysis_clean: analysis is NULL");
+}
+
+double clf_analysis_noise_sigma(const clf_analysis* analysis) {
+    const double sigma = analysis && analysis->analysis.noise_level ? analysis->analysis.noise_level->sigma : NAN;
+    return got(analysis != nullptr, sigma, double(NAN), "clf_analysis_noise_sigma: analysis is NULL");
+}
+
+const char* clf_analysis_json(const clf_analysis* analysis) {
+    return got<const char*>(analysis != nullptr, analysis ? analysis->json.c_str() : nullptr, nullptr,
+                            "clf_analysis_json: analysis is NULL");
 }
 
 }  // extern "C"

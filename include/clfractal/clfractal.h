@@ -183,6 +183,54 @@ typedef struct clf_fd4 {
  * the bins overflow is CLF_ERROR_INPUT. */
 clf_status clf_fd4_compute(clf_context* ctx, const clf_volume* volume, double q, clf_fd4* out);
 
+/* ---- the analysis: which isovalue to use, how noisy the scan is, what denoising helps ----
+ * (clfractal::analyse; the same recommendations as `clfractal fd` and `clfractal report`) */
+
+typedef struct clf_analysis clf_analysis;
+
+/* clean: D <= clean_fd; noisy: D >= noisy_fd; rough between; undefined where D is. */
+typedef enum clf_verdict { CLF_VERDICT_CLEAN = 0, CLF_VERDICT_ROUGH = 1, CLF_VERDICT_NOISY = 2, CLF_VERDICT_UNDEFINED = 3 } clf_verdict;
+
+typedef struct clf_analysis_options {
+    double clean_fd;    /* default 2.2 */
+    double noisy_fd;    /* default 2.5 */
+    double clean_share; /* well-populated: I(s) >= clean_share x the largest; default 0.01 */
+    size_t bins;        /* uniform isovalues of float and wide data; default 256 */
+    int components;     /* 0: none, 1: at the recommended isovalues (default), 2: the whole curve */
+    int noise_level;    /* nonzero: noise.sigma and Theorem 1 inverted per isovalue (default 1) */
+    int fd4;            /* nonzero: the 4D dimension (default 0) */
+    int denoise;        /* nonzero: when nothing is clean, try the denoising ladder (default 1) */
+    int window;         /* LD window of the targeted filter (default 8) */
+} clf_analysis_options;
+
+typedef struct clf_recommendation {
+    double isovalue;
+    double fd;            /* NaN where undefined */
+    uint64_t count;       /* I(s) */
+    uint64_t count_sub;   /* I(s) on the subsampled grid */
+    int64_t components;   /* -1 when not computed */
+    int verdict;          /* clf_verdict */
+    double first, last;   /* the band it represents */
+} clf_recommendation;
+
+void clf_analysis_options_default(clf_analysis_options* options);
+/* The analysis of `volume`; options may be NULL (the defaults). A constant volume (no cube
+ * intersected anywhere) is CLF_ERROR_INPUT. */
+clf_status clf_analyse(clf_context* ctx, const clf_volume* volume, const clf_analysis_options* options,
+                       clf_analysis** out);
+void clf_analysis_destroy(clf_analysis* analysis);
+/* Recommended isovalues, best first: at least 1. */
+size_t clf_analysis_recommended(const clf_analysis* analysis);
+clf_status clf_analysis_recommendation(const clf_analysis* analysis, size_t i, clf_recommendation* out);
+/* 1 when a well-populated isovalue is clean, else 0 (then the first recommendation is the
+ * cleanest, and the JSON's "denoise" says what makes the scan clean). */
+int clf_analysis_clean(const clf_analysis* analysis);
+/* noise.sigma in grey values; NaN when not computed or no block is usable. */
+double clf_analysis_noise_sigma(const clf_analysis* analysis);
+/* The whole analysis as JSON (the schema of `clfractal fd --json`'s shared part), valid
+ * while the analysis lives. */
+const char* clf_analysis_json(const clf_analysis* analysis);
+
 #ifdef __cplusplus
 }
 #endif

@@ -311,9 +311,37 @@ g = json.load(open("grainy.json"))["noise"]
 assert abs(g["sigma"] / (12 + 1 / 12) ** 0.5 - 1) < 0.03, g
 assert 0 < g["flat_share"] <= 1 and g["block"] == 8 and g["map"]["dims"] == [2, 2, 2] and len(g["map"]["rms"]) == 8, g
 PY
-expect 0 'auto: isovalue [0-9]+, the middle of the clean band' -- "$bin" local synthetic:sphere:40 --iso auto -o auto_ld.nrrd
-expect 2 'clfractal: error: --iso auto: rough.nrrd has no clean band' -- "$bin" -q mesh rough.nrrd --iso auto -o auto.ply
-[ ! -e auto.ply ] && pass || fail "--iso auto without a band wrote a mesh"
+expect 0 'auto: isovalue [0-9]+ \(clean, D [0-9.]+\), the first recommendation, from the clean band' -- "$bin" local synthetic:sphere:40 --iso auto -o auto_ld.nrrd
+# Nothing clean: --iso auto still answers, with the cleanest isovalue and its verdict.
+expect 0 'auto: isovalue [0-9]+ \((rough|noisy), D [0-9.]+\), the first recommendation, from the cleanest quarter' -- "$bin" mesh rough.nrrd --iso auto -o auto.ply
+[ -s auto.ply ] && pass || fail "--iso auto on a rough volume wrote no mesh"
+# Constant volume: no surface anywhere, so auto has nothing to choose.
+head -c 210 /dev/zero | tr '\0' '\003' > flat_7x6x5_uint8.raw
+expect 2 'clfractal: error: --iso auto: .*flat_7x6x5_uint8.raw has no surface at any isovalue' -- "$bin" -q mesh flat_7x6x5_uint8.raw --iso auto -o flat.ply
+[ ! -e flat.ply ] && pass || fail "--iso auto on a constant volume wrote a mesh"
+expect 0 'recommended none: no cube is intersected' -- "$bin" -q fd flat_7x6x5_uint8.raw
+# The recommendations: never empty, verdicts, the denoising ladder when nothing is clean, and
+# the C ABI's analysis (clf_analyse, a C program) gives exactly fd --json's.
+expect 0 'recommended 1\. isovalue [0-9]+  (rough|noisy)' -- "$bin" -q fd rough.nrrd --json rough_adv.json
+if [ -z "${CLF_ANALYSE:-}" ]; then fail "CLF_ANALYSE (the C program clf_analyse) is not set"; else
+  "$CLF_ANALYSE" rough.nrrd > rough_capi.json && pass || fail "clf_analyse rough.nrrd"
+  "$CLF_ANALYSE" synthetic:sphere:40 > sphere_capi.json && pass || fail "clf_analyse sphere"
+  expect 0 '' -- "$bin" -q fd synthetic:sphere:40 --json sphere_adv.json
+  python3 - <<'PY' && pass || fail "fd --json and the C ABI: the same recommendations"
+import json
+for cli, c in [("rough_adv.json", "rough_capi.json"), ("sphere_adv.json", "sphere_capi.json")]:
+    a, b = json.load(open(cli)), json.load(open(c))
+    assert a["recommended"] == b["recommended"] and a["noisiest"] == b["noisiest"], (cli, a["recommended"], b["recommended"])
+    assert a["clean"] == b["clean"] and a["clean_bands"] == b["clean_bands"], cli
+    assert [t["command"] for t in a["denoise"]["attempts"]] == [t["command"] for t in b["denoise"]["attempts"]], cli
+r = json.load(open("rough_adv.json"))
+assert not r["clean"] and r["recommended"] and r["denoise"]["needed"], r["recommended"]
+for e in r["recommended"]:
+    assert e["verdict"] in ("rough", "noisy") and e["basis"] == "cleanest quarter" and e["components"] >= 1, e
+s = json.load(open("sphere_adv.json"))
+assert s["clean"] and s["recommended"][0]["verdict"] == "clean" and s["denoise"]["attempts"] == [], s["recommended"]
+PY
+fi
 
 # Value types of revision 2: an int32 raw file over a wide range (uniform float64 isovalues)
 # and a float64 NRRD whose values float32 cannot tell apart, counted against the definition

@@ -116,23 +116,28 @@ def main():
     page.feed(text)
 
     # JSON keys.
-    for key in ["volume", "recommended", "d4", "fd4", "clean_bands", "noise", "noisiest", "views", "isovalues",
-                "clean_fd", "clean_share", "fd"]:
+    for key in ["volume", "recommended", "fd4", "clean_bands", "clean", "noise", "noisiest", "views", "isovalues",
+                "advice", "fd", "denoise", "curve"]:
         if key not in data:
             fail("JSON: no key " + key)
     for key in ["file", "format", "dims", "type", "spacing", "value_range"]:
         if key not in data.get("volume", {}):
             fail("JSON: no key volume/" + key)
-    for key in ["amplitude", "ratio", "isovalues_used"]:
+    for key in ["sigma", "flat_share", "map", "surface"]:
         if key not in data.get("noise", {}):
             fail("JSON: no key noise/" + key)
+    for key in ["amplitude", "ratio", "isovalues_used"]:
+        if key not in data.get("noise", {}).get("surface", {}):
+            fail("JSON: no key noise/surface/" + key)
     for r in data.get("recommended", []):
-        for key in ["isovalue", "fd", "count", "components", "noise_ratio"]:
+        for key in ["isovalue", "fd", "count", "count_sub", "components", "verdict", "first", "last", "noise_ratio"]:
             if key not in r:
                 fail("JSON: a recommended entry has no " + key)
 
     # Sections.
     want = ["volume", "answer", "recommended", "bands", "fd", "components", "d4"]
+    if data.get("denoise", {}).get("attempts"):
+        want.append("denoise")
     want += ["view-%d" % i for i in range(len(data.get("views", [])))]
     for s in want:
         if s not in page.sections:
@@ -188,7 +193,10 @@ def main():
         for key in ["isovalue", "fd", "count", "components", "noise_ratio"]:
             if "/recommended/%d/%s" % (i, key) not in pointers:
                 fail("HTML: recommended %d has no %s" % (i, key))
-    for p in ["/d4", "/noise/amplitude", "/volume/dims/0", "/volume/spacing/0", "/volume/value_range/1"]:
+    shown = ["/fd4/d4", "/volume/dims/0", "/volume/spacing/0", "/volume/value_range/1"]
+    if data.get("recommended"):
+        shown += ["/noise/sigma", "/noise/surface/ratio"]
+    for p in shown:
         if p not in pointers:
             fail("HTML: the number " + p + " is not shown")
     rows = page.tables.get("recommended", 0)

@@ -30,6 +30,21 @@ assert len(j["recommended"]) >= 1 and j["noisiest"] is not None and len(j["views
 assert j["noisiest"]["fd"] > j["recommended"][0]["fd"]
 PY
 
+# No clean isovalue (heavy noise): the report still says which isovalue to use, and which
+# denoising makes the scan clean, with the command.
+"$cli" -q gen noisy-sphere --size 48 --noise 30 -o "$work/rough.nrrd" >/dev/null
+report rough "$work/rough.nrrd"
+"$py" - "$work/rough.json" "$work/rough.html" <<'PY' && pass || fail "rough: an answer and a denoising that makes it clean"
+import json, sys
+j = json.load(open(sys.argv[1]))
+page = open(sys.argv[2]).read()
+assert not j["clean"] and j["recommended"] and j["recommended"][0]["verdict"] in ("rough", "noisy"), j["recommended"]
+tried = j["denoise"]["attempts"]
+assert tried and tried[-1]["clean"] and tried[-1]["recommended"][0]["verdict"] == "clean", tried
+assert "No isovalue is clean" in page and "The cleanest: isovalue" in page, "no answer line"
+assert "After the " + tried[-1]["filter"] in page and tried[-1]["command"].replace("&", "&amp;") in page, "no denoising line"
+PY
+
 # A real MRI through the NIfTI reader (the path every command reads with).
 nifti="$data/formats/avg152T1_RL_nifti.nii.gz"
 if [ -f "$nifti" ]; then report mri "$nifti"; else echo "skip: $nifti not found"; fi

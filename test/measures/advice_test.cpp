@@ -13,18 +13,7 @@
 using namespace clfractal;
 using testutil::ctx;
 
-namespace {
-
-// A curve over the integer isovalues 0..n-1 with the given D and full-grid counts.
-FdCurve curve(const std::vector<double>& fd, const std::vector<std::uint64_t>& count) {
-    FdCurve f;
-    f.isovalues = IsovalueSet::integers(0, std::int64_t(fd.size()) - 1);
-    f.fd = fd;
-    f.counts = {count, count};
-    return f;
-}
-
-}  // namespace
+using testutil::curve;
 
 TEST_SUITE("advice") {
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
+#include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 
@@ -40,19 +42,6 @@ void print_bands(std::ostream& out, const FdCurve& f, const std::vector<CleanBan
     }
 }
 
-nlohmann::json bands_json(const FdCurve& f, const std::vector<CleanBand>& bands) {
-    nlohmann::json a = nlohmann::json::array();
-    for (const CleanBand& b : bands)
-        a.push_back({{"first", f.isovalues.value(b.first)},
-                     {"last", f.isovalues.value(b.last)},
-                     {"isovalue", f.isovalues.value(b.representative)},
-                     {"width", b.width()},
-                     {"mean_fd", b.mean_fd},
-                     {"max_fd", b.max_fd},
-                     {"max_count", b.max_count}});
-    return a;
-}
-
 void print_noise(std::ostream& out, const NoiseEstimate& e) {
     if (e.used == 0) {
         out << "noise       n/a: no well-populated isovalue has an edge dimension in [" << noise_fd_min << ", "
@@ -64,21 +53,53 @@ void print_noise(std::ostream& out, const NoiseEstimate& e) {
         << " isovalues (Theorem 1 inverted)\n";
 }
 
-nlohmann::json noise_json(const NoiseEstimate& e) {
-    nlohmann::json per = nlohmann::json::array();
-    for (std::size_t j = 0; j < e.isovalues.size(); ++j) {
-        if (std::isnan(e.ratio[j])) continue;
-        per.push_back({{"isovalue", e.isovalues.value(j)},
-                       {"edge_fd", e.edge_fd[j]},
-                       {"ratio", e.ratio[j]},
-                       {"gamma", e.gamma[j]},
-                       {"amplitude", e.amplitude[j]}});
+namespace {
+
+// "isovalue 60  clean  D 2.0512  1234 cubes  17 components"
+std::string entry_line(const Analysis& an, const Recommendation& e) {
+    std::ostringstream o;
+    o << "isovalue " << iso_string(an.isovalues, e.index) << "  " << verdict_name(e.verdict) << "  D "
+      << (std::isnan(e.fd) ? std::string("n/a") : fd_string(e.fd).substr(0, 6)) << "  " << e.count << " cubes";
+    if (e.components >= 0) o << "  " << e.components << " components";
+    return o.str();
+}
+
+}  // namespace
+
+void print_advice(std::ostream& out, const Analysis& an, const std::string& volume) {
+    const IsovalueSet& iso = an.isovalues;
+    for (std::size_t i = 0; i < an.recommended.size(); ++i) {
+        const Recommendation& e = an.recommended[i];
+        out << (i == 0 ? "recommended " : "            ") << i + 1 << ". " << entry_line(an, e) << "  (" << e.basis
+            << " " << iso_string(iso, e.first) << " .. " << iso_string(iso, e.last) << ")\n";
     }
-    return {{"amplitude", fd_json(e.median_amplitude)},
-            {"ratio", fd_json(e.median_ratio)},
-            {"isovalues_used", e.used},
-            {"trusted_edge_fd", {noise_fd_min, noise_fd_max}},
-            {"per_isovalue", per}};
+    if (an.recommended.empty()) {
+        out << "recommended none: no cube is intersected at any isovalue (no surface to extract)\n";
+        return;
+    }
+    if (an.noisiest) out << "noisiest    " << entry_line(an, *an.noisiest) << "\n";
+    if (an.clean) return;
+    std::ostringstream clean_fd;
+    clean_fd << an.options.advice.clean_fd;
+    out << "advice      no well-populated isovalue is clean (D <= " << clean_fd.str()
+        << "); the cleanest is isovalue " << iso_string(iso, an.best().index) << " ("
+        << verdict_name(an.best().verdict) << ")\n";
+    for (const DenoiseAttempt& d : an.denoise) {
+        std::ostringstream head;
+        head << "denoise     " << d.filter;
+        if (d.targeted) head << " where LD > " << d.threshold << " at isovalue " << iso_string(iso, an.best().index);
+        head << ": " << std::fixed << std::setprecision(2) << 100 * d.changed_share << "% of vertices changed, ";
+        out << head.str();
+        if (d.clean && !d.recommended.empty()) {
+            const Recommendation& e = d.recommended.front();
+            out << "then clean at " << iso_string(iso, e.first) << " .. " << iso_string(iso, e.last) << " (use "
+                << iso_string(iso, e.index) << ", D " << fd_string(e.fd).substr(0, 6) << ")\n"
+                << "            run: " << d.command(volume, std::filesystem::path(volume).stem().string() + "-denoised.nrrd")
+                << "\n";
+        } else {
+            out << "still not clean (mean D " << fd_string(d.summary.mean).substr(0, 6) << ")\n";
+        }
+    }
 }
 
 CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& what) {
@@ -94,7 +115,7 @@ CLI::Option* add_window_option(CLI::App* app, int& window, const std::string& wh
 }
 
 CLI::Option* add_iso_option(CLI::App* app, double& iso, const std::string& what) {
-    return app->add_option("--iso", iso, what + " (or auto: the best clean band's)")
+    return app->add_option("--iso", iso, what + " (or auto: the first recommendation of the analysis)")
         ->transform(CLI::Validator(
             [](std::string& text) -> std::string {
                 if (text == "auto") {
@@ -116,16 +137,12 @@ double checked_isovalue(const Volume& v, double iso) {
         warn_isovalue_outside(v, iso);
         return iso;
     }
-    Context& ctx = Context::shared();
+    Recommendation e;
+    const double s = clfractal::auto_isovalue(Context::shared(), v, &e);
     const IsovalueSet set = IsovalueSet::for_volume(v);
-    const FdCurve f = fd_curve(ctx, count_spans(ctx, v, set), SpanKind::cubes);
-    const std::vector<CleanBand> bands = clean_bands(f);
-    if (bands.empty())
-        throw InputError("--iso auto: " + v.name + " has no clean band (D <= 2.2 on >= 1% of the largest surface); give --iso S");
-    const CleanBand& b = bands.front();
-    const double s = set.value(b.representative);
-    progress("--iso auto: isovalue " + iso_string(set, b.representative) + ", the middle of the clean band " +
-             iso_string(set, b.first) + " .. " + iso_string(set, b.last) + " (mean D " + std::to_string(b.mean_fd) + ")");
+    progress("--iso auto: isovalue " + iso_string(set, e.index) + " (" + verdict_name(e.verdict) + ", D " +
+             fd_string(e.fd).substr(0, 6) + "), the first recommendation, from the " + e.basis + " " +
+             iso_string(set, e.first) + " .. " + iso_string(set, e.last));
     return s;
 }
 

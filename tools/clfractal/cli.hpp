@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "clfractal/advice.hpp"
+#include "clfractal/analysis.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/device_volume.hpp"
 #include "clfractal/smooth.hpp"
@@ -29,10 +30,11 @@ void progress(const std::string& s);
 /// The clean bands of a curve (at most 5, best first), or why there is none.
 void print_bands(std::ostream& out, const clfractal::FdCurve& f, const std::vector<clfractal::CleanBand>& bands,
                  double max_fd, double min_share);
-nlohmann::json bands_json(const clfractal::FdCurve& f, const std::vector<clfractal::CleanBand>& bands);
 /// The noise estimate: the median over the isovalues in the trusted range.
 void print_noise(std::ostream& out, const clfractal::NoiseEstimate& e);
-nlohmann::json noise_json(const clfractal::NoiseEstimate& e);
+/// The recommendations (ranked, with verdicts), the noisiest isovalue and, when nothing is
+/// clean, what the denoising ladder found, with the command that writes its result.
+void print_advice(std::ostream& out, const clfractal::Analysis& an, const std::string& volume);
 
 /// --window K for every command that computes LD: checked while parsing (even, >= 2), so
 /// a bad window fails before any file is read or the device starts.
@@ -46,8 +48,7 @@ constexpr double auto_isovalue = -1.7976931348623157e308;
 inline bool is_auto_isovalue(double iso) { return iso == auto_isovalue; }
 
 /// The isovalue to use for `v`: `iso` itself (with warn_isovalue_outside), or for --iso auto
-/// the representative of the best clean band of v's box-dimension curve, said on stderr.
-/// Throws InputError when auto finds no clean band.
+/// the first recommendation of v's analysis (clfractal::auto_isovalue), said on stderr.
 double checked_isovalue(const clfractal::Volume& v, double iso);
 
 /// --q Q, the bin width of the 4D dimension: checked while parsing (finite, > 0); the

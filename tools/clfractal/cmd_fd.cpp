@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clfractal/advice.hpp"
+#include "clfractal/analysis.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/noise_level.hpp"
@@ -29,7 +30,7 @@ using json = nlohmann::json;
 
 struct FdArgs {
     std::string volume, csv, json_path, plot, isovalues;
-    bool edge = false, components = false, noise_level = false;
+    bool edge = false, components = false, noise_level = false, no_denoise = false;
     double clean_fd = 2.2, clean_share = 0.01;
     int levels = 2;
     std::size_t bins = 0;
@@ -39,69 +40,76 @@ struct FdArgs {
     RawArgs raw;
 };
 
-// What fd computes before it reports: the curve, its summary and the optional extras.
+// What fd computes before it reports: the analysis (curve, bands, recommendations, noise,
+// denoising) and the extras of its options.
 struct FdRun {
     Dims dims;
     ValueType type;
-    IsovalueSet iso;
-    SpanResult spans;
     std::string stream_method;
-    FdCurve f;
-    FdSummary s;
-    ComponentCurve comp;
+    Analysis an;
+    FdSummary s;  ///< with --min-count
     ComponentCorrelation corr;
-    std::vector<CleanBand> bands;
-    NoiseEstimate noise;
-    NoiseLevel level;
 };
 
+AnalysisOptions analysis_options(const FdArgs& a, ValueType type) {
+    AnalysisOptions o;
+    o.advice.clean_fd = a.clean_fd;
+    o.advice.clean_share = a.clean_share;
+    o.kind = a.edge ? SpanKind::edges : SpanKind::cubes;
+    o.levels = a.levels;
+    o.slab_slices = a.slab;
+    o.bins = a.bins ? a.bins : 256;
+    if (!a.isovalues.empty()) o.isovalues = parse_isovalues(a.isovalues, type);
+    o.components = a.components ? ComponentsScope::curve : ComponentsScope::recommended;
+    o.edge_counts = a.components;  // E(s) for the correlation
+    o.noise_level = o.surface_noise = a.noise_level;
+    o.denoise = !a.no_denoise;
+    return o;
+}
+
 FdRun count_fd(const FdArgs& a) {
+    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
     if (a.stream) {
-        if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
         if (a.slab) throw InputError("--slab: not with --stream (the stream counts a few slices at a time)");
         if (a.components) throw InputError("--components: not with --stream (the sweep needs the whole volume)");
+        if (a.noise_level) throw InputError("--noise-level: not with --stream (it needs the whole volume)");
     }
     FdRun r;
-    const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
-    StreamedSpans streamed = a.stream ? stream_spans(a.volume, a.raw.options(), a.isovalues, a.bins, a.levels, kind)
-                                      : StreamedSpans{};
-    r.stream_method = streamed.method;
-    // The finite check and the value range in one pass (read_volume checks by itself only
-    // before a --as conversion).
-    const bool convert = a.raw.options().as.has_value();
-    Volume v = a.stream ? Volume()
-                        : read_volume(a.volume, a.raw.options(), convert ? FiniteCheck::reject : FiniteCheck::keep);
-    const ValueStats stats = a.stream ? ValueStats{} : value_stats(v);
-    if (stats.nan + stats.inf) check_finite(v, a.volume);
-    r.dims = a.stream ? streamed.dims : v.dims();
-    r.type = a.stream ? streamed.type : v.type();
-    if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
-    if (a.bins && is_integer(r.type) && !is_wide(r.type))
-        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
-    r.iso = a.stream ? streamed.spans.isovalues
-            : !a.isovalues.empty() ? parse_isovalues(a.isovalues, r.type)
-                                   : IsovalueSet::for_range(r.type, stats.min, stats.max, a.bins ? a.bins : 256);
     Context& ctx = Context::shared();
-    if (!a.stream)
-        progress("counting " + std::to_string(r.iso.size()) + " isovalues of " + dims_string(r.dims) + " " +
+    if (a.stream) {
+        const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
+        StreamedSpans streamed = stream_spans(a.volume, a.raw.options(), a.isovalues, a.bins, a.levels, kind);
+        r.stream_method = streamed.method;
+        r.dims = streamed.dims;
+        r.type = streamed.type;
+        AnalysisOptions o = analysis_options(a, r.type);
+        o.isovalues.reset();
+        r.an = analyse_curve(fd_curve(ctx, streamed.spans, kind), o);
+        r.an.spans = std::move(streamed.spans);
+        r.an.dims = r.dims;
+        r.an.type = r.type;
+    } else {
+        // The finite check and the value range in one pass (read_volume checks by itself
+        // only before a --as conversion).
+        const bool convert = a.raw.options().as.has_value();
+        const Volume v = read_volume(a.volume, a.raw.options(), convert ? FiniteCheck::reject : FiniteCheck::keep);
+        const ValueStats stats = value_stats(v);
+        if (stats.nan + stats.inf) check_finite(v, a.volume);
+        r.dims = v.dims();
+        r.type = v.type();
+        if (a.bins && is_integer(r.type) && !is_wide(r.type))
+            throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+        const AnalysisOptions o = analysis_options(a, r.type);
+        const std::size_t n = o.isovalues ? o.isovalues->size() : IsovalueSet::for_volume(v, o.bins).size();
+        progress("counting " + std::to_string(n) + " isovalues of " + dims_string(r.dims) + " " +
                  value_type_name(r.type) + " on " + ctx.description());
-    SpanOptions opt{{kind}, a.levels, a.slab};
-    if (a.components && kind != SpanKind::edges) opt.kinds.push_back(SpanKind::edges);  // E(s) for the correlation
-    r.spans = a.stream ? std::move(streamed.spans) : count_spans(ctx, v, r.iso, opt);
-    r.f = fd_curve(ctx, r.spans, kind);
-    r.s = summarize(r.f.fd, r.f.counts[0], r.f.counts[1], a.min_count);
-    // --components: the component curve (cube connectivity) and its correlation with D.
-    if (a.components) {
-        r.comp = count_components(ctx, v, r.iso, Connectivity::cube);
-        r.corr = correlate_components(ctx, r.f.fd, r.spans.get(SpanKind::edges).counts[0], r.comp.components, v.dims());
+        r.an = analyse(ctx, v, o);
+        // --components: the correlation of D with the component curve (cube connectivity).
+        if (a.components)
+            r.corr = correlate_components(ctx, r.an.curve.fd, r.an.spans.get(SpanKind::edges).counts[0],
+                                          r.an.components->components, v.dims());
     }
-
-    r.bands = clean_bands(r.f, BandOptions{a.clean_fd, a.clean_share});
-    if (a.noise_level) {
-        if (a.stream) throw InputError("--noise-level: not with --stream (it needs the whole volume)");
-        r.level = estimate_noise_level(ctx, v);
-        r.noise = estimate_noise(ctx, v, r.iso, a.clean_share);
-    }
+    r.s = summarize(r.an.curve.fd, r.an.curve.counts[0], r.an.curve.counts[1], a.min_count);
     return r;
 }
 
@@ -141,38 +149,10 @@ void print_noise_level(std::ostream& out, const NoiseLevel& l, const NoiseEstima
         << short_number(e.median_sigma_gaussian) << ")\n";
 }
 
-// The noise object of the JSON report: the noise level with its map, and the per-isovalue
-// inversion (uniform and Gaussian) under "surface".
-json noise_level_json(const NoiseLevel& l, const NoiseEstimate& e) {
-    json map = json::array();
-    for (float c : l.map) map.push_back(std::isnan(c) ? json(nullptr) : json(double(c)));
-    json surface = noise_json(e);
-    surface["question"] = "is the surface at s noise-dominated: r(s) = noise / gradient, Theorem 1 inverted";
-    surface["ratio_gaussian"] = fd_json(e.median_ratio_gaussian);
-    surface["sigma_gaussian"] = fd_json(e.median_sigma_gaussian);
-    // noise_json lists the isovalues with an estimate in order.
-    std::size_t row = 0;
-    for (std::size_t k = 0; k < e.isovalues.size(); ++k) {
-        if (std::isnan(e.ratio[k])) continue;
-        json& r = surface["per_isovalue"][row++];
-        r["ratio_gaussian"] = e.ratio_gaussian[k];
-        r["gamma_gaussian"] = e.gamma_gaussian[k];
-        r["sigma_gaussian"] = e.sigma_gaussian[k];
-    }
-    return {{"sigma", fd_json(l.sigma)},
-            {"flat_share", l.flat_share},
-            {"block", l.block},
-            {"blocks", l.blocks},
-            {"blocks_usable", l.usable_blocks},
-            {"blocks_flat", l.flat_blocks},
-            {"seconds", l.seconds},
-            {"map", {{"cell", l.map_block}, {"dims", {l.map_dims.nx, l.map_dims.ny, l.map_dims.nz}}, {"rms", map}}},
-            {"surface", surface}};
-}
-
 void print_fd(const FdArgs& a, const FdRun& r) {
     const FdSummary& s = r.s;
-    const IsovalueSet& iso = r.iso;
+    const Analysis& an = r.an;
+    const IsovalueSet& iso = an.isovalues;
     Context& ctx = Context::shared();
     const char* kind_name = a.edge ? "edge" : "box";
     std::cout << std::fixed << std::setprecision(4);
@@ -185,79 +165,66 @@ void print_fd(const FdArgs& a, const FdRun& r) {
         std::cout << "mean FD     " << s.mean << "  std " << s.std << "  count-weighted mean " << s.weighted_mean
                   << "\n"
                   << "growth      I ~ N^" << s.kappa << "\n";
-        print_bands(std::cout, r.f, r.bands, a.clean_fd, a.clean_share);
+        print_bands(std::cout, an.curve, an.bands, a.clean_fd, a.clean_share);
     } else {
         std::cout << "mean FD     n/a (no isovalue intersects both grids)\n";
     }
-    if (a.noise_level) print_noise_level(std::cout, r.level, r.noise);
+    print_advice(std::cout, an, a.volume);
+    if (a.noise_level) print_noise_level(std::cout, *an.noise_level, *an.surface_noise);
     if (a.components)
         std::cout << "components  corr(D, components) " << fd_string(r.corr.components).substr(0, 6)
                   << "  corr(D, components / E) " << fd_string(r.corr.components_per_area).substr(0, 6) << " over "
                   << r.corr.used << " isovalues\n";
-    std::cout << std::defaultfloat << std::setprecision(4) << "time        " << r.spans.seconds << " s counting ("
-              << (a.stream ? "streamed, " + r.stream_method + ", " : "") << r.spans.slabs << " slab"
-              << (r.spans.slabs > 1 ? "s" : "") << "), kernels compiled in "
-              << ctx.compile_seconds() << " s\n";
+    const SpanResult& spans = an.spans;
+    std::cout << std::defaultfloat << std::setprecision(4) << "time        " << spans.seconds << " s counting ("
+              << (a.stream ? "streamed, " + r.stream_method + ", " : "") << spans.slabs << " slab"
+              << (spans.slabs > 1 ? "s" : "") << ")";
+    if (!a.stream) std::cout << ", " << an.seconds << " s analysis in all";
+    std::cout << ", kernels compiled in " << ctx.compile_seconds() << " s\n";
 }
 
+// The analysis's JSON (clfractal::to_json, shared with report --json) and fd's own keys.
 json fd_json_report(const FdArgs& a, const FdRun& r) {
     const FdSummary& s = r.s;
-    const IsovalueSet& iso = r.iso;
-    const FdCurve& f = r.f;
     Context& ctx = Context::shared();
-    json j;
+    json j = json::parse(to_json(r.an));
     j["volume"] = a.volume;
     j["dims"] = {r.dims.nx, r.dims.ny, r.dims.nz};
     j["type"] = value_type_name(r.type);
     j["kind"] = a.edge ? "edge" : "box";
     j["levels"] = a.levels;
     j["min_count"] = a.min_count;
-    j["isovalues_total"] = iso.size();
+    j["isovalues_total"] = r.an.isovalues.size();
     j["isovalues_defined"] = s.defined;
     j["mean_fd"] = fd_json(s.mean);
     j["std_fd"] = fd_json(s.std);
     j["weighted_mean_fd"] = fd_json(s.weighted_mean);
     j["kappa"] = fd_json(s.kappa);
     j["device"] = ctx.description();
-    j["seconds_compute"] = r.spans.seconds;
+    j["seconds_compute"] = r.an.spans.seconds;
     j["seconds_compile"] = ctx.compile_seconds();
-    j["slabs"] = r.spans.slabs;
-    j["clean_bands"] = bands_json(f, r.bands);
-    if (a.noise_level) j["noise"] = noise_level_json(r.level, r.noise);
+    j["slabs"] = r.an.spans.slabs;
     if (a.components) {
         j["corr_components"] = fd_json(r.corr.components);
         j["corr_components_per_area"] = fd_json(r.corr.components_per_area);
         j["corr_isovalues"] = r.corr.used;
     }
-    json curve = json::array();
-    for (std::size_t k = 0; k < iso.size(); ++k) {
-        json row;
-        row["isovalue"] = iso.value(k);
-        json counts = json::array();
-        for (int l = 0; l < a.levels; ++l) counts.push_back(f.counts[l][k]);
-        row["counts"] = counts;
-        row["fd"] = fd_json(f.fd[k]);
-        if (a.levels > 2) row["fd_fit"] = fd_json(f.fd_fit[k]);
-        if (a.components) row["components"] = r.comp.components[k];
-        curve.push_back(row);
-    }
-    j["curve"] = curve;
     return j;
 }
 
 int cmd_fd(const FdArgs& a) {
     const FdRun r = count_fd(a);
     print_fd(a, r);
-    if (!a.csv.empty()) {
-        write_file_atomic(a.csv, fd_csv(r.f, a.components ? &r.comp.components : nullptr));
-    }
+    const FdCurve& f = r.an.curve;
+    const std::vector<std::int64_t>* comp = r.an.components ? &r.an.components->components : nullptr;
+    if (!a.csv.empty()) write_file_atomic(a.csv, fd_csv(f, comp));
     if (!a.json_path.empty()) write_file_atomic(a.json_path, fd_json_report(a, r).dump(1) + "\n");
-    if (!a.plot.empty() && a.components)
-        write_components_plot(r.f, r.bands, r.comp.components, true,
+    if (!a.plot.empty() && comp)
+        write_components_plot(f, r.an.bands, *comp, true,
                               std::filesystem::path(a.volume).filename().string() + ": FD and isosurface components",
                               a.plot);
     else if (!a.plot.empty())
-        write_fd_plot(r.f, r.bands, a.min_count,
+        write_fd_plot(f, r.an.bands, a.min_count,
                       std::filesystem::path(a.volume).filename().string() + ": mean FD " + fd_string(r.s.mean).substr(0, 5),
                       a.plot);
     return 0;
@@ -282,6 +249,8 @@ void setup_fd(CLI::App* fd, FdArgs& fa) {
     fd->add_flag("--noise-level", fa.noise_level,
                  "the noise's standard deviation in grey values (residuals of flat blocks), and per isovalue "
                  "whether the surface is noise-dominated (Theorem 1 inverted)");
+    fd->add_flag("--no-denoise", fa.no_denoise,
+                 "when no isovalue is clean, do not try the denoising ladder (targeted median, then median)");
     fa.raw.add(fd);
 }
 

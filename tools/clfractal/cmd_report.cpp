@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "clfractal/advice.hpp"
+#include "clfractal/analysis.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/fd4.hpp"
@@ -38,12 +39,10 @@ struct ReportArgs {
 
 using clock_type = std::chrono::steady_clock;
 
-// A number for JSON: null unless finite (JSON has no infinity).
-json finite_json(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 // One isovalue shown in pictures: its LD-coloured mesh and an axial slice.
 struct View {
-    std::string role;  ///< "best clean band", "noisiest well-populated"
+    std::string role;  ///< "recommended (clean)", "noisiest well-populated"
     std::size_t index = 0;
     double isovalue = 0;
     std::string mesh_png, slice_png;
@@ -125,50 +124,98 @@ std::string volume_section(const json& j, const std::string& name) {
     return s_volume.str();
 }
 
-// The answer: the isovalue to use, the noise and D4.
+// The answer: the isovalue to use (always one), what denoising makes the scan clean when
+// nothing is, the noise level and D4.
 std::string answer_section(const json& j) {
+    using html::escape;
     using html::number;
-    std::ostringstream s_answer;
-    s_answer << "<section id=\"answer\"><h2>Answer</h2>\n";
+    std::ostringstream o;
+    o << "<section id=\"answer\"><h2>Answer</h2>\n";
     if (j["recommended"].empty()) {
-        s_answer << "<p class=\"big\">No clean band: every well-populated isovalue is rough (D(s) above "
-          << number(j, "/clean_fd", 4) << ").</p>\n";
-    } else {
-        s_answer << "<p class=\"big\">Use isovalue " << number(j, "/recommended/0/isovalue", 8) << " (D = "
-          << number(j, "/recommended/0/fd", 4) << ", " << number(j, "/recommended/0/count") << " cubes, "
-          << number(j, "/recommended/0/components") << " components).</p>\n";
+        o << "<p class=\"big\">No surface: no cube is intersected at any isovalue.</p></section>\n";
+        return o.str();
     }
-    s_answer << "<p>Noise: ";
-    if (j["noise"]["amplitude"].is_null())
-        s_answer << number(j, "/noise/amplitude")
-                 << " (no well-populated isovalue has an edge dimension in the trusted range "
-                 << number(j, "/noise/trusted_edge_fd/0", 3)
-          << " .. " << number(j, "/noise/trusted_edge_fd/1", 3) << ")";
+    const std::string best = "/recommended/0";
+    const std::string facts = " (" + j["recommended"][0]["verdict"].get<std::string>() + ", D = " +
+                              number(j, best + "/fd", 4) + ", " + number(j, best + "/count") + " cubes, " +
+                              number(j, best + "/components") + " components)";
+    if (j["clean"].get<bool>()) {
+        o << "<p class=\"big\">Use isovalue " << number(j, best + "/isovalue", 8) << facts << ".</p>\n";
+    } else {
+        o << "<p class=\"big\">No isovalue is clean (D(s) &le; " << number(j, "/advice/clean_fd", 4)
+          << " on a well-populated surface). The cleanest: isovalue " << number(j, best + "/isovalue", 8) << facts
+          << ".</p>\n";
+        const json& tried = j["denoise"]["attempts"];
+        std::size_t i = 0;
+        while (i < tried.size() && !tried[i]["clean"].get<bool>()) ++i;
+        if (i < tried.size() && !tried[i]["recommended"].empty()) {
+            const std::string p = "/denoise/attempts/" + std::to_string(i);
+            o << "<p class=\"big\">After the " << escape(tried[i]["filter"].get<std::string>());
+            if (tried[i]["targeted"].get<bool>())
+                o << " (where LD &gt; " << number(j, p + "/threshold", 3) << " at isovalue "
+                  << number(j, p + "/isovalue", 8) << ")";
+            o << ", which changes a share " << number(j, p + "/changed_share", 3) << " of the vertices, isovalues "
+              << number(j, p + "/recommended/0/first", 8) << " .. " << number(j, p + "/recommended/0/last", 8)
+              << " are clean: use " << number(j, p + "/recommended/0/isovalue", 8) << " (D = "
+              << number(j, p + "/recommended/0/fd", 4) << ").</p>\n<p><code>"
+              << escape(tried[i]["command"].get<std::string>()) << "</code></p>\n";
+        } else if (!tried.empty()) {
+            o << "<p>None of the denoising tried (targeted median, median everywhere) leaves a clean isovalue: "
+                 "the scan's surfaces are rough at every isovalue.</p>\n";
+        }
+    }
+    o << "<p>Noise: ";
+    if (j["noise"]["sigma"].is_null())
+        o << "&sigma; " << number(j, "/noise/sigma") << " (no block of the volume is usable)";
     else
-        s_answer << "&plusmn;" << number(j, "/noise/amplitude", 4) << " grey values (uniform), r = noise / gradient "
-          << number(j, "/noise/ratio", 4) << ", median over " << number(j, "/noise/isovalues_used")
-          << " isovalues (Theorem 1 inverted)";
-    s_answer << ". 4D dimension D4 = " << number(j, "/d4", 5) << " (3: a smooth field, towards 4: noise).</p></section>\n";
-    return s_answer.str();
+        o << "&sigma; = " << number(j, "/noise/sigma", 4) << " grey values, estimated on a share "
+          << number(j, "/noise/flat_share", 3) << " of the voxels (second differences of flat blocks)";
+    o << ". Per isovalue (Theorem 1 inverted) r = noise / gradient " << number(j, "/noise/surface/ratio", 4)
+      << " (median over " << number(j, "/noise/surface/isovalues_used") << " isovalues). 4D dimension D4 = "
+      << number(j, "/fd4/d4", 5) << " (3: a smooth field, towards 4: noise).</p></section>\n";
+    return o.str();
 }
 
 // The recommended isovalues as a table.
 std::string recommended_section(const json& j) {
-    std::ostringstream s_recommended;
-    s_recommended << "<section id=\"recommended\"><h2>Recommended isovalues</h2>\n"
-      << "<p class=\"note\">The middle isovalue of each clean band, best band first (widest, then largest "
-         "surface). noise ratio: r = &mu;/&gamma; from the edge dimension at that isovalue (Theorem 1 inverted).</p>\n"
-      << "<table><tr><th>isovalue</th><th>D(s)</th><th>cubes I(s)</th><th>components</th><th>edge D</th>"
-         "<th>noise ratio r</th></tr>\n";
+    std::ostringstream o;
+    o << "<section id=\"recommended\"><h2>Recommended isovalues</h2>\n"
+      << "<p class=\"note\">The material boundaries of each clean band (where the surfaces are steepest), best "
+         "band first; when nothing is clean, those of the cleanest quarter. Verdict: clean D &le; "
+      << html::number(j, "/advice/clean_fd", 3) << ", noisy D &ge; " << html::number(j, "/advice/noisy_fd", 3)
+      << ", rough between. noise ratio: r = &mu;/&gamma; from the edge dimension at that isovalue (Theorem 1 "
+         "inverted).</p>\n"
+      << "<table><tr><th>isovalue</th><th>verdict</th><th>D(s)</th><th>cubes I(s)</th><th>components</th>"
+         "<th>band</th><th>edge D</th><th>noise ratio r</th></tr>\n";
     for (std::size_t i = 0; i < j["recommended"].size(); ++i) {
         const std::string p = "/recommended/" + std::to_string(i);
-        s_recommended << "<tr>"
-          << cells(j, {{p + "/isovalue", 8}, {p + "/fd", 4}, {p + "/count", 0}, {p + "/components", 0},
-                       {p + "/edge_fd", 4}, {p + "/noise_ratio", 3}})
-          << "</tr>\n";
+        o << "<tr>" << cells(j, {{p + "/isovalue", 8}}) << "<td>"
+          << html::escape(j["recommended"][i]["verdict"].get<std::string>()) << "</td>"
+          << cells(j, {{p + "/fd", 4}, {p + "/count", 0}, {p + "/components", 0}}) << "<td>"
+          << html::number(j, p + "/first", 8) << " .. " << html::number(j, p + "/last", 8) << "</td>"
+          << cells(j, {{p + "/edge_fd", 4}, {p + "/noise_ratio", 3}}) << "</tr>\n";
     }
-    s_recommended << "</table></section>\n";
-    return s_recommended.str();
+    o << "</table></section>\n";
+    return o.str();
+}
+
+// The denoising ladder as a table (only when nothing is clean).
+std::string denoise_section(const json& j) {
+    const json& tried = j["denoise"]["attempts"];
+    if (tried.empty()) return "";
+    std::ostringstream o;
+    o << "<section id=\"denoise\"><h2>Denoising tried</h2>\n<table><tr><th class=\"l\">command</th>"
+         "<th>changed share</th><th>mean D after</th><th>clean after</th><th>use</th></tr>\n";
+    for (std::size_t i = 0; i < tried.size(); ++i) {
+        const std::string p = "/denoise/attempts/" + std::to_string(i);
+        o << "<tr><td class=\"l\"><code>" << html::escape(tried[i]["command"].get<std::string>()) << "</code></td>"
+          << cells(j, {{p + "/changed_share", 3}, {p + "/fd/mean", 4}}) << "<td>"
+          << (tried[i]["clean"].get<bool>() ? "yes" : "no") << "</td><td>"
+          << (tried[i]["recommended"].empty() ? std::string("") : html::number(j, p + "/recommended/0/isovalue", 8))
+          << "</td></tr>\n";
+    }
+    o << "</table></section>\n";
+    return o.str();
 }
 
 // The clean bands as a table.
@@ -209,7 +256,7 @@ std::string fd_section(const json& j, const std::string& fd_png) {
 std::string d4_section(const json& j) {
     using html::number;
     std::ostringstream s_d4;
-    s_d4 << "<section id=\"d4\"><h2>4D dimension</h2>\n<p>D4 = " << number(j, "/d4", 5) << " from I4(G, q) = "
+    s_d4 << "<section id=\"d4\"><h2>4D dimension</h2>\n<p>D4 = " << number(j, "/fd4/d4", 5) << " from I4(G, q) = "
       << number(j, "/fd4/i4_l0") << " and I4(G', 2q) = " << number(j, "/fd4/i4_l1") << ", bin width q = "
       << number(j, "/fd4/q", 6) << ": one number for the whole field, no isovalue (3: smooth, towards 4: noise).</p>"
       << "</section>\n";
@@ -243,7 +290,7 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
       << "<p class=\"note\">Isosurface fractal dimension for every isovalue (<i>The Nature of the Isosurface Fractal "
          "Dimension</i>). D(s) about 2: a clean surface; towards 3: noise. Clean band: consecutive isovalues with "
          "D(s) &le; "
-      << number(j, "/clean_fd", 4) << " on a surface of at least " << number(j, "/clean_share", 4)
+      << number(j, "/advice/clean_fd", 4) << " on a surface of at least " << number(j, "/advice/clean_share", 4)
       << " &times; the largest.</p>\n";
 
     const std::string s_components = "<section id=\"components\"><h2>Isosurface components</h2>\n" +
@@ -256,7 +303,7 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
     if (!s_views.empty()) b << s_views[0];
     b << recommended_section(j);
     for (std::size_t i = 1; i < s_views.size(); ++i) b << s_views[i];
-    b << bands_section(j) << d4_section(j);
+    b << denoise_section(j) << bands_section(j) << d4_section(j);
     b << "<p class=\"note\">" << escape(j["device"].get<std::string>()) << "; " << number(j, "/seconds", 3)
       << " s.</p>\n";
     return html::page("clfractal report: " + name, b.str());
@@ -273,41 +320,16 @@ void describe_volume(json& j, const Volume& v) {
     j["volume"]["value_range"] = {range.min, range.max};
 }
 
-// One isovalue's numbers. The noise ratio is Theorem 1 inverted at the isovalue's edge
-// dimension (0 at D_E <= 2), trusted inside [noise_fd_min, noise_fd_max] only.
-json isovalue_json(std::size_t k, const IsovalueSet& iso, const FdCurve& f, const ComponentCurve& comp,
-                   const NoiseEstimate& noise) {
-    const double de = noise.edge_fd[k];
-    return json{{"isovalue", iso.value(k)},
-                {"fd", fd_json(f.fd[k])},
-                {"count", f.counts[0][k]},
-                {"count_sub", f.counts[1][k]},
-                {"components", comp.components[k]},
-                {"edge_fd", fd_json(de)},
-                {"noise_ratio", finite_json(std::isnan(de) ? NAN : noise_ratio_from_edge_dimension(de))},
-                {"noise_ratio_trusted", !std::isnan(de) && de >= noise_fd_min && de <= noise_fd_max}};
-}
-
-// The noisiest well-populated isovalue: the largest D(s) among the isovalues whose
-// surface passes the clean bands' size floor; iso.size() if none.
-std::size_t noisiest_isovalue(const IsovalueSet& iso, const FdCurve& f, double clean_share) {
-    const std::uint64_t largest = iso.size() ? *std::max_element(f.counts[0].begin(), f.counts[0].end()) : 0;
-    const double floor_count = std::max(1.0, clean_share * double(largest));
-    std::size_t noisiest = iso.size();
-    for (std::size_t k = 0; k < iso.size(); ++k)
-        if (!std::isnan(f.fd[k]) && double(f.counts[0][k]) >= floor_count &&
-            (noisiest == iso.size() || f.fd[k] > f.fd[noisiest]))
-            noisiest = k;
-    return noisiest;
-}
-
-// The summary on stdout: the volume, the clean bands, the noise, D4, the files written and the time taken.
-void print_summary(const ReportArgs& a, const Volume& v, const FdCurve& f, const std::vector<CleanBand>& bands,
-                   const NoiseEstimate& noise, const Fd4Result& r4, std::size_t page_bytes, double seconds) {
+// The summary on stdout: the volume, the clean bands, the advice, the noise, D4, the files
+// written and the time taken.
+void print_summary(const ReportArgs& a, const Volume& v, const Analysis& an, std::size_t page_bytes, double seconds) {
     std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n";
-    print_bands(std::cout, f, bands, a.clean_fd, a.clean_share);
-    print_noise(std::cout, noise);
-    std::cout << std::setprecision(4) << "D4          " << (std::isnan(r4.d4) ? "n/a" : fd_string(r4.d4).substr(0, 6))
+    print_bands(std::cout, an.curve, an.bands, a.clean_fd, a.clean_share);
+    print_advice(std::cout, an, a.volume);
+    if (an.noise_level && !std::isnan(an.noise_level->sigma))
+        std::cout << "noise sigma " << std::setprecision(4) << an.noise_level->sigma << " grey levels\n";
+    print_noise(std::cout, *an.surface_noise);
+    std::cout << std::setprecision(4) << "D4          " << (std::isnan(an.fd4->d4) ? "n/a" : fd_string(an.fd4->d4).substr(0, 6))
               << "\n"
               << "wrote       " << a.output << " (" << page_bytes / 1024 << " KiB, self-contained)"
               << (a.json_path.empty() ? "" : " and " + a.json_path) << "\n"
@@ -316,60 +338,44 @@ void print_summary(const ReportArgs& a, const Volume& v, const FdCurve& f, const
 
 int run_report(const ReportArgs& a) {
     const auto t0 = clock_type::now();
-    json j;
-    j["volume"]["file"] = a.volume;
-    j["volume"]["format"] = describe_volume_file(a.volume, a.raw.options());
     Volume v = read_volume(a.volume, a.raw.options());
     if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue");
-    const Dims d = v.dims();
-    describe_volume(j, v);
-    j["clean_fd"] = a.clean_fd;
-    j["clean_share"] = a.clean_share;
-
     Context& ctx = Context::shared();
+    AnalysisOptions o;
+    o.advice.clean_fd = a.clean_fd;
+    o.advice.clean_share = a.clean_share;
+    o.bins = a.bins ? a.bins : 256;
+    o.components = ComponentsScope::curve;
+    o.fd4 = true;
+    o.window = a.window;
+    progress("report on " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description() +
+             ": curve, components, noise, 4D dimension");
+    const Analysis an = analyse(ctx, v, o);
+    json j = json::parse(to_json(an));
+    j["volume"]["file"] = a.volume;
+    j["volume"]["format"] = describe_volume_file(a.volume, a.raw.options());
+    describe_volume(j, v);
     j["device"] = ctx.description();
-    const IsovalueSet iso = IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
-    j["isovalues"] = {{"count", iso.size()}, {"first", iso.value(0)}, {"last", iso.value(iso.size() - 1)}};
-    progress("report on " + dims_string(d) + " " + value_type_name(v.type()) + ", " + std::to_string(iso.size()) +
-             " isovalues, on " + ctx.description());
-
-    const FdCurve f = fd_curve(ctx, count_spans(ctx, v, iso), SpanKind::cubes);
-    const std::vector<CleanBand> bands = clean_bands(f, BandOptions{a.clean_fd, a.clean_share});
-    const FdSummary sum = summarize(f.fd, f.counts[0], f.counts[1]);
-    j["fd"] = {{"mean", fd_json(sum.mean)},
-               {"std", fd_json(sum.std)},
-               {"weighted_mean", fd_json(sum.weighted_mean)},
-               {"defined", sum.defined}};
-    j["clean_bands"] = bands_json(f, bands);
-    progress("components");
-    const ComponentCurve comp = count_components(ctx, v, iso, Connectivity::cube);
-    progress("noise estimate and 4D dimension");
-    const NoiseEstimate noise = estimate_noise(ctx, v, iso, a.clean_share);
-    j["noise"] = noise_json(noise);
-    const Fd4Result r4 = fractal_dimension_4d(ctx, v);
-    j["d4"] = fd_json(r4.d4);
-    j["fd4"] = {{"q", r4.q}, {"vmin", r4.vmin}, {"i4_l0", r4.i4}, {"i4_l1", r4.i4_sub}, {"d4", fd_json(r4.d4)}};
-
-    auto point = [&](std::size_t k) { return isovalue_json(k, iso, f, comp, noise); };
-    j["recommended"] = json::array();
-    for (const CleanBand& b : bands) j["recommended"].push_back(point(b.representative));
-    const std::size_t noisiest = noisiest_isovalue(iso, f, a.clean_share);
-    j["noisiest"] = noisiest < iso.size() ? point(noisiest) : json(nullptr);
 
     progress("plots");
+    const FdCurve& f = an.curve;
     const std::string title = std::filesystem::path(a.volume).filename().string();
-    const CurveAxis axis = curve_axis(f, bands);
-    const std::string fd_png = curve_plot(axis, {fd_panel(f)}, title + ": mean FD " + fd_string(sum.mean).substr(0, 5))
-                                   .png("report: FD plot");
+    const CurveAxis axis = curve_axis(f, an.bands);
+    const std::string fd_png =
+        curve_plot(axis, {fd_panel(f)}, title + ": mean FD " + fd_string(an.summary.mean).substr(0, 5))
+            .png("report: FD plot");
     const std::string comp_png =
-        curve_plot(axis, {components_panel(comp.components)}, title + ": isosurface components (cube)")
+        curve_plot(axis, {components_panel(an.components->components)}, title + ": isosurface components (cube)")
             .png("report: components plot");
 
     std::vector<View> views;
-    if (!bands.empty()) views.push_back(make_view(ctx, v, iso, bands.front().representative, "best clean band", a.window));
-    if (noisiest < iso.size())
-        views.push_back(make_view(ctx, v, iso, noisiest, "noisiest well-populated", a.window));
+    if (!an.recommended.empty())
+        views.push_back(make_view(ctx, v, an.isovalues, an.best().index,
+                              an.clean ? "recommended (clean)" : "cleanest (" + std::string(verdict_name(an.best().verdict)) + ")",
+                              a.window));
+    if (an.noisiest && (an.recommended.empty() || an.noisiest->index != an.best().index))
+        views.push_back(make_view(ctx, v, an.isovalues, an.noisiest->index, "noisiest well-populated", a.window));
     j["views"] = json::array();
     for (const View& w : views) j["views"].push_back(w.facts);
     j["seconds"] = seconds_since(t0);
@@ -378,7 +384,7 @@ int run_report(const ReportArgs& a) {
     write_file_atomic(a.output, page);
     if (!a.json_path.empty()) write_file_atomic(a.json_path, j.dump(1) + "\n");
 
-    print_summary(a, v, f, bands, noise, r4, page.size(), j["seconds"].get<double>());
+    print_summary(a, v, an, page.size(), j["seconds"].get<double>());
     return 0;
 }
 

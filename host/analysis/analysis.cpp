@@ -1,0 +1,560 @@
+#include "clfractal/analysis.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "clfractal/error.hpp"
+#include "clfractal/filter.hpp"
+
+namespace clfractal {
+
+namespace {
+
+using json = nlohmann::json;
+
+// The floor of "well-populated": clean_share x the largest I(s), at least 1 cube.
+double population_floor(const FdCurve& f, double share) {
+    const std::vector<std::uint64_t>& count = f.counts.at(0);
+    const std::uint64_t largest = count.empty() ? 0 : *std::max_element(count.begin(), count.end());
+    return std::max(1.0, share * double(largest));
+}
+
+void check_advice(const AdviceOptions& o) {
+    if (!std::isfinite(o.clean_fd)) throw InputError("--clean-fd: must be a finite number");
+    if (!std::isfinite(o.noisy_fd) || o.noisy_fd < o.clean_fd)
+        throw InputError("noisy_fd: must be a finite number >= clean_fd");
+    if (!(o.clean_share >= 0 && o.clean_share <= 1)) throw InputError("--clean-share: must be in [0, 1]");
+    if (o.max_recommended == 0 || o.per_band == 0) throw InputError("max_recommended and per_band: must be >= 1");
+}
+
+// The boundary strength b(k) = sum over |j - k| <= w of I(j) / max(1, sum of h(j)), with
+// w = max(2, n / 32): the mean gradient of the surfaces near s_k in cubes per vertex. No
+// histogram: b(k) = the windowed mean of I(j).
+std::vector<double> boundary_strength(const FdCurve& f, const std::vector<std::uint64_t>& hist) {
+    const std::vector<std::uint64_t>& count = f.counts.at(0);
+    const std::size_t n = count.size();
+    const std::size_t w = std::max<std::size_t>(2, n / 32);
+    std::vector<double> ci(n + 1, 0), ch(n + 1, 0);
+    for (std::size_t k = 0; k < n; ++k) {
+        ci[k + 1] = ci[k] + double(count[k]);
+        ch[k + 1] = ch[k] + (hist.empty() ? 1.0 : double(hist[k]));
+    }
+    std::vector<double> b(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t lo = k >= w ? k - w : 0, hi = std::min(n, k + w + 1);
+        b[k] = (ci[hi] - ci[lo]) / std::max(1.0, ch[hi] - ch[lo]);
+    }
+    return b;
+}
+
+// A run of consecutive curve indices.
+struct Run {
+    std::size_t first, last;
+    std::uint64_t max_count;
+    std::size_t width() const { return last - first + 1; }
+};
+
+// The maximal runs of indices for which `in` holds, ranked widest first, then largest surface.
+template <class In> std::vector<Run> runs_of(const FdCurve& f, In in) {
+    std::vector<Run> runs;
+    const std::vector<std::uint64_t>& count = f.counts.at(0);
+    for (std::size_t j = 0; j < count.size();) {
+        if (!in(j)) {
+            ++j;
+            continue;
+        }
+        Run r{j, j, 0};
+        for (; j < count.size() && in(j); ++j) r.max_count = std::max(r.max_count, count[j]);
+        r.last = j - 1;
+        runs.push_back(r);
+    }
+    std::stable_sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) {
+        return a.width() != b.width() ? a.width() > b.width() : a.max_count > b.max_count;
+    });
+    return runs;
+}
+
+// The material boundaries of a run. Eligible: the isovalues of the run whose surface is at
+// least a tenth of the run's largest (the large surfaces, not the vanishing ends of a shape).
+// Over the eligible isovalues in order, a boundary is a local maximum of b whose prominence
+// ratio b(k) / base is at least 2, the base being the larger of the two sides' smallest b
+// between k and the nearest higher b on that side or the end (the prominence of
+// scipy.signal.peak_prominences, as a ratio; an end point has none). Strongest first, at most
+// `most`. A run without such a maximum (b flat, as on a distance field) is represented by its
+// eligible isovalue nearest to its middle.
+std::vector<std::size_t> boundaries_in(const Run& r, const FdCurve& f, const std::vector<double>& b,
+                                       std::size_t most) {
+    const std::vector<std::uint64_t>& count = f.counts.at(0);
+    std::vector<std::size_t> at;  // the eligible isovalues
+    for (std::size_t k = r.first; k <= r.last; ++k)
+        if (10 * count[k] >= r.max_count) at.push_back(k);
+    const std::size_t n = at.size();
+    auto e = [&](std::size_t i) { return b[at[i]]; };
+    std::vector<std::size_t> peaks;
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+        if (!(e(i) > e(i - 1) && e(i) >= e(i + 1))) continue;
+        double lbase = e(i), rbase = e(i);
+        for (std::size_t j = i; j-- > 0 && e(j) <= e(i);) lbase = std::min(lbase, e(j));
+        for (std::size_t j = i + 1; j < n && e(j) <= e(i); ++j) rbase = std::min(rbase, e(j));
+        if (e(i) >= 2 * std::max(lbase, rbase)) peaks.push_back(at[i]);
+    }
+    std::stable_sort(peaks.begin(), peaks.end(), [&](std::size_t x, std::size_t y) { return b[x] > b[y]; });
+    if (peaks.size() > most) peaks.resize(most);
+    if (peaks.empty()) {
+        const std::size_t middle = r.first + (r.width() - 1) / 2;
+        std::size_t best = at.empty() ? middle : at.front();
+        for (std::size_t k : at)
+            if ((k > middle ? k - middle : middle - k) < (best > middle ? best - middle : middle - best)) best = k;
+        peaks.push_back(best);
+    }
+    return peaks;
+}
+
+Recommendation entry(const FdCurve& f, std::size_t k, const Run& r, const std::vector<double>& b,
+                     const AdviceOptions& o, const char* basis) {
+    Recommendation e;
+    e.index = k;
+    e.isovalue = f.isovalues.value(k);
+    e.fd = f.fd[k];
+    e.count = f.counts[0][k];
+    e.count_sub = f.counts[1][k];
+    e.verdict = verdict_of(e.fd, o);
+    e.first = r.first;
+    e.last = r.last;
+    e.boundary = b[k];
+    e.basis = basis;
+    return e;
+}
+
+json number_json(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json recommendation_json(const FdCurve& f, const Recommendation& e, const NoiseEstimate* surface) {
+    json j{{"isovalue", e.isovalue},
+           {"fd", number_json(e.fd)},
+           {"count", e.count},
+           {"count_sub", e.count_sub},
+           {"components", e.components >= 0 ? json(e.components) : json(nullptr)},
+           {"verdict", verdict_name(e.verdict)},
+           {"first", f.isovalues.value(e.first)},
+           {"last", f.isovalues.value(e.last)},
+           {"band_width", e.last - e.first + 1},
+           {"boundary", e.boundary},
+           {"basis", e.basis}};
+    if (surface) {
+        const double de = surface->edge_fd[e.index];
+        j["edge_fd"] = number_json(de);
+        j["noise_ratio"] = number_json(std::isnan(de) ? NAN : noise_ratio_from_edge_dimension(de));
+        j["noise_ratio_trusted"] = !std::isnan(de) && de >= noise_fd_min && de <= noise_fd_max;
+    }
+    return j;
+}
+
+json bands_json(const FdCurve& f, const std::vector<CleanBand>& bands) {
+    json a = json::array();
+    for (const CleanBand& b : bands)
+        a.push_back({{"first", f.isovalues.value(b.first)},
+                     {"last", f.isovalues.value(b.last)},
+                     {"isovalue", f.isovalues.value(b.representative)},
+                     {"width", b.width()},
+                     {"mean_fd", b.mean_fd},
+                     {"max_fd", b.max_fd},
+                     {"max_count", b.max_count}});
+    return a;
+}
+
+json summary_json(const FdSummary& s) {
+    return {{"mean", number_json(s.mean)},
+            {"std", number_json(s.std)},
+            {"weighted_mean", number_json(s.weighted_mean)},
+            {"kappa", number_json(s.kappa)},
+            {"defined", s.defined}};
+}
+
+json surface_json(const NoiseEstimate& e) {
+    json per = json::array();
+    for (std::size_t j = 0; j < e.isovalues.size(); ++j) {
+        if (std::isnan(e.ratio[j])) continue;
+        per.push_back({{"isovalue", e.isovalues.value(j)},
+                       {"edge_fd", e.edge_fd[j]},
+                       {"ratio", e.ratio[j]},
+                       {"gamma", e.gamma[j]},
+                       {"amplitude", e.amplitude[j]},
+                       {"ratio_gaussian", number_json(e.ratio_gaussian[j])},
+                       {"gamma_gaussian", number_json(e.gamma_gaussian[j])},
+                       {"sigma_gaussian", number_json(e.sigma_gaussian[j])}});
+    }
+    return {{"question", "is the surface at s noise-dominated: r(s) = noise / gradient, Theorem 1 inverted"},
+            {"amplitude", number_json(e.median_amplitude)},
+            {"ratio", number_json(e.median_ratio)},
+            {"ratio_gaussian", number_json(e.median_ratio_gaussian)},
+            {"sigma_gaussian", number_json(e.median_sigma_gaussian)},
+            {"isovalues_used", e.used},
+            {"trusted_edge_fd", {noise_fd_min, noise_fd_max}},
+            {"per_isovalue", per}};
+}
+
+json noise_json(const NoiseLevel* l, const NoiseEstimate* e) {
+    json j = json::object();
+    if (l) {
+        json map = json::array();
+        for (float c : l->map) map.push_back(std::isnan(c) ? json(nullptr) : json(double(c)));
+        j["sigma"] = number_json(l->sigma);
+        j["flat_share"] = l->flat_share;
+        j["block"] = l->block;
+        j["blocks"] = l->blocks;
+        j["blocks_usable"] = l->usable_blocks;
+        j["blocks_flat"] = l->flat_blocks;
+        j["seconds"] = l->seconds;
+        j["map"] = {{"cell", l->map_block}, {"dims", {l->map_dims.nx, l->map_dims.ny, l->map_dims.nz}}, {"rms", map}};
+    }
+    if (e) j["surface"] = surface_json(*e);
+    return j;
+}
+
+// Components at the entries' isovalues: one sort and two sweeps give every isovalue at once
+// (count_components), cheaper than one labelling per entry from the second entry on.
+void fill_components(Context& ctx, const Volume& v, const IsovalueSet& iso, std::vector<Recommendation*> entries) {
+    if (entries.empty()) return;
+    if (entries.size() == 1) {
+        entries[0]->components = count_components_at(ctx, v, entries[0]->isovalue);
+        return;
+    }
+    const ComponentCurve c = count_components(ctx, v, iso, Connectivity::cube);
+    for (Recommendation* e : entries) e->components = c.components[e->index];
+}
+
+// The curve, bands, recommendations and noisiest isovalue of `v` at `iso`.
+struct Advice {
+    SpanResult spans;
+    FdCurve curve;
+    std::vector<std::uint64_t> histogram;
+    std::vector<CleanBand> bands;
+    std::vector<Recommendation> recommended;
+    bool clean = false;
+};
+
+Advice advise(Context& ctx, const Volume& v, const IsovalueSet& iso, const AnalysisOptions& o, bool edges_too) {
+    Advice a;
+    SpanOptions so{{o.kind}, o.levels, o.slab_slices};
+    if (edges_too && o.kind != SpanKind::edges) so.kinds.push_back(SpanKind::edges);
+    a.spans = count_spans(ctx, v, iso, so);
+    a.curve = fd_curve(ctx, a.spans, o.kind);
+    a.histogram = isovalue_histogram(v, iso);
+    a.bands = clean_bands(a.curve, BandOptions{o.advice.clean_fd, o.advice.clean_share});
+    a.recommended = recommend(a.curve, a.histogram, o.advice);
+    a.clean = has_clean_isovalue(a.curve, o.advice);
+    return a;
+}
+
+// The denoising ladder: the fractal-targeted median at the first recommendation's isovalue
+// (LD > 2.5, then LD > 2.2), then the median everywhere; each re-runs the advice on its
+// result, and the ladder stops at the first that leaves a clean well-populated isovalue.
+std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const IsovalueSet& iso,
+                                           const AnalysisOptions& o, double at) {
+    std::vector<DenoiseAttempt> tried;
+    const double thresholds[] = {2.5, 2.2, NAN};
+    for (double h : thresholds) {
+        const auto t0 = std::chrono::steady_clock::now();
+        DenoiseAttempt d;
+        d.method = "median";
+        d.targeted = !std::isnan(h);
+        d.filter = d.targeted ? "fractal-targeted median" : "median";
+        d.isovalue = at;
+        d.threshold = h;
+        d.window = o.window;
+        Volume out;
+        if (d.targeted) {
+            TargetedResult r = targeted_filter(ctx, v, FilterSpec::median(), at, h, o.window);
+            d.changed_share = r.changed_share;
+            out = std::move(r.volume);
+        } else {
+            out = median_filter(ctx, v);
+            std::size_t changed = 0;
+            const std::size_t bytes = value_size(v.type());
+            const auto* a = static_cast<const unsigned char*>(v.data());
+            const auto* b = static_cast<const unsigned char*>(out.data());
+#pragma omp parallel for reduction(+ : changed) schedule(static)
+            for (std::size_t i = 0; i < v.vertices(); ++i) changed += std::memcmp(a + i * bytes, b + i * bytes, bytes) != 0;
+            d.changed_share = double(changed) / double(v.vertices());
+        }
+        Advice adv = advise(ctx, out, iso, o, false);
+        d.clean = adv.clean;
+        d.bands = std::move(adv.bands);
+        d.summary = summarize(adv.curve.fd, adv.curve.counts[0], adv.curve.counts[1]);
+        d.recommended = std::move(adv.recommended);
+        if (o.components != ComponentsScope::none && !d.recommended.empty()) {
+            std::vector<Recommendation*> es;
+            for (Recommendation& e : d.recommended) es.push_back(&e);
+            fill_components(ctx, out, iso, es);
+        }
+        d.seconds = seconds_since(t0);
+        tried.push_back(std::move(d));
+        if (tried.back().clean) break;
+    }
+    return tried;
+}
+
+}  // namespace
+
+const char* verdict_name(Verdict v) {
+    switch (v) {
+        case Verdict::clean: return "clean";
+        case Verdict::rough: return "rough";
+        case Verdict::noisy: return "noisy";
+        case Verdict::undefined: return "undefined";
+    }
+    return "undefined";
+}
+
+Verdict verdict_of(double fd, const AdviceOptions& o) {
+    if (std::isnan(fd)) return Verdict::undefined;
+    return fd <= o.clean_fd ? Verdict::clean : fd >= o.noisy_fd ? Verdict::noisy : Verdict::rough;
+}
+
+std::vector<std::uint64_t> isovalue_histogram(const Volume& v, const IsovalueSet& iso) {
+    const std::size_t n = iso.size();
+    std::vector<std::uint64_t> hist(n, 0);
+    if (n == 0) return hist;
+    const int threads = omp_get_max_threads();
+    std::vector<std::vector<std::uint64_t>> part(std::size_t(threads), std::vector<std::uint64_t>(n, 0));
+    visit(v, [&](const auto* data) {
+        const std::size_t m = v.vertices();
+#pragma omp parallel num_threads(threads)
+        {
+            std::vector<std::uint64_t>& h = part[std::size_t(omp_get_thread_num())];
+#pragma omp for schedule(static)
+            for (std::size_t i = 0; i < m; ++i) {
+                const double x = double(data[i]);
+                if (iso.integer()) {
+                    const double k = x - double(iso.first());
+                    if (k >= 0 && k < double(n)) ++h[std::size_t(k)];
+                } else {
+                    const std::vector<double>& s = iso.list();
+                    const std::size_t k = std::size_t(std::upper_bound(s.begin(), s.end(), x) - s.begin());
+                    if (k > 0) ++h[k - 1];
+                }
+            }
+        }
+    });
+    for (const auto& h : part)
+        for (std::size_t k = 0; k < n; ++k) hist[k] += h[k];
+    return hist;
+}
+
+bool has_clean_isovalue(const FdCurve& f, const AdviceOptions& o) {
+    const double floor_count = population_floor(f, o.clean_share);
+    for (std::size_t k = 0; k < f.fd.size(); ++k)
+        if (!std::isnan(f.fd[k]) && f.fd[k] <= o.clean_fd && double(f.counts[0][k]) >= floor_count) return true;
+    return false;
+}
+
+std::optional<std::size_t> noisiest_isovalue(const FdCurve& f, double clean_share) {
+    const double floor_count = population_floor(f, clean_share);
+    std::optional<std::size_t> noisiest;
+    for (std::size_t k = 0; k < f.fd.size(); ++k)
+        if (!std::isnan(f.fd[k]) && double(f.counts[0][k]) >= floor_count && (!noisiest || f.fd[k] > f.fd[*noisiest]))
+            noisiest = k;
+    return noisiest;
+}
+
+std::vector<Recommendation> recommend(const FdCurve& f, const std::vector<std::uint64_t>& histogram,
+                                      const AdviceOptions& o) {
+    check_advice(o);
+    const std::vector<std::uint64_t>& count = f.counts.at(0);
+    if (!histogram.empty() && histogram.size() != count.size())
+        throw InputError("recommend: the histogram has " + std::to_string(histogram.size()) + " bins for " +
+                         std::to_string(count.size()) + " isovalues");
+    const std::vector<double> b = boundary_strength(f, histogram);
+    const double floor_count = population_floor(f, o.clean_share);
+    auto populated = [&](std::size_t k) { return !std::isnan(f.fd[k]) && double(count[k]) >= floor_count; };
+
+    std::vector<Run> runs = runs_of(f, [&](std::size_t k) { return populated(k) && f.fd[k] <= o.clean_fd; });
+    const char* basis = "clean band";
+    if (runs.empty()) {
+        // Nothing clean: the runs among the cleanest quarter of the well-populated isovalues.
+        std::vector<double> d;
+        for (std::size_t k = 0; k < count.size(); ++k)
+            if (populated(k)) d.push_back(f.fd[k]);
+        if (!d.empty()) {
+            std::sort(d.begin(), d.end());
+            const double q = d[(d.size() - 1) / 4];
+            runs = runs_of(f, [&](std::size_t k) { return populated(k) && f.fd[k] <= q; });
+            // The cleanest run first: the lowest mean D, then the widest.
+            auto mean_fd = [&](const Run& r) {
+                double sum = 0;
+                for (std::size_t k = r.first; k <= r.last; ++k) sum += f.fd[k];
+                return sum / double(r.width());
+            };
+            std::stable_sort(runs.begin(), runs.end(), [&](const Run& x, const Run& y) { return mean_fd(x) < mean_fd(y); });
+            if (runs.size() > 3) runs.resize(3);
+            basis = "cleanest quarter";
+        }
+    }
+    std::vector<Recommendation> out;
+    for (const Run& r : runs) {
+        for (std::size_t k : boundaries_in(r, f, b, o.per_band)) {
+            if (out.size() == o.max_recommended) return out;
+            out.push_back(entry(f, k, r, b, o, basis));
+        }
+    }
+    if (out.empty()) {
+        // No defined D anywhere (a grid too small for G'): the largest surface, undefined.
+        const auto top = std::max_element(count.begin(), count.end());
+        if (top != count.end() && *top > 0) {
+            const std::size_t k = std::size_t(top - count.begin());
+            out.push_back(entry(f, k, Run{k, k, *top}, b, o, "largest surface"));
+        }
+    }
+    return out;
+}
+
+std::string DenoiseAttempt::command(const std::string& volume, const std::string& output) const {
+    std::ostringstream s;
+    s.precision(9);
+    s << "clfractal filter " << volume << " --median";
+    if (targeted) s << " --fractal --iso " << isovalue << " --threshold " << threshold << " --window " << window;
+    s << " -o " << output;
+    return s.str();
+}
+
+Analysis analyse_curve(const FdCurve& f, const AnalysisOptions& o) {
+    check_advice(o.advice);
+    Analysis a;
+    a.options = o;
+    a.isovalues = f.isovalues;
+    a.curve = f;
+    a.summary = summarize(f.fd, f.counts.at(0), f.counts.at(1));
+    a.bands = clean_bands(f, BandOptions{o.advice.clean_fd, o.advice.clean_share});
+    a.recommended = recommend(f, {}, o.advice);
+    a.clean = has_clean_isovalue(f, o.advice);
+    if (const auto k = noisiest_isovalue(f, o.advice.clean_share))
+        a.noisiest = entry(f, *k, Run{*k, *k, f.counts[0][*k]}, boundary_strength(f, {}), o.advice, "noisiest");
+    return a;
+}
+
+Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    check_advice(o.advice);
+    if (o.levels < 2 || o.levels > 16) throw InputError("levels " + std::to_string(o.levels) + ": must be 2..16");
+    Analysis a;
+    a.options = o;
+    a.dims = v.dims();
+    a.type = v.type();
+    const ValueRange range = value_range(v);
+    a.vmin = range.min;
+    a.vmax = range.max;
+    if (o.isovalues && !o.isovalues->matches(v.type()))
+        throw InputError("analyse: the isovalue set does not match " + std::string(value_type_name(v.type())) + " data");
+    a.isovalues = o.isovalues ? *o.isovalues : IsovalueSet::for_volume(v, o.bins ? o.bins : 256);
+
+    Advice adv = advise(ctx, v, a.isovalues, o, o.edge_counts);
+    a.spans = std::move(adv.spans);
+    a.curve = std::move(adv.curve);
+    a.histogram = std::move(adv.histogram);
+    a.bands = std::move(adv.bands);
+    a.recommended = std::move(adv.recommended);
+    a.clean = adv.clean;
+    a.summary = summarize(a.curve.fd, a.curve.counts[0], a.curve.counts[1]);
+    if (const auto k = noisiest_isovalue(a.curve, o.advice.clean_share))
+        a.noisiest = entry(a.curve, *k, Run{*k, *k, a.curve.counts[0][*k]}, boundary_strength(a.curve, a.histogram),
+                           o.advice, "noisiest");
+
+    if (o.components == ComponentsScope::curve) {
+        a.components = count_components(ctx, v, a.isovalues, Connectivity::cube);
+        for (Recommendation& e : a.recommended) e.components = a.components->components[e.index];
+        if (a.noisiest) a.noisiest->components = a.components->components[a.noisiest->index];
+    } else if (o.components == ComponentsScope::recommended) {
+        std::vector<Recommendation*> es;
+        for (Recommendation& e : a.recommended) es.push_back(&e);
+        if (a.noisiest) es.push_back(&*a.noisiest);
+        fill_components(ctx, v, a.isovalues, es);
+    }
+    if (o.noise_level) a.noise_level = estimate_noise_level(ctx, v);
+    if (o.surface_noise) a.surface_noise = estimate_noise(ctx, v, a.isovalues, o.advice.clean_share);
+    if (o.fd4) a.fd4 = fractal_dimension_4d(ctx, v);
+    if (o.denoise && !a.clean && !a.recommended.empty()) a.denoise = denoise_ladder(ctx, v, a.isovalues, o, a.best().isovalue);
+    a.seconds = seconds_since(t0);
+    return a;
+}
+
+double auto_isovalue(Context& ctx, const Volume& v, Recommendation* chosen) {
+    AnalysisOptions o;
+    o.components = ComponentsScope::none;
+    o.noise_level = o.surface_noise = o.fd4 = o.denoise = false;
+    const Analysis a = analyse(ctx, v, o);
+    if (a.recommended.empty())
+        throw InputError("--iso auto: " + v.name + " has no surface at any isovalue (no cube is intersected); give --iso S");
+    if (chosen) *chosen = a.best();
+    return a.best().isovalue;
+}
+
+std::string to_json(const Analysis& a, int indent) {
+    const FdCurve& f = a.curve;
+    const IsovalueSet& iso = a.isovalues;
+    const NoiseEstimate* surface = a.surface_noise ? &*a.surface_noise : nullptr;
+    json j;
+    j["isovalues"] = {{"count", iso.size()},
+                      {"first", iso.size() ? json(iso.value(0)) : json(nullptr)},
+                      {"last", iso.size() ? json(iso.value(iso.size() - 1)) : json(nullptr)}};
+    j["advice"] = {{"clean_fd", a.options.advice.clean_fd},
+                   {"noisy_fd", a.options.advice.noisy_fd},
+                   {"clean_share", a.options.advice.clean_share}};
+    j["fd"] = summary_json(a.summary);
+    j["clean_bands"] = bands_json(f, a.bands);
+    j["clean"] = a.clean;
+    j["recommended"] = json::array();
+    for (const Recommendation& e : a.recommended) j["recommended"].push_back(recommendation_json(f, e, surface));
+    j["noisiest"] = a.noisiest ? recommendation_json(f, *a.noisiest, surface) : json(nullptr);
+    if (a.noise_level || surface) j["noise"] = noise_json(a.noise_level ? &*a.noise_level : nullptr, surface);
+    if (a.fd4)
+        j["fd4"] = {{"q", a.fd4->q},
+                    {"vmin", a.fd4->vmin},
+                    {"i4_l0", a.fd4->i4},
+                    {"i4_l1", a.fd4->i4_sub},
+                    {"d4", number_json(a.fd4->d4)}};
+    json tried = json::array();
+    for (const DenoiseAttempt& d : a.denoise) {
+        json rec = json::array();
+        for (const Recommendation& e : d.recommended) rec.push_back(recommendation_json(f, e, nullptr));
+        tried.push_back({{"filter", d.filter},
+                         {"targeted", d.targeted},
+                         {"isovalue", d.targeted ? json(d.isovalue) : json(nullptr)},
+                         {"threshold", number_json(d.threshold)},
+                         {"window", d.window},
+                         {"changed_share", d.changed_share},
+                         {"clean", d.clean},
+                         {"fd", summary_json(d.summary)},
+                         {"clean_bands", bands_json(f, d.bands)},
+                         {"recommended", rec},
+                         {"seconds", d.seconds},
+                         {"command", d.command()}});
+    }
+    j["denoise"] = {{"needed", !a.clean && !a.recommended.empty()}, {"attempts", tried}};
+    json curve = json::array();
+    for (std::size_t k = 0; k < iso.size(); ++k) {
+        json row;
+        row["isovalue"] = iso.value(k);
+        json counts = json::array();
+        for (int l = 0; l < f.levels(); ++l) counts.push_back(f.counts[std::size_t(l)][k]);
+        row["counts"] = counts;
+        row["fd"] = number_json(f.fd[k]);
+        if (f.levels() > 2) row["fd_fit"] = number_json(f.fd_fit[k]);
+        row["verdict"] = verdict_name(verdict_of(f.fd[k], a.options.advice));
+        if (!a.histogram.empty()) row["vertices"] = a.histogram[k];
+        if (a.components) row["components"] = a.components->components[k];
+        curve.push_back(row);
+    }
+    j["curve"] = curve;
+    j["seconds_analysis"] = a.seconds;
+    return j.dump(indent);
+}
+
+}  // namespace clfractal
