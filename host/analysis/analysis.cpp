@@ -83,7 +83,7 @@ template <class In> std::vector<Run> runs_of(const FdCurve& f, In in) {
 }
 
 // The material boundaries of a run. Eligible: the isovalues of the run whose surface is at
-// least a tenth of the run's largest (the large surfaces, not the vanishing ends of a shape).
+// least a hundredth of the run's largest (not the vanishing ends of a shape).
 // Over the eligible isovalues in order, a boundary is a local maximum of b whose prominence
 // ratio b(k) / base is at least 2, the base being the larger of the two sides' smallest b
 // between k and the nearest higher b on that side or the end (the prominence of
@@ -95,7 +95,7 @@ std::vector<std::size_t> boundaries_in(const Run& r, const FdCurve& f, const std
     const std::vector<std::uint64_t>& count = f.counts.at(0);
     std::vector<std::size_t> at;  // the eligible isovalues
     for (std::size_t k = r.first; k <= r.last; ++k)
-        if (10 * count[k] >= r.max_count) at.push_back(k);
+        if (100 * count[k] >= r.max_count) at.push_back(k);
     const std::size_t n = at.size();
     auto e = [&](std::size_t i) { return b[at[i]]; };
     std::vector<std::size_t> peaks;
