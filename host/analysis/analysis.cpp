@@ -219,6 +219,14 @@ json noise_json(const NoiseLevel* l, const NoiseEstimate* e) {
     return j;
 }
 
+// Host memory beyond the volume: the component labelling (a vertex order and a forest, 8 bytes
+// a vertex, bounded above) and the denoising ladder (the filtered copy, its LD field in float32
+// and the labelling of its recommendations).
+std::size_t components_bytes(const Volume& v) { return 8 * v.vertices(); }
+std::size_t ladder_bytes(const Volume& v) { return v.size_bytes() + 4 * v.vertices() + components_bytes(v); }
+bool within(const AnalysisOptions& o, std::size_t bytes) { return o.memory_budget == 0 || bytes <= o.memory_budget; }
+std::string mib(std::size_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
+
 // Components at the entries' isovalues: one sort and two sweeps give every isovalue at once
 // (count_components), cheaper than one labelling per entry from the second entry on.
 void fill_components(Context& ctx, const Volume& v, const IsovalueSet& iso, std::vector<Recommendation*> entries) {
@@ -471,6 +479,10 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o) {
         a.components = count_components(ctx, v, a.isovalues, Connectivity::cube);
         for (Recommendation& e : a.recommended) e.components = a.components->components[e.index];
         if (a.noisiest) a.noisiest->components = a.components->components[a.noisiest->index];
+    } else if (o.components == ComponentsScope::recommended && !within(o, components_bytes(v))) {
+        a.skipped.push_back("components: the labelling needs " + mib(components_bytes(v)) +
+                            " beyond the volume, above the memory budget of " + mib(o.memory_budget) +
+                            " (fd --components computes them)");
     } else if (o.components == ComponentsScope::recommended) {
         std::vector<Recommendation*> es;
         for (Recommendation& e : a.recommended) es.push_back(&e);
@@ -480,7 +492,14 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o) {
     if (o.noise_level) a.noise_level = estimate_noise_level(ctx, v);
     if (o.surface_noise) a.surface_noise = estimate_noise(ctx, v, a.isovalues, o.advice.clean_share);
     if (o.fd4) a.fd4 = fractal_dimension_4d(ctx, v);
-    if (o.denoise && !a.clean && !a.recommended.empty()) a.denoise = denoise_ladder(ctx, v, a.isovalues, o, a.best().isovalue);
+    if (o.denoise && !a.clean && !a.recommended.empty()) {
+        if (within(o, ladder_bytes(v)))
+            a.denoise = denoise_ladder(ctx, v, a.isovalues, o, a.best().isovalue);
+        else
+            a.skipped.push_back("denoise: the filtered copy and its LD field need " + mib(ladder_bytes(v)) +
+                                " beyond the volume, above the memory budget of " + mib(o.memory_budget) +
+                                " (report runs it)");
+    }
     a.seconds = seconds_since(t0);
     return a;
 }
@@ -538,6 +557,7 @@ std::string to_json(const Analysis& a, int indent) {
                          {"command", d.command()}});
     }
     j["denoise"] = {{"needed", !a.clean && !a.recommended.empty()}, {"attempts", tried}};
+    j["skipped"] = a.skipped;
     json curve = json::array();
     for (std::size_t k = 0; k < iso.size(); ++k) {
         json row;

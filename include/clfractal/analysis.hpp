@@ -113,6 +113,10 @@ struct AnalysisOptions {
     bool fd4 = false;                 ///< the 4D dimension
     bool denoise = true;              ///< when nothing is clean: try the denoising ladder
     int window = 8;                   ///< LD window of the targeted filter
+    /// Host memory in bytes the analysis may use beyond the volume for the components at the
+    /// recommendations (8 bytes a vertex) and the denoising ladder (the volume's bytes + 12 a
+    /// vertex); a step above it is skipped and said in `skipped`. 0: no limit.
+    std::size_t memory_budget = 0;
 };
 
 struct Analysis {
@@ -134,6 +138,7 @@ struct Analysis {
     std::optional<NoiseEstimate> surface_noise;
     std::optional<Fd4Result> fd4;
     std::vector<DenoiseAttempt> denoise;    ///< tried in order until one is clean; empty if clean
+    std::vector<std::string> skipped;       ///< steps left out by the memory budget, and why
     double seconds = 0;                     ///< wall time of analyse()
     /// The first entry of `recommended`: the isovalue to use (`recommended` must not be empty).
     const Recommendation& best() const { return recommended.front(); }

@@ -78,6 +78,7 @@ void print_advice(std::ostream& out, const Analysis& an, const std::string& volu
         return;
     }
     if (an.noisiest) out << "noisiest    " << entry_line(an, *an.noisiest) << "\n";
+    for (const std::string& why : an.skipped) out << "skipped     " << why << "\n";
     if (an.clean) return;
     std::ostringstream clean_fd;
     clean_fd << an.options.advice.clean_fd;

@@ -99,7 +99,9 @@ FdRun count_fd(const FdArgs& a) {
         r.type = v.type();
         if (a.bins && is_integer(r.type) && !is_wide(r.type))
             throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
-        const AnalysisOptions o = analysis_options(a, r.type);
+        AnalysisOptions o = analysis_options(a, r.type);
+        // fd stays within a quarter of the volume + 256 MiB beyond it; --components asks for more.
+        if (!a.components) o.memory_budget = (std::size_t(256) << 20) + v.size_bytes() / 4;
         const std::size_t n = o.isovalues ? o.isovalues->size() : IsovalueSet::for_volume(v, o.bins).size();
         progress("counting " + std::to_string(n) + " isovalues of " + dims_string(r.dims) + " " +
                  value_type_name(r.type) + " on " + ctx.description());

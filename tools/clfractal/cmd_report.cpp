@@ -349,6 +349,8 @@ int run_report(const ReportArgs& a) {
     o.components = ComponentsScope::curve;
     o.fd4 = true;
     o.window = a.window;
+    // The denoising ladder within the report's bound of 4x the volume + 256 MiB.
+    o.memory_budget = (std::size_t(256) << 20) + 3 * v.size_bytes();
     progress("report on " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description() +
              ": curve, components, noise, 4D dimension");
     const Analysis an = analyse(ctx, v, o);
