@@ -27,16 +27,57 @@ library's message; device failures raise RuntimeError.
 """
 from __future__ import annotations
 
+import glob
+import importlib.util
+import os
+
 import numpy as np
 
-from . import _clfractal
+
+def _wheel_pocl() -> str | None:
+    """The PoCL library of the ``pocl-binary-distribution`` wheel (``clfractal[cpu]``), or None."""
+    spec = importlib.util.find_spec("pocl_binary_distribution")
+    if spec is None or not spec.origin:
+        return None
+    site = os.path.dirname(os.path.dirname(spec.origin))
+    for libs in ("pocl_binary_distribution/.libs", "pyopencl/.libs"):
+        found = sorted(glob.glob(os.path.join(site, libs, "libpocl*.so*")))
+        if found:
+            return found[0]
+    return None
+
+
+def _choose_opencl_drivers() -> str:
+    """Where the OpenCL ICD loader (bundled in the wheel, or the system's) finds drivers.
+
+    Decided once, before the loader starts: the user's ``OCL_ICD_VENDORS`` or
+    ``OPENCL_VENDOR_PATH`` when set; else the system's registered drivers
+    (``/etc/OpenCL/vendors/*.icd``: vendor GPU drivers, a system PoCL) when there are any;
+    else the PoCL of ``clfractal[cpu]``, by setting ``OCL_ICD_VENDORS`` to its library."""
+    for variable in ("OCL_ICD_VENDORS", "OPENCL_VENDOR_PATH"):
+        if os.environ.get(variable):
+            return f"{variable}={os.environ[variable]}"
+    registered = sorted(glob.glob("/etc/OpenCL/vendors/*.icd"))
+    if registered:
+        return "system: " + ", ".join(registered)
+    pocl = _wheel_pocl()
+    if pocl is None:
+        return "none (no /etc/OpenCL/vendors/*.icd and no pocl-binary-distribution)"
+    os.environ["OCL_ICD_VENDORS"] = pocl
+    return "pocl-binary-distribution: " + pocl
+
+
+#: Where the OpenCL drivers come from (see ``devices()``).
+OPENCL_DRIVERS = _choose_opencl_drivers()
+
+from . import _clfractal  # noqa: E402  (after the drivers are chosen: the loader reads them once)
 
 __version__ = "0.1.0"
 
 __all__ = [
     "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "fd4", "components", "median", "gaussian",
     "bilateral", "targeted_filter", "smooth", "mesh", "noise_dimension", "noise_level", "read_volume",
-    "devices", "device_description",
+    "devices", "device_description", "OPENCL_DRIVERS",
 ]
 
 #: NumPy dtype -> the library's value type, one line per type it computes in. The order is
@@ -390,9 +431,12 @@ def read_volume(path: str) -> tuple[np.ndarray, tuple[float, float, float]]:
 
 
 def devices() -> list[dict]:
-    """Every OpenCL device: platform, name, type, global_mem, max_alloc, compute_units, and
-    ``default`` (the one used without a ``device`` argument)."""
-    return [dict(d) for d in _clfractal.devices()]
+    """Every OpenCL device: platform, name, type, global_mem, max_alloc, compute_units,
+    ``default`` (the one used without a ``device`` argument) and ``drivers`` (where the
+    OpenCL drivers were found, ``OPENCL_DRIVERS``). An empty list when there is no device:
+    ``pip install 'clfractal[cpu]'`` gives a CPU device (PoCL from PyPI), a GPU vendor's
+    OpenCL driver a GPU."""
+    return [dict(d, drivers=OPENCL_DRIVERS) for d in _clfractal.devices()]
 
 
 def device_description(device: str | None = None) -> str:

@@ -7,6 +7,7 @@ import numpy.typing as npt
 
 __version__: str
 VALUE_TYPES: dict[np.dtype[Any], str]
+OPENCL_DRIVERS: str
 
 _Device = str | None
 _Isovalues = npt.ArrayLike | None

@@ -476,7 +476,11 @@ NB_MODULE(_clfractal, m) {
         } catch (const InputError& e) {
             PyErr_SetString(PyExc_ValueError, e.what());
         } catch (const DeviceError& e) {
-            PyErr_SetString(PyExc_RuntimeError, e.what());
+            std::string what = e.what();
+            if (e.code() == CL_DEVICE_NOT_FOUND && what.find("no OpenCL platform") != std::string::npos)
+                what += "; for a CPU device: pip install 'clfractal[cpu]' (PoCL from PyPI); for a GPU: its "
+                        "vendor's OpenCL driver (clfractal.OPENCL_DRIVERS says where drivers were looked for)";
+            PyErr_SetString(PyExc_RuntimeError, what.c_str());
         } catch (const cl::Error& e) {
             PyErr_Format(PyExc_RuntimeError, "%s: %s (%d)", e.what(), cl_error_name(e.err()), e.err());
         }
