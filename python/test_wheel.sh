@@ -8,7 +8,7 @@
 # /usr/bin/python3 installs the wheel with its `cpu` (PoCL from PyPI) and `test` extras, and
 # 1. the extension resolves every library outside the manylinux policy inside the wheel;
 # 2. with no OpenCL driver registered, the package chooses the PoCL of `clfractal[cpu]`
-#    (python/tests/wheel_check.py: its device, FD curves of real volumes against the reference);
+#    (python/wheel_check.py: its device, FD curves of real volumes against the reference);
 # 3. with the system's PoCL registered again (a vendor driver through its ICD file; the
 #    loader and the imaging libraries still hidden), python/tests pass (the checks against
 #    the command-line tool skip: it needs the hidden libraries).
@@ -69,7 +69,7 @@ done
 # ---- no OpenCL driver registered: the PoCL of clfractal[cpu]
 cd "$(dirname "$venv")"
 export CLFRACTAL_SHARED_DATA=${CLFRACTAL_SHARED_DATA:-$root/../shared/data}
-"$venv/bin/python" "$root/python/tests/wheel_check.py"
+PYTHONPATH=$root/python/tests "$venv/bin/python" -P "$root/python/wheel_check.py"
 
 # ---- the system PoCL registered again, the loader and imaging libraries still hidden
 for m in "${pocl_mounts[@]}"; do umount "$m"; done

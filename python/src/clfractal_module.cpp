@@ -34,6 +34,7 @@
 #include "clfractal/mesh.hpp"
 #include "clfractal/noise.hpp"
 #include "clfractal/noise_level.hpp"
+#include "clfractal/ply.hpp"
 #include "clfractal/smooth.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
@@ -97,8 +98,8 @@ using InArray = nb::ndarray<nb::ro, nb::ndim<3>, nb::device::cpu>;
 
 /// Copies a (z, y, x) array of the value type `type_name` into a Volume, following its
 /// strides (in elements, any sign), so views and transposes need no copy beforehand.
-/// Float data holding NaN or Inf is rejected.
-Volume to_volume(const InArray& a, const std::string& type_name) {
+/// Float data holding NaN or Inf is rejected unless `finite` is keep.
+Volume to_volume(const InArray& a, const std::string& type_name, FiniteCheck finite = FiniteCheck::reject) {
     const ValueType type = parse_value_type(type_name);
     const std::size_t item = value_size(type);
     if (a.itemsize() != item)
@@ -118,7 +119,8 @@ Volume to_volume(const InArray& a, const std::string& type_name) {
                 for (std::size_t x = 0; x < nx; ++x) std::memcpy(dst + x * item, s + std::int64_t(x) * sx, item);
             }
         }
-    check_finite(v, "array");  // NaN and Inf rejected as from files (docs/definitions.md §1)
+    // NaN and Inf rejected as from files (docs/definitions.md §1); writers keep them (LD fields).
+    if (finite == FiniteCheck::reject) check_finite(v, "array");
     return v;
 }
 
@@ -366,18 +368,42 @@ nb::tuple filter_call(nb::handle a, const std::string& type, const std::string& 
     }));
 }
 
-nb::tuple targeted_filter_call(const InArray& a, const std::string& type, double iso, double threshold,
-                               const std::string& method, int window, double sigma, double sigma_s, double sigma_r,
-                               const std::optional<std::string>& device) {
-    const FilterSpec spec = filter_spec(method, sigma, sigma_s, sigma_r);
-    Volume v = to_volume(a, type);
-    TargetedResult r =
-        on_device(device, [&](Context& ctx) { return targeted_filter(ctx, v, spec, iso, threshold, window); });
+/// The counts of a masked filter, as the package's TargetedFilterResult takes them.
+nb::tuple targeted_out(TargetedResult&& r) {
     nb::dict info = make_dict({{"selected", nb::cast(r.selected)},
                                {"changed", nb::cast(r.changed)},
                                {"selected_share", nb::cast(r.selected_share)},
                                {"changed_share", nb::cast(r.changed_share)}});
     return nb::make_tuple(volume_out(std::move(r.volume)), info);
+}
+
+/// The fractal-targeted filter where the LD field (`mask` "ld", isovalue `iso`) or the LD4
+/// field (`mask` "ld4", bin width `q`) exceeds `threshold`.
+nb::tuple targeted_filter_call(const InArray& a, const std::string& type, const std::string& mask, double iso,
+                               double q, double threshold, const std::string& method, int window, double sigma,
+                               double sigma_s, double sigma_r, const std::optional<std::string>& device) {
+    const FilterSpec spec = filter_spec(method, sigma, sigma_s, sigma_r);
+    if (mask != "ld" && mask != "ld4") throw InputError("mask '" + mask + "': expected 'ld' or 'ld4'");
+    Volume v = to_volume(a, type);
+    return targeted_out(on_device(device, [&](Context& ctx) {
+        if (mask == "ld") return targeted_filter(ctx, v, spec, iso, threshold, window);
+        const Volume field = local_fractal_dimension_4d(ctx, v, q, window);
+        return targeted_filter(ctx, v, spec, field, threshold);
+    }));
+}
+
+nb::tuple ld_guided_call(const InArray& a, const std::string& type, double iso, double sigma_s, double sigma_r,
+                         int window, const std::optional<std::string>& device) {
+    filter_spec("bilateral", 1.0, sigma_s, sigma_r);  // the same checks of the sigmas
+    Volume v = to_volume(a, type);
+    return targeted_out(
+        on_device(device, [&](Context& ctx) { return ld_bilateral_filter(ctx, v, sigma_s, sigma_r, iso, window); }));
+}
+
+nb::tuple local4_call(const InArray& a, const std::string& type, double q, int window,
+                      const std::optional<std::string>& device) {
+    Volume v = to_volume(a, type);
+    return volume_out(on_device(device, [&](Context& ctx) { return local_fractal_dimension_4d(ctx, v, q, window); }));
 }
 
 nb::tuple smooth_call(nb::handle a, const std::string& type, double iso, double threshold, int window,
@@ -439,14 +465,106 @@ nb::tuple mesh_call(nb::handle a, const std::string& type, double iso, const std
     return nb::make_tuple(owned(std::move(vertices)), owned(std::move(faces)), ld);
 }
 
-nb::tuple read_volume_call(const std::string& path) {
+/// The raw-read options of `clfractal` (--dims, --type, --endian, --spacing, --series,
+/// --scaled, --as); dims and spacing in (x, y, z) order.
+RawOptions raw_options(const std::optional<std::vector<std::size_t>>& dims, const std::optional<std::string>& type,
+                       const std::string& endian, const std::optional<std::vector<double>>& spacing,
+                       const std::string& series, bool scaled, const std::optional<std::string>& as) {
+    RawOptions o;
+    if (dims) {
+        if (dims->size() != 3) throw InputError("dims: expected 3 values (nz, ny, nx)");
+        o.dims = Dims{(*dims)[0], (*dims)[1], (*dims)[2]};
+    }
+    if (type) o.type = parse_value_type(*type);
+    if (endian == "big") o.big_endian = true;
+    else if (endian != "little") throw InputError("endian '" + endian + "': expected 'little' or 'big'");
+    if (spacing) {
+        if (spacing->size() != 3) throw InputError("spacing: expected 3 values (dz, dy, dx)");
+        for (double x : *spacing)
+            if (!(std::isfinite(x) && x > 0)) throw InputError("spacing: values must be finite and > 0");
+        o.spacing = {(*spacing)[0], (*spacing)[1], (*spacing)[2]};
+    }
+    o.series = series;
+    o.scaled = scaled;
+    if (as) o.as = parse_value_type(*as);
+    return o;
+}
+
+nb::tuple read_volume_call(const std::string& path, const RawOptions& raw) {
     Volume v;
     {
         nb::gil_scoped_release no_gil;
-        v = read_volume(path, {}, FiniteCheck::keep);  // LD fields hold NaN; computing calls reject it
+        v = read_volume(path, raw, FiniteCheck::keep);  // LD fields hold NaN; computing calls reject it
     }
     auto spacing = nb::make_tuple(v.spacing[2], v.spacing[1], v.spacing[0]);
     return nb::make_tuple(volume_out(std::move(v)), spacing);
+}
+
+/// What `clfractal info` reports: the header facts, the grid and the value statistics.
+nb::dict info_call(const std::string& path, const RawOptions& raw) {
+    std::vector<std::string> header;
+    Volume v;
+    ValueStats stats;
+    {
+        nb::gil_scoped_release no_gil;
+        header = describe_volume_file(path, raw);
+        v = read_volume(path, raw, FiniteCheck::keep);
+        stats = value_stats(v);
+    }
+    const Dims& d = v.dims();
+    return make_dict({{"path", nb::cast(path)},
+                      {"header", nb::cast(header)},
+                      {"shape", nb::make_tuple(d.nz, d.ny, d.nx)},
+                      {"dtype", nb::cast(std::string(value_type_name(v.type())))},
+                      {"spacing", nb::make_tuple(v.spacing[2], v.spacing[1], v.spacing[0])},
+                      {"min", nb::cast(stats.min)},
+                      {"max", nb::cast(stats.max)},
+                      {"nan", nb::cast(stats.nan)},
+                      {"inf", nb::cast(stats.inf)}});
+}
+
+/// Writes a (z, y, x) array as NRRD or NIfTI (by the extension) with spacing (dz, dy, dx).
+void write_volume_call(const InArray& a, const std::string& type, const std::string& path,
+                       const std::vector<double>& spacing_zyx) {
+    Volume v = to_volume(a, type, FiniteCheck::keep);
+    if (spacing_zyx.size() != 3) throw InputError("spacing: expected 3 values (dz, dy, dx)");
+    for (double x : spacing_zyx)
+        if (!(std::isfinite(x) && x > 0)) throw InputError("spacing: values must be finite and > 0");
+    v.spacing = {spacing_zyx[2], spacing_zyx[1], spacing_zyx[0]};
+    v.name = path;
+    nb::gil_scoped_release no_gil;
+    write_volume(v, path);
+}
+
+/// Writes a mesh as mesh_call returns it ((n, 3) float32 in (z, y, x), (m, 3) triangles of
+/// reversed winding, optional per-vertex LD coloured by the thesis map) as PLY.
+void write_ply_call(const std::string& path,
+                    const nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>& vertices,
+                    const nb::ndarray<const std::int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>& faces,
+                    const std::optional<nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>>& ld) {
+    if (vertices.shape(1) != 3 || faces.shape(1) != 3)
+        throw InputError(path + ": vertices and faces must have 3 columns");
+    const std::size_t n = vertices.shape(0), m = faces.shape(0);
+    Mesh mesh;
+    const float* p = vertices.data();
+    for (std::size_t i = 0; i < n; ++i) mesh.positions.push_back({p[3 * i + 2], p[3 * i + 1], p[3 * i]});
+    const std::int64_t* t = faces.data();
+    for (std::size_t i = 0; i < 3 * m; ++i)
+        if (t[i] < 0 || std::size_t(t[i]) >= n)
+            throw InputError(path + ": face " + std::to_string(i / 3) + " names vertex " + std::to_string(t[i]) +
+                             " of " + std::to_string(n));
+    for (std::size_t i = 0; i < m; ++i)
+        mesh.triangles.push_back({std::uint32_t(t[3 * i]), std::uint32_t(t[3 * i + 2]), std::uint32_t(t[3 * i + 1])});
+    if (ld) {
+        if (ld->shape(0) != n) throw InputError(path + ": ld must have one value per vertex");
+        mesh.ld.assign(ld->data(), ld->data() + n);
+        for (float x : mesh.ld) {
+            const Rgb c = ld_colour(x);
+            mesh.colors.push_back({c.r, c.g, c.b});
+        }
+    }
+    nb::gil_scoped_release no_gil;
+    write_ply(mesh, path);
 }
 
 nb::list devices_call() {
@@ -509,8 +627,11 @@ NB_MODULE(_clfractal, m) {
           "device"_a.none());
     m.def("filter", &filter_call, "volume"_a, "type"_a, "method"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a,
           "device"_a.none());
-    m.def("targeted_filter", &targeted_filter_call, "volume"_a, "type"_a, "iso"_a, "threshold"_a, "method"_a,
-          "window"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a, "device"_a.none());
+    m.def("targeted_filter", &targeted_filter_call, "volume"_a, "type"_a, "mask"_a, "iso"_a, "q"_a, "threshold"_a,
+          "method"_a, "window"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a, "device"_a.none());
+    m.def("ld_guided_filter", &ld_guided_call, "volume"_a, "type"_a, "iso"_a, "sigma_s"_a, "sigma_r"_a, "window"_a,
+          "device"_a.none());
+    m.def("local4", &local4_call, "volume"_a, "type"_a, "q"_a, "window"_a, "device"_a.none());
     m.def("smooth", &smooth_call, "volume"_a, "type"_a, "iso"_a, "threshold"_a, "window"_a, "variant"_a, "tau"_a,
           "device"_a.none());
     m.def("mesh", &mesh_call, "volume"_a, "type"_a, "iso"_a, "method"_a, "color_by_ld"_a, "window"_a, "spacing"_a,
@@ -520,5 +641,11 @@ NB_MODULE(_clfractal, m) {
         const NoiseKind k = parse_noise_kind(kind);
         return k == NoiseKind::uniform ? expected_edge_dimension(r) : expected_edge_dimension(r, k);
     }, "r"_a, "kind"_a);
-    m.def("read_volume", &read_volume_call, "path"_a);
+    nb::class_<RawOptions>(m, "RawOptions");
+    m.def("raw_options", &raw_options, "dims"_a.none(), "type"_a.none(), "endian"_a, "spacing"_a.none(), "series"_a,
+          "scaled"_a, "as_type"_a.none());
+    m.def("read_volume", &read_volume_call, "path"_a, "raw"_a);
+    m.def("info", &info_call, "path"_a, "raw"_a);
+    m.def("write_volume", &write_volume_call, "volume"_a, "type"_a, "path"_a, "spacing"_a);
+    m.def("write_ply", &write_ply_call, "path"_a, "vertices"_a, "faces"_a, "ld"_a.none());
 }

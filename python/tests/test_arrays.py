@@ -109,7 +109,7 @@ def test_one_vertex_and_thin_volumes():
     assert np.isnan(clfractal.local_fd(one, 7)).all()
     iso, comp = clfractal.components(one)
     np.testing.assert_array_equal(comp, [0])
-    verts, faces = clfractal.mesh(one, 7)
+    verts, faces, _ = clfractal.mesh(one, 7)
     assert verts.shape == (0, 3) and faces.shape == (0, 3)
     thin = noisy_sphere((1, 6, 7), np.float32)  # a single slice: no cubes, edges in x and y
     e = clfractal.fd_curve(thin, kind="edge")

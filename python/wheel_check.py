@@ -1,6 +1,6 @@
 """Run by python/test_wheel.sh where no OpenCL driver is registered: the installed package
 must have chosen the PoCL of ``clfractal[cpu]``, list its device, and give FD curves of real
-volumes equal to the NumPy reference (references.py) on it.
+volumes equal to the NumPy reference (python/tests/references.py) on it.
 
 CPUs newer than that PoCL's LLVM make every kernel build fail with "unknown target CPU
 'generic'" (pocl/pocl#1049); then the FD checks are reported as not run and the script
