@@ -1,7 +1,8 @@
 // The extension module behind the `clfractal` Python package (python/clfractal/__init__.py):
 // thin calls into the C++ library. Arrays arrive as 3D NumPy arrays in (z, y, x) order of a
-// value type the library computes in (the package's one dtype table chose it, by name); they
-// are copied once, honouring their strides, into a clfractal::Volume (x fastest). Results
+// value type the library computes in (the package's one dtype table chose it, by name); a
+// C-contiguous one is read in place (Volume::wrap), any other copied once, honouring its
+// strides, into a clfractal::Volume (x fastest). Results
 // leave as NumPy arrays that own the library's buffers (no copy). Device work runs without
 // the GIL, one call at a time per OpenCL context; contexts and their program caches live for
 // the whole process.
@@ -14,6 +15,7 @@
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -96,15 +98,35 @@ template <class F> auto on_device(const std::optional<std::string>& selector, F&
 
 using InArray = nb::ndarray<nb::ro, nb::ndim<3>, nb::device::cpu>;
 
-/// Copies a (z, y, x) array of the value type `type_name` into a Volume, following its
-/// strides (in elements, any sign), so views and transposes need no copy beforehand.
-/// Float data holding NaN or Inf is rejected unless `finite` is keep.
-Volume to_volume(const InArray& a, const std::string& type_name, FiniteCheck finite = FiniteCheck::reject) {
+/// Arrays copied into a Volume so far (clfractal._clfractal.host_copies): C-contiguous
+/// arrays are read in place and count none.
+std::atomic<std::size_t> host_copies{0};
+
+/// Whether the volume may read the array in place, or must own a copy of its values.
+enum class InPlace { allowed, never };
+
+/// A (z, y, x) array of the value type `type_name` as a Volume: read in place when it is
+/// C-contiguous (Volume::wrap; the array outlives the call that uses it) and `in_place`
+/// allows, else copied following its strides (in elements, any sign), so views and
+/// transposes need no copy beforehand. Float data holding NaN or Inf is rejected unless
+/// `finite` is keep.
+Volume to_volume(const InArray& a, const std::string& type_name, FiniteCheck finite = FiniteCheck::reject,
+                 InPlace in_place = InPlace::allowed) {
     const ValueType type = parse_value_type(type_name);
     const std::size_t item = value_size(type);
     if (a.itemsize() != item)
         throw InputError("array: " + std::to_string(a.itemsize()) + "-byte elements given as " + type_name);
-    Volume v(Dims{a.shape(2), a.shape(1), a.shape(0)}, type, "array");
+    const Dims dims{a.shape(2), a.shape(1), a.shape(0)};
+    const bool contiguous = a.stride(2) == 1 && a.stride(1) == std::int64_t(a.shape(2)) &&
+                            a.stride(0) == std::int64_t(a.shape(2) * a.shape(1));
+    if (contiguous && in_place == InPlace::allowed) {
+        // Read only: every computing call takes its input as const.
+        Volume v = Volume::wrap(const_cast<void*>(a.data()), dims, type, "array");
+        if (finite == FiniteCheck::reject) check_finite(v, "array");
+        return v;
+    }
+    ++host_copies;
+    Volume v(dims, type, "array");
     const auto* src = static_cast<const unsigned char*>(a.data());
     auto* dst = static_cast<unsigned char*>(v.data());
     const std::int64_t sz = a.stride(0) * std::int64_t(item), sy = a.stride(1) * std::int64_t(item),
@@ -132,7 +154,7 @@ struct Uploaded {
     Volume host;  // declared before `on_device`: it outlives the zero-copy buffer
     DeviceVolume on_device;
     Uploaded(const InArray& a, const std::string& type, const std::optional<std::string>& selector)
-        : device(device_for(selector)), host(to_volume(a, type)) {
+        : device(device_for(selector)), host(to_volume(a, type, FiniteCheck::reject, InPlace::never)) {
         nb::gil_scoped_release no_gil;
         std::lock_guard<std::mutex> guard(*device.lock);
         on_device = DeviceVolume(*device.ctx, host);
@@ -614,6 +636,8 @@ NB_MODULE(_clfractal, m) {
     m.def("device_description", [](const std::optional<std::string>& device) {
         return on_device(device, [](Context& ctx) { return ctx.description(); });
     }, "device"_a = nb::none());
+    m.def("host_copies", [] { return host_copies.load(); },
+          "Arrays copied into the library's volumes so far (C-contiguous ones are read in place).");
     m.def("context_count", [] {
         std::lock_guard<std::mutex> guard(registry_lock);
         return context_locks.size();
