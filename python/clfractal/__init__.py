@@ -83,7 +83,7 @@ from . import _clfractal  # noqa: E402  (after the drivers are chosen: the loade
 __version__ = "0.1.0"
 
 __all__ = [
-    "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "Fd4", "fd4", "local4",
+    "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "SliceStream", "Fd4", "fd4", "local4",
     "Components", "components", "median", "gaussian", "bilateral", "Filtered", "targeted_filter",
     "ld_guided_filter", "Smoothed", "smooth", "Mesh", "mesh", "write_ply", "NoiseLevel", "noise_level",
     "noise_dimension", "VolumeFile", "read_volume", "write_volume", "VolumeInfo", "info",
@@ -266,6 +266,73 @@ def fd_curve(volume, kind: str = "box", levels: int = 2, isovalues=None, bins: i
     raw = _clfractal.fd_curve(a, type_name, kind, int(levels), _isovalues(isovalues), int(bins),
                               int(min_count), device)
     return FdCurve(raw, kind, int(levels), a.dtype)
+
+
+class SliceStream:
+    """FD curves of a volume that arrives slice by slice (a scanner), memory for a few slices.
+
+    The library's ``SpanStream`` (include/clfractal/stream.hpp): ``push`` (ny, nx) slices,
+    or (k, ny, nx) stacks of them, in z order; ``curve()`` at any time gives the FD curve
+    of the slices so far, equal to ``fd_curve`` of the volume they make (the isovalues must
+    be given: the value range is not known ahead).
+
+    Parameters
+    ----------
+    shape : (ny, nx)
+        The slice shape.
+    dtype : numpy dtype
+        The slices' value type (a key of ``VALUE_TYPES``).
+    isovalues : array_like
+        Increasing isovalues (integers for integer data).
+    levels : int, optional
+        Pyramid levels (2: eq. 2.5).
+    kind : {"box", "edge"}, optional
+    device : str, optional
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> v = np.random.default_rng(0).integers(0, 50, (9, 10, 11), dtype=np.uint8)
+    >>> stream = clfractal.SliceStream(v.shape[1:], v.dtype, isovalues=np.arange(1, 50))
+    >>> for z in range(v.shape[0]):
+    ...     stream.push(v[z])
+    >>> bool((stream.curve().counts == clfractal.fd_curve(v, isovalues=np.arange(1, 50)).counts).all())
+    True
+    """
+
+    def __init__(self, shape, dtype, isovalues, levels: int = 2, kind: str = "box", device: str | None = None):
+        ny, nx = (int(n) for n in shape)
+        self.dtype = np.dtype(dtype)
+        if self.dtype not in VALUE_TYPES:
+            raise ValueError(f"SliceStream: {self.dtype} is not a value type ({', '.join(VALUE_TYPES.values())})")
+        self.kind, self.levels = kind, int(levels)
+        self._stream = _clfractal.SliceStream(ny, nx, VALUE_TYPES[self.dtype], _isovalues(isovalues),
+                                              self.levels, kind, device)
+
+    @property
+    def slices(self) -> int:
+        """Slices pushed so far."""
+        return int(self._stream.slices)
+
+    def push(self, slices) -> None:
+        """Adds a (ny, nx) slice or a (k, ny, nx) stack, in z order (converted to the
+        stream's dtype only when it holds every value exactly)."""
+        a = np.asarray(slices)
+        if a.ndim == 2:
+            a = a[None]
+        if a.ndim != 3:
+            raise ValueError(f"SliceStream.push: expected a (ny, nx) slice or (k, ny, nx) stack, got shape {a.shape}")
+        if a.dtype != self.dtype:
+            with np.errstate(all="ignore"):
+                b = a.astype(self.dtype)
+            if not np.array_equal(b, a):
+                raise ValueError(f"SliceStream.push: {a.dtype} values do not fit the stream's {self.dtype}")
+            a = b
+        self._stream.push(np.ascontiguousarray(a))
+
+    def curve(self) -> FdCurve:
+        """The FD curve of the slices so far, as ``fd_curve`` gives it."""
+        return FdCurve(self._stream.curve(), self.kind, self.levels, self.dtype)
 
 
 def local_fd(volume, iso: float, window: int = 8, device: str | None = None) -> np.ndarray:

@@ -39,6 +39,7 @@
 #include "clfractal/ply.hpp"
 #include "clfractal/smooth.hpp"
 #include "clfractal/span.hpp"
+#include "clfractal/stream.hpp"
 #include "clfractal/volume_io.hpp"
 
 namespace nb = nanobind;
@@ -221,19 +222,25 @@ struct Isovalues {
     std::vector<std::size_t> pick;
 };
 
+Isovalues requested_isovalues(ValueType type, const std::vector<double>& s);
+
 Isovalues choose_isovalues(const Volume& v, const std::optional<std::vector<double>>& requested, std::size_t bins) {
     if (!requested) return {IsovalueSet::for_volume(v, bins), {}};
-    const std::vector<double>& s = *requested;
+    return requested_isovalues(v.type(), *requested);
+}
+
+/// The isovalue set of a requested list for data of `type`.
+Isovalues requested_isovalues(ValueType type, const std::vector<double>& s) {
     if (s.empty()) throw InputError("isovalues: the list is empty");
     for (std::size_t j = 0; j < s.size(); ++j) {
         if (!std::isfinite(s[j])) throw InputError("isovalues: value " + std::to_string(j) + " is not finite");
         if (j && !(s[j - 1] < s[j]))
             throw InputError("isovalues: the list must be strictly increasing (at index " + std::to_string(j) + ")");
     }
-    if (v.type() == ValueType::float32) return {IsovalueSet::floats(std::vector<float>(s.begin(), s.end())), {}};
+    if (type == ValueType::float32) return {IsovalueSet::floats(std::vector<float>(s.begin(), s.end())), {}};
     // float64 data, and int32/uint32 data (whose ranges may be wider than an integer set):
     // float64 isovalues, compared exactly in double.
-    if (!is_integer(v.type()) || is_wide(v.type())) return {IsovalueSet::doubles(s), {}};
+    if (!is_integer(type) || is_wide(type)) return {IsovalueSet::doubles(s), {}};
     for (std::size_t j = 0; j < s.size(); ++j)
         if (s[j] != std::floor(s[j]))
             throw InputError("isovalues: integer data takes integer isovalues (value " + std::to_string(j) + " is " +
@@ -259,27 +266,16 @@ std::vector<double> isovalue_list(const Isovalues& iso) {
 
 // ------------------------------------------------------------------ the calls
 
-nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string& kind_name, int levels,
-                       const std::optional<std::vector<double>>& isovalues, std::size_t bins,
-                       std::uint64_t min_count, const std::optional<std::string>& device) {
-    SpanKind kind;
-    if (kind_name == "box") kind = SpanKind::cubes;
-    else if (kind_name == "edge") kind = SpanKind::edges;
-    else throw InputError("kind '" + kind_name + "': expected 'box' or 'edge'");
-    if (levels < 2 || levels > 16) throw InputError("levels " + std::to_string(levels) + ": must be 2..16");
-    const Input in = input_of(a, type);
-    const Volume& v = in.host();
-    std::string description;
-    double compile = 0;
-    auto [iso, f, seconds] = on_input(in, device, [&](Context& ctx) {
-        Isovalues iso = choose_isovalues(v, isovalues, bins);
-        const SpanOptions opt{{kind}, levels};
-        SpanResult spans = in.device() ? count_spans(*in.device(), iso.set, opt) : count_spans(ctx, v, iso.set, opt);
-        FdCurve f = fd_curve(ctx, spans, kind);
-        description = ctx.description();
-        compile = ctx.compile_seconds();
-        return std::make_tuple(std::move(iso), std::move(f), spans.seconds);
-    });
+SpanKind span_kind(const std::string& kind_name) {
+    if (kind_name == "box") return SpanKind::cubes;
+    if (kind_name == "edge") return SpanKind::edges;
+    throw InputError("kind '" + kind_name + "': expected 'box' or 'edge'");
+}
+
+/// An FD curve as the package's FdCurve takes it: the rows of the requested isovalues
+/// (flattened level by level, levels x K), the curve and its summary.
+nb::dict curve_dict(const Isovalues& iso, const FdCurve& f, const std::string& kind_name, int levels,
+                    std::uint64_t min_count, const std::string& description, double seconds, double compile) {
     // Rows of the requested isovalues, flattened level by level (levels x K).
     std::vector<std::vector<std::uint64_t>> rows;
     std::vector<std::uint64_t> counts;
@@ -309,6 +305,80 @@ nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string&
     out["summary"] = summary;
     return out;
 }
+
+
+nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string& kind_name, int levels,
+                       const std::optional<std::vector<double>>& isovalues, std::size_t bins,
+                       std::uint64_t min_count, const std::optional<std::string>& device) {
+    const SpanKind kind = span_kind(kind_name);
+    if (levels < 2 || levels > 16) throw InputError("levels " + std::to_string(levels) + ": must be 2..16");
+    const Input in = input_of(a, type);
+    const Volume& v = in.host();
+    std::string description;
+    double compile = 0;
+    auto [iso, f, seconds] = on_input(in, device, [&](Context& ctx) {
+        Isovalues iso = choose_isovalues(v, isovalues, bins);
+        const SpanOptions opt{{kind}, levels};
+        SpanResult spans = in.device() ? count_spans(*in.device(), iso.set, opt) : count_spans(ctx, v, iso.set, opt);
+        FdCurve f = fd_curve(ctx, spans, kind);
+        description = ctx.description();
+        compile = ctx.compile_seconds();
+        return std::make_tuple(std::move(iso), std::move(f), spans.seconds);
+    });
+    return curve_dict(iso, f, kind_name, levels, min_count, description, seconds, compile);
+}
+
+/// clfractal.SliceStream: SpanStream (stream.hpp) on one device, fed (ny, nx) slices in z
+/// order; the curve of the slices so far at any time.
+struct SliceStream {
+    Device device;
+    Isovalues iso;
+    std::string kind_name;
+    int levels;
+    std::unique_ptr<SpanStream> stream;
+    std::size_t nx, ny;
+    SliceStream(std::size_t ny_, std::size_t nx_, const std::string& type, const std::vector<double>& isovalues,
+                int levels_, const std::string& kind, const std::optional<std::string>& selector)
+        : device(device_for(selector)), kind_name(kind), levels(levels_), nx(nx_), ny(ny_) {
+        const ValueType t = parse_value_type(type);
+        const SpanKind k = span_kind(kind);
+        if (levels < 2 || levels > 16) throw InputError("levels " + std::to_string(levels) + ": must be 2..16");
+        if (nx == 0 || ny == 0) throw InputError("shape: every axis needs at least 1 vertex");
+        iso = requested_isovalues(t, isovalues);
+        nb::gil_scoped_release no_gil;
+        std::lock_guard<std::mutex> guard(*device.lock);
+        stream = std::make_unique<SpanStream>(*device.ctx, nx, ny, t, iso.set, levels, std::vector<SpanKind>{k});
+    }
+    /// Adds (k, ny, nx) C-contiguous slices of the stream's type, in z order.
+    void push(const nb::ndarray<nb::ro, nb::ndim<3>, nb::c_contig, nb::device::cpu>& slices) {
+        if (slices.shape(1) != ny || slices.shape(2) != nx)
+            throw InputError("slice: shape (" + std::to_string(slices.shape(1)) + ", " +
+                             std::to_string(slices.shape(2)) + "), the stream takes (" + std::to_string(ny) + ", " +
+                             std::to_string(nx) + ")");
+        if (slices.itemsize() != value_size(stream->type()))
+            throw InputError("slice: " + std::to_string(slices.itemsize()) + "-byte values, the stream takes " +
+                             value_type_name(stream->type()));
+        const auto* p = static_cast<const unsigned char*>(slices.data());
+        const std::size_t bytes = nx * ny * value_size(stream->type());
+        nb::gil_scoped_release no_gil;
+        std::lock_guard<std::mutex> guard(*device.lock);
+        for (std::size_t z = 0; z < slices.shape(0); ++z) stream->push_slice(static_cast<const void*>(p + z * bytes));
+    }
+    nb::dict curve() {
+        FdCurve f;
+        double seconds = 0, compile = 0;
+        std::string description;
+        {
+            nb::gil_scoped_release no_gil;
+            std::lock_guard<std::mutex> guard(*device.lock);
+            f = stream->curve(span_kind(kind_name));
+            seconds = stream->counts().seconds;
+            description = device.ctx->description();
+            compile = device.ctx->compile_seconds();
+        }
+        return curve_dict(iso, f, kind_name, levels, 0, description, seconds, compile);
+    }
+};
 
 /// The LD field of the input (downloaded).
 Volume local_field(Context& ctx, const Input& in, double iso, int window) {
@@ -629,6 +699,13 @@ NB_MODULE(_clfractal, m) {
         .def(nb::init<const InArray&, const std::string&, const std::optional<std::string>&>(), "volume"_a, "type"_a,
              "device"_a.none())
         .def_prop_ro("zero_copy", [](const Uploaded& u) { return u.on_device.in_host_memory(); });
+    nb::class_<SliceStream>(m, "SliceStream", "A slice stream; see clfractal.SliceStream.")
+        .def(nb::init<std::size_t, std::size_t, const std::string&, const std::vector<double>&, int, const std::string&,
+                      const std::optional<std::string>&>(),
+             "ny"_a, "nx"_a, "type"_a, "isovalues"_a, "levels"_a, "kind"_a, "device"_a.none())
+        .def("push", &SliceStream::push, "slices"_a)
+        .def("curve", &SliceStream::curve)
+        .def_prop_ro("slices", [](const SliceStream& s) { return s.stream->slices(); });
     m.def("uploads", [](const std::optional<std::string>& device) {
         return on_device(device, [](Context& ctx) { return ctx.uploads(); });
     }, "device"_a = nb::none(), "Volumes uploaded to the device so far (DeviceVolume counts one).");

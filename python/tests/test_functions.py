@@ -538,3 +538,26 @@ def test_read_volume_raw_options_and_info(tmp_path, cli):
         clfractal.read_volume(path, dims=(5, 6, 8), dtype=np.int16)
     with pytest.raises(ValueError, match="endian"):
         clfractal.read_volume(path, dims=(5, 6, 7), dtype=np.int16, endian="middle")
+
+
+# ------------------------------------------------------------------ slice streams
+
+@pytest.mark.parametrize("kind,levels", [("box", 2), ("edge", 3)])
+def test_slice_stream_equals_the_whole_volume(volume, kind, levels):
+    iso = np.unique(volume)[1:][::3]
+    stream = clfractal.SliceStream(volume.shape[1:], volume.dtype, iso, levels=levels, kind=kind)
+    stream.push(volume[:3])  # a stack, then slice by slice
+    partial = stream.curve()
+    np.testing.assert_array_equal(partial.counts, ref.span_counts(volume[:3], partial.isovalues, kind, levels))
+    for z in range(3, volume.shape[0]):
+        stream.push(volume[z])
+    assert stream.slices == volume.shape[0]
+    c, whole = stream.curve(), clfractal.fd_curve(volume, kind=kind, levels=levels, isovalues=iso)
+    np.testing.assert_array_equal(c.isovalues, whole.isovalues)
+    np.testing.assert_array_equal(c.counts, whole.counts)
+    np.testing.assert_array_equal(c.counts, ref.span_counts(volume, c.isovalues, kind, levels))
+    assert_same_nan(c.fd, whole.fd)
+    with pytest.raises(ValueError, match="shape"):
+        stream.push(volume[0, :, :-1])
+    with pytest.raises(ValueError, match="fit"):
+        stream.push(np.full(volume.shape[1:], 1e300))
