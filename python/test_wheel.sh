@@ -9,6 +9,7 @@
 # 1. the extension resolves every library outside the manylinux policy inside the wheel;
 # 2. with no OpenCL driver registered, the package chooses the PoCL of `clfractal[cpu]`
 #    (python/wheel_check.py: its device, FD curves of real volumes against the reference);
+#    a user's OCL_ICD_VENDORS is kept, and with no device the error names what to install;
 # 3. with the system's PoCL registered again (a vendor driver through its ICD file; the
 #    loader and the imaging libraries still hidden), python/tests pass (the checks against
 #    the command-line tool skip: it needs the hidden libraries).
@@ -70,6 +71,17 @@ done
 cd "$(dirname "$venv")"
 export CLFRACTAL_SHARED_DATA=${CLFRACTAL_SHARED_DATA:-$root/../shared/data}
 PYTHONPATH=$root/python/tests "$venv/bin/python" -P "$root/python/wheel_check.py"
+
+# ---- the user's OCL_ICD_VENDORS is kept; with no device, the error names what to install
+OCL_ICD_VENDORS=$(dirname "$venv")/no-drivers "$venv/bin/python" -c 'import clfractal, numpy as np
+assert clfractal.OPENCL_DRIVERS.startswith("OCL_ICD_VENDORS="), clfractal.OPENCL_DRIVERS
+assert clfractal.devices() == []
+try:
+    clfractal.fd_curve(np.zeros((3, 3, 3), np.uint8))
+    raise SystemExit("no error without a device")
+except RuntimeError as e:
+    assert "clfractal[cpu]" in str(e), e
+    print("test_wheel: no device:", e)'
 
 # ---- the system PoCL registered again, the loader and imaging libraries still hidden
 for m in "${pocl_mounts[@]}"; do umount "$m"; done
