@@ -80,10 +80,19 @@ HostBytes& HostBytes::operator=(const HostBytes& o) {
     return *this;
 }
 
+HostBytes HostBytes::borrow(void* p, std::size_t n) {
+    HostBytes b;
+    b.p_ = static_cast<unsigned char*>(p);
+    b.n_ = n;
+    b.borrowed_ = true;
+    return b;
+}
+
 HostBytes::HostBytes(HostBytes&& o) noexcept
-    : p_(o.p_), n_(o.n_), mapped_(o.mapped_) {
+    : p_(o.p_), n_(o.n_), mapped_(o.mapped_), borrowed_(o.borrowed_) {
     o.p_ = nullptr;
     o.n_ = o.mapped_ = 0;
+    o.borrowed_ = false;
 }
 
 HostBytes& HostBytes::operator=(HostBytes&& o) noexcept {
@@ -92,8 +101,10 @@ HostBytes& HostBytes::operator=(HostBytes&& o) noexcept {
         p_ = o.p_;
         n_ = o.n_;
         mapped_ = o.mapped_;
+        borrowed_ = o.borrowed_;
         o.p_ = nullptr;
         o.n_ = o.mapped_ = 0;
+        o.borrowed_ = false;
     }
     return *this;
 }
@@ -101,10 +112,16 @@ HostBytes& HostBytes::operator=(HostBytes&& o) noexcept {
 HostBytes::~HostBytes() { release(); }
 
 void HostBytes::release() noexcept {
-    if (mapped_) munmap(p_, mapped_);
-    else std::free(p_);
+    if (borrowed_) {
+        // The caller's bytes: nothing to free.
+    } else if (mapped_) {
+        munmap(p_, mapped_);
+    } else {
+        std::free(p_);
+    }
     p_ = nullptr;
     n_ = mapped_ = 0;
+    borrowed_ = false;
 }
 
 // ---------------------------------------------------------------- value types
@@ -147,6 +164,16 @@ void check_dims(const Dims& d, const std::string& what) {
                            d.nz > max_vertices / (d.nx * d.ny);
     if (too_large)
         throw InputError(what + ": dims " + dims_string(d) + " exceed the maximum of 2^40 vertices");
+}
+
+Volume Volume::wrap(void* data, Dims dims, ValueType type, std::string name) {
+    Volume v;
+    v.name = std::move(name);
+    check_dims(dims, v.name.empty() ? "volume" : v.name);
+    v.dims_ = dims;
+    v.type_ = type;
+    v.bytes_ = HostBytes::borrow(data, dims.vertices() * value_size(type));
+    return v;
 }
 
 Volume::Volume(Dims dims, ValueType type, std::string name_)

@@ -97,15 +97,21 @@ public:
     HostBytes& operator=(HostBytes&& o) noexcept;
     ~HostBytes();
 
+    /// The n bytes at p, not owned (never freed; they must outlive every use). A copy owns
+    /// a copy of them.
+    static HostBytes borrow(void* p, std::size_t n);
+
     unsigned char* data() { return p_; }
     const unsigned char* data() const { return p_; }
     std::size_t size() const { return n_; }
+    bool borrowed() const { return borrowed_; }
 
 private:
     void release() noexcept;
     unsigned char* p_ = nullptr;  // the bytes
     std::size_t n_ = 0;
     std::size_t mapped_ = 0;      // bytes mapped at p_ (0: p_ came from aligned_alloc)
+    bool borrowed_ = false;       // p_ belongs to the caller (borrow)
 };
 
 /// A host volume. Owns its values (native endianness), x fastest.
@@ -114,6 +120,12 @@ public:
     Volume() = default;
     /// Zero-filled volume (HostBytes: no pass writes the zeros); validates dims with check_dims.
     Volume(Dims dims, ValueType type, std::string name = {});
+    /// A volume over the caller's values at `data` (x fastest, native endianness), read and
+    /// written in place, not owned: they must outlive the volume (a NumPy array wrapped by
+    /// the Python package). A copy of the volume owns a copy of the values.
+    static Volume wrap(void* data, Dims dims, ValueType type, std::string name = {});
+    /// Whether the values are the caller's (wrap).
+    bool wrapped() const { return bytes_.borrowed(); }
 
     const Dims& dims() const { return dims_; }
     ValueType type() const { return type_; }

@@ -24,19 +24,70 @@ as ``devices()`` lists them) or, without it, by the environment variables
 first GPU, else the first device. Contexts and compiled kernels are kept for the life of the
 process. Device work runs with the GIL released. Bad input raises ValueError with the
 library's message; device failures raise RuntimeError.
+
+Results: arrays are NumPy arrays; a result that is a fixed sequence of arrays is a named
+tuple that unpacks like ``skimage.measure.marching_cubes`` (``Components``, ``Mesh``,
+``VolumeFile``); a record of numbers (with its arrays) is a frozen dataclass with
+``to_dict()`` (``Fd4``, ``Filtered``, ``Smoothed``, ``NoiseLevel``, ``VolumeInfo``), and
+the curve ``FdCurve`` a class with the same ``to_dict()`` and ``to_pandas()``.
 """
 from __future__ import annotations
 
+import dataclasses
+import glob
+import importlib.util
+import os
+from typing import NamedTuple, Optional
+
 import numpy as np
 
-from . import _clfractal
+
+def _wheel_pocl() -> str | None:
+    """The PoCL library of the ``pocl-binary-distribution`` wheel (``clfractal[cpu]``), or None."""
+    spec = importlib.util.find_spec("pocl_binary_distribution")
+    if spec is None or not spec.origin:
+        return None
+    site = os.path.dirname(os.path.dirname(spec.origin))
+    for libs in ("pocl_binary_distribution/.libs", "pyopencl/.libs"):
+        found = sorted(glob.glob(os.path.join(site, libs, "libpocl*.so*")))
+        if found:
+            return found[0]
+    return None
+
+
+def _choose_opencl_drivers() -> str:
+    """Where the OpenCL ICD loader (bundled in the wheel, or the system's) finds drivers.
+
+    Decided once, before the loader starts: the user's ``OCL_ICD_VENDORS`` or
+    ``OPENCL_VENDOR_PATH`` when set; else the system's registered drivers
+    (``/etc/OpenCL/vendors/*.icd``: vendor GPU drivers, a system PoCL) when there are any;
+    else the PoCL of ``clfractal[cpu]``, by setting ``OCL_ICD_VENDORS`` to its library."""
+    for variable in ("OCL_ICD_VENDORS", "OPENCL_VENDOR_PATH"):
+        if os.environ.get(variable):
+            return f"{variable}={os.environ[variable]}"
+    registered = sorted(glob.glob("/etc/OpenCL/vendors/*.icd"))
+    if registered:
+        return "system: " + ", ".join(registered)
+    pocl = _wheel_pocl()
+    if pocl is None:
+        return "none (no /etc/OpenCL/vendors/*.icd and no pocl-binary-distribution)"
+    os.environ["OCL_ICD_VENDORS"] = pocl
+    return "pocl-binary-distribution: " + pocl
+
+
+#: Where the OpenCL drivers come from (see ``devices()``).
+OPENCL_DRIVERS = _choose_opencl_drivers()
+
+from . import _clfractal  # noqa: E402  (after the drivers are chosen: the loader reads them once)
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "fd4", "components", "median", "gaussian",
-    "bilateral", "targeted_filter", "smooth", "mesh", "noise_dimension", "noise_level", "read_volume",
-    "devices", "device_description",
+    "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "SliceStream", "Fd4", "fd4", "local4",
+    "Components", "components", "median", "gaussian", "bilateral", "Filtered", "targeted_filter",
+    "ld_guided_filter", "Smoothed", "smooth", "Mesh", "mesh", "write_ply", "NoiseLevel", "noise_level",
+    "noise_dimension", "VolumeFile", "read_volume", "write_volume", "VolumeInfo", "info",
+    "devices", "device_description", "OPENCL_DRIVERS",
 ]
 
 #: NumPy dtype -> the library's value type, one line per type it computes in. The order is
@@ -177,6 +228,11 @@ class FdCurve:
         return (f"FdCurve(kind={self.kind!r}, levels={self.levels}, isovalues={len(self)}, "
                 f"defined={s['defined']}, mean={s['mean']:.4f}, std={s['std']:.4f})")
 
+    def to_dict(self) -> dict:
+        """The attributes as a plain dict (arrays as NumPy arrays)."""
+        return {"isovalues": self.isovalues, "counts": self.counts, "fd": self.fd, "fd_fit": self.fd_fit,
+                "summary": dict(self.summary), "kind": self.kind, "levels": self.levels}
+
     def to_pandas(self):
         """The curve as a pandas DataFrame: isovalue, count, count_sub, count_l2..., fd, fd_fit."""
         import pandas as pd
@@ -212,6 +268,73 @@ def fd_curve(volume, kind: str = "box", levels: int = 2, isovalues=None, bins: i
     return FdCurve(raw, kind, int(levels), a.dtype)
 
 
+class SliceStream:
+    """FD curves of a volume that arrives slice by slice (a scanner), memory for a few slices.
+
+    The library's ``SpanStream`` (include/clfractal/stream.hpp): ``push`` (ny, nx) slices,
+    or (k, ny, nx) stacks of them, in z order; ``curve()`` at any time gives the FD curve
+    of the slices so far, equal to ``fd_curve`` of the volume they make (the isovalues must
+    be given: the value range is not known ahead).
+
+    Parameters
+    ----------
+    shape : (ny, nx)
+        The slice shape.
+    dtype : numpy dtype
+        The slices' value type (a key of ``VALUE_TYPES``).
+    isovalues : array_like
+        Increasing isovalues (integers for integer data).
+    levels : int, optional
+        Pyramid levels (2: eq. 2.5).
+    kind : {"box", "edge"}, optional
+    device : str, optional
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> v = np.random.default_rng(0).integers(0, 50, (9, 10, 11), dtype=np.uint8)
+    >>> stream = clfractal.SliceStream(v.shape[1:], v.dtype, isovalues=np.arange(1, 50))
+    >>> for z in range(v.shape[0]):
+    ...     stream.push(v[z])
+    >>> bool((stream.curve().counts == clfractal.fd_curve(v, isovalues=np.arange(1, 50)).counts).all())
+    True
+    """
+
+    def __init__(self, shape, dtype, isovalues, levels: int = 2, kind: str = "box", device: str | None = None):
+        ny, nx = (int(n) for n in shape)
+        self.dtype = np.dtype(dtype)
+        if self.dtype not in VALUE_TYPES:
+            raise ValueError(f"SliceStream: {self.dtype} is not a value type ({', '.join(VALUE_TYPES.values())})")
+        self.kind, self.levels = kind, int(levels)
+        self._stream = _clfractal.SliceStream(ny, nx, VALUE_TYPES[self.dtype], _isovalues(isovalues),
+                                              self.levels, kind, device)
+
+    @property
+    def slices(self) -> int:
+        """Slices pushed so far."""
+        return int(self._stream.slices)
+
+    def push(self, slices) -> None:
+        """Adds a (ny, nx) slice or a (k, ny, nx) stack, in z order (converted to the
+        stream's dtype only when it holds every value exactly)."""
+        a = np.asarray(slices)
+        if a.ndim == 2:
+            a = a[None]
+        if a.ndim != 3:
+            raise ValueError(f"SliceStream.push: expected a (ny, nx) slice or (k, ny, nx) stack, got shape {a.shape}")
+        if a.dtype != self.dtype:
+            with np.errstate(all="ignore"):
+                b = a.astype(self.dtype)
+            if not np.array_equal(b, a):
+                raise ValueError(f"SliceStream.push: {a.dtype} values do not fit the stream's {self.dtype}")
+            a = b
+        self._stream.push(np.ascontiguousarray(a))
+
+    def curve(self) -> FdCurve:
+        """The FD curve of the slices so far, as ``fd_curve`` gives it."""
+        return FdCurve(self._stream.curve(), self.kind, self.levels, self.dtype)
+
+
 def local_fd(volume, iso: float, window: int = 8, device: str | None = None) -> np.ndarray:
     """The local fractal dimension field (thesis eq. 2.6) for isovalue ``iso``.
 
@@ -228,34 +351,148 @@ def local_fd(volume, iso: float, window: int = 8, device: str | None = None) -> 
     return _array(_clfractal.local_fd(a, type_name, float(iso), int(window), device))
 
 
-def fd4(volume, q: float = 0.0, device: str | None = None) -> dict:
+class _Record:
+    """Frozen dataclass results: ``to_dict()`` gives the fields as a plain dict."""
+
+    def to_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+
+
+@dataclasses.dataclass(frozen=True)
+class Fd4(_Record):
+    """The 4D fractal dimension of a volume (``fd4``); the keys of ``clfractal fd4 --json``.
+
+    Attributes
+    ----------
+    q : float
+        The bin width of the value axis at level 0.
+    vmin : float
+        The smallest value, where the bins start.
+    i4_l0, i4_l1 : int
+        ``I4(G, q)`` and ``I4(G', 2q)``.
+    d4 : float
+        ``log2(i4_l0 / i4_l1)``, NaN where either is 0.
+    """
+    q: float
+    vmin: float
+    i4_l0: int
+    i4_l1: int
+    d4: float
+
+
+def fd4(volume, q: float = 0.0, device: str | None = None) -> Fd4:
     """The 4D fractal dimension of the graph of the volume (thesis 6.4): one number, no isovalue.
 
     A cube with span ``[a, b]`` meets ``floor((b - vmin)/q) - floor((a - vmin)/q) + 1`` bins of
     width ``q`` (``vmin`` the smallest value); ``I4(G, q)`` sums them over the cubes of the grid,
     ``I4(G', 2q)`` over those of level 1 with bins twice as wide, and ``D4 = log2(I4(G, q) /
-    I4(G', 2q))`` (NaN where either is 0): 3 for a smooth field, towards 4 for noise. ``q = 0``:
-    1 for integer data, ``(vmax - vmin) / 256`` for float data. Returns ``{"q", "vmin",
-    "i4_l0", "i4_l1", "d4"}``, the keys of ``clfractal fd4 --json``.
+    I4(G', 2q))`` (NaN where either is 0): 3 for a smooth field, towards 4 for noise.
+
+    Parameters
+    ----------
+    volume : (z, y, x) array or DeviceVolume
+    q : float, optional
+        The bin width; 0: 1 for integer data, ``(vmax - vmin) / 256`` for float data.
+    device : str, optional
+        A substring of a device name (``devices()``).
+
+    Returns
+    -------
+    Fd4
+        ``q``, ``vmin``, ``i4_l0``, ``i4_l1``, ``d4``.
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> r = clfractal.fd4(np.zeros((4, 4, 4), np.uint8) + np.arange(4, dtype=np.uint8))
+    >>> r.q, r.i4_l0, r.i4_l1
+    (1.0, 54, 2)
     """
     a, type_name = _volume(volume)
-    return dict(_clfractal.fd4(a, type_name, float(q), device))
+    return Fd4(**dict(_clfractal.fd4(a, type_name, float(q), device)))
+
+
+def local4(volume, q: float = 0.0, window: int = 8, device: str | None = None) -> np.ndarray:
+    """The local 4D fractal dimension field ``LD4(v) = log2(I4_W / I4_W')`` (thesis 6.4).
+
+    ``I4`` as in ``fd4`` (bins of width ``q`` at level 0, ``2q`` at level 1) over the windows
+    of ``local_fd`` (``window`` even), NaN where ``I4_W'`` is 0: a noise map that needs no
+    isovalue (``clfractal local4``).
+
+    Parameters
+    ----------
+    volume : (z, y, x) array or DeviceVolume
+    q : float, optional
+        The bin width; 0 as in ``fd4``.
+    window : int, optional
+        The even window ``k`` (default 8).
+    device : str, optional
+
+    Returns
+    -------
+    ndarray of float32
+        The field, of the volume's shape.
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> clfractal.local4(np.zeros((5, 6, 7), np.uint8), window=4).shape
+    (5, 6, 7)
+    """
+    a, type_name = _volume(volume)
+    return _array(_clfractal.local4(a, type_name, float(q), int(window), device))
+
+
+class Components(NamedTuple):
+    """The isosurface component counts of every isovalue (``components``).
+
+    Attributes
+    ----------
+    isovalues : ndarray
+        int64 for integer data, else the data's float type.
+    counts : ndarray of int64
+        ``components(s)`` per isovalue.
+    """
+    isovalues: np.ndarray
+    counts: np.ndarray
 
 
 def components(volume, connectivity: str = "cube", isovalues=None, bins: int = 256,
-               device: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+               device: str | None = None) -> Components:
     """Connected components of the isosurface at every isovalue (thesis §3.1).
 
     With ``A = {f < s}`` and ``C = {f >= s}``: ``components(s) = b0(A) + b0(C) - 1`` (0 when
     either set is empty), ``b0`` counting connected pieces. ``connectivity="cube"`` (marching
     cubes): A 6-connected, C 26-connected. ``"freudenthal"`` (marching tetrahedra, the
     piecewise-linear function): both 14-connected (offsets ±x, ±y, ±z, ±(x+y), ±(y+z),
-    ±(x+z), ±(x+y+z)). Isovalues as in ``fd_curve``. Returns ``(isovalues, counts)``, counts
-    int64.
+    ±(x+z), ±(x+y+z)). Isovalues as in ``fd_curve``.
+
+    Parameters
+    ----------
+    volume : (z, y, x) array or DeviceVolume
+    connectivity : {"cube", "freudenthal"}, optional
+    isovalues : array_like, optional
+        Increasing isovalues (default: as ``fd_curve``).
+    bins : int, optional
+        Float data: the number of uniform isovalues.
+    device : str, optional
+
+    Returns
+    -------
+    Components
+        ``(isovalues, counts)``.
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> v = np.zeros((5, 5, 5), np.uint8); v[1, 1, 1] = v[3, 3, 3] = 2
+    >>> c = clfractal.components(v)
+    >>> c.isovalues.tolist(), c.counts.tolist()
+    ([0, 1, 2], [0, 2, 2])
     """
     a, type_name = _volume(volume, uploaded=True)
     iso, counts = _clfractal.components(a, type_name, connectivity, _isovalues(isovalues), int(bins), device)
-    return _isovalue_array(iso, a.dtype), np.asarray(counts)
+    return Components(_isovalue_array(iso, a.dtype), np.asarray(counts))
 
 
 def median(volume, device: str | None = None) -> np.ndarray:
@@ -284,20 +521,142 @@ def bilateral(volume, sigma_s: float, sigma_r: float, device: str | None = None)
     return _array(_clfractal.filter(a, type_name, "bilateral", 1.0, float(sigma_s), float(sigma_r), device))
 
 
-def targeted_filter(volume, iso: float, threshold: float, method: str = "median", window: int = 8,
-                    sigma: float = 1.0, device: str | None = None) -> tuple[np.ndarray, float]:
-    """The fractal-targeted filter (thesis §4.3): the median (or Gaussian of ``sigma``) value
-    only where the local fractal dimension ``local_fd(volume, iso, window) > threshold`` (NaN
-    never qualifies), the input value elsewhere. Returns ``(filtered, fraction changed)``.
+@dataclasses.dataclass(frozen=True)
+class Filtered(_Record):
+    """The result of a masked filter (``targeted_filter``, ``ld_guided_filter``).
+
+    Attributes
+    ----------
+    volume : ndarray
+        The filtered volume, of the input's type.
+    selected : int
+        Vertices the mask selected (``field > threshold``; LD > 2 for the LD-guided filter).
+    changed : int
+        Vertices whose value differs from the input.
+    selected_share, changed_share : float
+        ``selected`` and ``changed`` over all vertices.
+    """
+    volume: np.ndarray
+    selected: int
+    changed: int
+    selected_share: float
+    changed_share: float
+
+
+def _filtered(out) -> Filtered:
+    volume, counts = out
+    return Filtered(_array(volume), **dict(counts))
+
+
+def targeted_filter(volume, iso: float | None, threshold: float, method: str = "median", window: int = 8,
+                    sigma: float = 1.0, sigma_s: float = 1.0, sigma_r: float = 1.0, mask: str = "ld",
+                    q: float = 0.0, device: str | None = None) -> Filtered:
+    """The fractal-targeted filter (thesis §4.3): the filter's value only where the mask field
+    exceeds ``threshold`` (NaN never qualifies), the input value elsewhere.
+
+    Parameters
+    ----------
+    volume : (z, y, x) array or DeviceVolume
+    iso : float or None
+        The isovalue of the LD field (``mask="ld"``); unused (None) with ``mask="ld4"``.
+    threshold : float
+        ``h``: filtered where the field is ``> h``.
+    method : {"median", "gaussian", "bilateral"}, optional
+    window : int, optional
+        The even window of the field.
+    sigma : float, optional
+        The Gaussian's sigma.
+    sigma_s, sigma_r : float, optional
+        The bilateral filter's spatial (voxels) and range (value units) sigmas.
+    mask : {"ld", "ld4"}, optional
+        The field: ``local_fd(volume, iso, window)``, or ``local4(volume, q, window)``
+        (``clfractal filter --fractal4``).
+    q : float, optional
+        The bin width of ``local4`` (``mask="ld4"``).
+    device : str, optional
+
+    Returns
+    -------
+    Filtered
+        ``volume``, ``selected``, ``changed``, ``selected_share``, ``changed_share``.
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> v = np.random.default_rng(0).integers(0, 200, (12, 12, 12), dtype=np.uint8)
+    >>> r = clfractal.targeted_filter(v, 100, threshold=2.5, window=4)
+    >>> r.volume.shape, 0 <= r.changed_share <= r.selected_share <= 1
+    ((12, 12, 12), True)
+    """
+    if mask == "ld" and iso is None:
+        raise ValueError("targeted_filter: mask='ld' needs an isovalue iso")
+    a, type_name = _volume(volume)
+    return _filtered(_clfractal.targeted_filter(a, type_name, mask, float(iso if iso is not None else 0.0), float(q),
+                                                float(threshold), method, int(window), float(sigma),
+                                                float(sigma_s), float(sigma_r), device))
+
+
+def ld_guided_filter(volume, iso: float, sigma_s: float = 1.0, sigma_r: float = 1.0, window: int = 8,
+                     device: str | None = None) -> Filtered:
+    """The LD-guided bilateral filter (thesis §6.3; ``clfractal filter --bilateral --ld-guided``).
+
+    The bilateral filter with the range scale ``sigma_r * min(LD(v) - 2, 1)`` where the local
+    fractal dimension ``LD(v) = local_fd(volume, iso, window)`` exceeds 2; ``f(v)`` where LD is
+    at most 2 or undefined.
+
+    Parameters
+    ----------
+    volume : (z, y, x) array or DeviceVolume
+    iso : float
+        The isovalue of the LD field.
+    sigma_s, sigma_r : float, optional
+        The spatial (voxels) and full range (value units) sigmas.
+    window : int, optional
+    device : str, optional
+
+    Returns
+    -------
+    Filtered
+        ``selected`` counts the vertices with LD > 2.
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> v = np.random.default_rng(0).integers(0, 200, (12, 12, 12), dtype=np.uint8)
+    >>> r = clfractal.ld_guided_filter(v, 100, sigma_s=1.0, sigma_r=30.0, window=4)
+    >>> r.volume.dtype
+    dtype('uint8')
     """
     a, type_name = _volume(volume)
-    out, info = _clfractal.targeted_filter(a, type_name, float(iso), float(threshold), method, int(window),
-                                           float(sigma), 1.0, 1.0, device)
-    return _array(out), float(info["changed_share"])
+    return _filtered(_clfractal.ld_guided_filter(a, type_name, float(iso), float(sigma_s), float(sigma_r),
+                                                 int(window), device))
+
+
+@dataclasses.dataclass(frozen=True)
+class Smoothed(_Record):
+    """The result of ``smooth``: the volume and the work Algorithm 2 did.
+
+    Attributes
+    ----------
+    volume : ndarray
+        The smoothed volume, of the input's type.
+    high_vertices : int
+        Vertices with LD > threshold.
+    initial_edges, edges_processed, edges_lowered : int
+        High-fractal edges queued first, popped, and lowered.
+    vertices_changed : int
+        Vertices whose value changed.
+    """
+    volume: np.ndarray
+    high_vertices: int
+    initial_edges: int
+    edges_processed: int
+    edges_lowered: int
+    vertices_changed: int
 
 
 def smooth(volume, iso: float, threshold: float, window: int = 8, variant: str = "plain", tau: float = 1.0,
-           device: str | None = None) -> tuple[np.ndarray, dict]:
+           device: str | None = None) -> Smoothed:
     """Smooth isosurface construction (thesis chapter 5, Algorithm 2).
 
     LD is computed once on the input. A grid edge is high fractal when it is intersected
@@ -305,14 +664,53 @@ def smooth(volume, iso: float, threshold: float, window: int = 8, variant: str =
     with ``f(v) > f(u)`` that is still intersected gets ``f(v) := f(u)``; edges around changed
     vertices that become intersected and high fractal are queued, until none is left. Variant
     ``"gaussian"`` also lowers the 26 neighbours ``w`` of ``v`` by
-    ``(f(v) - f(u)) * exp(-d(v, w)**2 / (2 tau**2))``. Values only decrease. Returns
-    ``(smoothed, info)``, info counting high vertices, edges processed and lowered, and
-    vertices changed.
+    ``(f(v) - f(u)) * exp(-d(v, w)**2 / (2 tau**2))``. Values only decrease.
+
+    Parameters
+    ----------
+    volume : (z, y, x) array or DeviceVolume
+    iso : float
+    threshold : float
+        ``h``.
+    window : int, optional
+    variant : {"plain", "gaussian"}, optional
+    tau : float, optional
+        The Gaussian variant's spread.
+    device : str, optional
+
+    Returns
+    -------
+    Smoothed
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> v = np.random.default_rng(0).integers(0, 200, (12, 12, 12), dtype=np.uint8)
+    >>> r = clfractal.smooth(v, 100, threshold=2.2, window=4)
+    >>> bool((r.volume <= v).all()), r.vertices_changed == int((r.volume != v).sum())
+    (True, True)
     """
     a, type_name = _volume(volume, uploaded=True)
     out, info = _clfractal.smooth(a, type_name, float(iso), float(threshold), int(window), variant, float(tau),
                                   device)
-    return _array(out), dict(info)
+    return Smoothed(_array(out), **dict(info))
+
+
+class Mesh(NamedTuple):
+    """A triangle mesh (``mesh``), always these three items.
+
+    Attributes
+    ----------
+    vertices : (n, 3) ndarray of float32
+        In ``(z, y, x)`` order times the spacing.
+    faces : (m, 3) ndarray of int32
+        Vertex indices, normals towards lower values.
+    ld : (n,) ndarray of float32 or None
+        The local fractal dimension per vertex (``color_by_ld=True``), else None.
+    """
+    vertices: np.ndarray
+    faces: np.ndarray
+    ld: Optional[np.ndarray]
 
 
 def mesh(volume, iso: float, method: str = "mc", color_by_ld: bool = False, window: int = 8,
@@ -321,24 +719,94 @@ def mesh(volume, iso: float, method: str = "mc", color_by_ld: bool = False, wind
 
     ``method="mc"``: marching cubes separating negative vertices (``f < iso``), so the mesh has
     ``components(volume)`` pieces and ``E(iso)`` vertices; ``"mt"``: marching tetrahedra on the
-    Freudenthal triangulation. Returns ``(vertices, faces)``, or ``(vertices, faces, ld)`` with
-    ``color_by_ld``: vertices ``(n, 3)`` float32 in ``(z, y, x)`` order times ``spacing``
+    Freudenthal triangulation. Returns a ``Mesh`` ``(vertices, faces, ld)``, ``ld`` None
+    unless ``color_by_ld``: vertices ``(n, 3)`` float32 in ``(z, y, x)`` order times ``spacing``
     ``(dz, dy, dx)`` (the array's axes, as scikit-image and napari use them), faces ``(m, 3)``
     int32 with normals towards lower values, ``ld`` float32 per vertex (the local fractal
     dimension interpolated along its grid edge; NaN where undefined). Ready for
     ``napari.layers.Surface((vertices, faces, ld))`` or ``trimesh.Trimesh(vertices[:, ::-1],
     faces[:, ::-1])``.
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> v = np.zeros((3, 3, 3), np.uint8); v[1, 1, 1] = 2
+    >>> m = clfractal.mesh(v, 1)
+    >>> m.vertices.shape, m.faces.shape, m.ld
+    ((6, 3), (8, 3), None)
     """
     a, type_name = _volume(volume, uploaded=True)
     verts, faces, ld = _clfractal.mesh(a, type_name, float(iso), method, bool(color_by_ld), int(window),
                                        [float(s) for s in spacing], device)
     verts = np.asarray(verts).reshape(-1, 3)
     faces = np.asarray(faces).reshape(-1, 3)
-    return (verts, faces) if ld is None else (verts, faces, np.asarray(ld))
+    return Mesh(verts, faces, None if ld is None else np.asarray(ld))
+
+
+def write_ply(path, vertices, faces, ld=None) -> None:
+    """Writes a mesh as ``mesh`` returns it to a binary PLY file (``clfractal local --mesh``).
+
+    Parameters
+    ----------
+    path : str or PathLike
+    vertices : (n, 3) array_like of float
+        ``(z, y, x)`` positions (written as x, y, z).
+    faces : (m, 3) array_like of int
+        Vertex indices, as ``mesh`` returns them.
+    ld : (n,) array_like of float, optional
+        Per-vertex local fractal dimension: written with the thesis colour map (blue at
+        2.2 or less, red from 2.5, grey where NaN).
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal, tempfile, os
+    >>> v = np.zeros((3, 3, 3), np.uint8); v[1, 1, 1] = 2
+    >>> path = os.path.join(tempfile.mkdtemp(), "m.ply")
+    >>> clfractal.write_ply(path, *clfractal.mesh(v, 1))
+    >>> open(path, "rb").read(3)
+    b'ply'
+    """
+    verts = np.ascontiguousarray(vertices, dtype=np.float32)
+    tris = np.ascontiguousarray(faces, dtype=np.int64)
+    if verts.ndim != 2 or tris.ndim != 2:
+        raise ValueError(f"{path}: vertices and faces must be (n, 3) and (m, 3) arrays")
+    values = None if ld is None else np.ascontiguousarray(ld, dtype=np.float32).ravel()
+    _clfractal.write_ply(str(path), verts, tris, values)
+
+
+@dataclasses.dataclass(frozen=True)
+class NoiseLevel(_Record):
+    """The noise level of a volume (``noise_level``; ``clfractal fd --noise-level --json``).
+
+    Attributes
+    ----------
+    sigma : float
+        The noise's standard deviation in grey values.
+    flat_share : float
+        The flat blocks' voxels over all voxels.
+    block, blocks, blocks_usable, blocks_flat : int
+        The block edge and the block counts.
+    typical_variance : float
+    seconds : float
+    map_cell : int
+        The edge of a map cell.
+    map : ndarray of float32
+        The residual's RMS per cell, (z, y, x), NaN where a cell has no usable block.
+    """
+    sigma: float
+    flat_share: float
+    block: int
+    blocks: int
+    blocks_usable: int
+    blocks_flat: int
+    typical_variance: float
+    seconds: float
+    map_cell: int
+    map: np.ndarray
 
 
 def noise_level(volume, block: int = 0, map_block: int = 32, clip: float = 3.0,
-                device: str | None = None) -> dict:
+                device: str | None = None) -> NoiseLevel:
     """The standard deviation of the volume's noise in grey values, from the flat parts of the
     volume (include/clfractal/noise_level.hpp; ``clfractal fd --noise-level``).
 
@@ -349,16 +817,34 @@ def noise_level(volume, block: int = 0, map_block: int = 32, clip: float = 3.0,
     8), blocks that read the volume's smallest or largest value (clipping) are left out; the
     centre is the shorth of ``log(v) / 3`` over the block variances ``v``, the flat blocks lie
     within ``clip`` white-noise spreads of it, and ``sigma**2`` is their pooled mean (0 when no
-    usable block has any residual, NaN when no block is usable). Returns
-    ``{"sigma", "flat_share" (the flat blocks' voxels over all voxels), "block", "blocks",
-    "blocks_usable", "blocks_flat", "typical_variance", "seconds", "map_cell", "map"}``;
-    ``map`` is the residual's RMS per cell of ``map_block**3`` vertices, a (z, y, x) float32
-    array, NaN where a cell has no usable block.
+    usable block has any residual, NaN when no block is usable).
+
+    Parameters
+    ----------
+    volume : (z, y, x) array or DeviceVolume
+    block : int, optional
+        The block edge (0: automatic).
+    map_block : int, optional
+        The edge of a map cell.
+    clip : float, optional
+        How many white-noise spreads from the centre a flat block may lie.
+    device : str, optional
+
+    Returns
+    -------
+    NoiseLevel
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> ramp = np.broadcast_to(np.arange(32, dtype=np.uint8)[:, None, None], (32, 16, 16))
+    >>> clfractal.noise_level(ramp).sigma  # no residual: a linear field has no noise
+    0.0
     """
     a, type_name = _volume(volume, uploaded=True)
     r = dict(_clfractal.noise_level(a, type_name, int(block), int(map_block), float(clip), device))
     r["map"] = np.asarray(r["map"]).reshape(r.pop("map_shape"))
-    return r
+    return NoiseLevel(**r)
 
 
 def noise_dimension(mu, gamma: float = 1.0, kind: str = "uniform"):
@@ -378,21 +864,169 @@ def noise_dimension(mu, gamma: float = 1.0, kind: str = "uniform"):
     return float(out) if out.ndim == 0 else out
 
 
-def read_volume(path: str) -> tuple[np.ndarray, tuple[float, float, float]]:
-    """Reads a volume file the library reads, the format told by the content: NRRD, NIfTI,
-    DICOM (a file or a series directory), TIFF (multi-page or a directory of slices),
-    MetaImage, raw files named ``NAME_XxYxZ_TYPE.raw``, or ``synthetic:NAME[:N]``. Returns
-    ``(array, spacing)``: the array in ``(z, y, x)`` order (the stored voxel order) and the
-    spacing ``(dz, dy, dx)``. Float data with NaN (an LD field) is read as it is; the
-    computing calls reject it."""
-    out, spacing = _clfractal.read_volume(str(path))
-    return _array(out), tuple(spacing)
+class VolumeFile(NamedTuple):
+    """A volume read from a file (``read_volume``).
+
+    Attributes
+    ----------
+    volume : ndarray
+        ``(z, y, x)``, the stored voxel order.
+    spacing : tuple of float
+        ``(dz, dy, dx)``.
+    """
+    volume: np.ndarray
+    spacing: tuple
+
+
+def _raw_options(dims, dtype, endian, spacing, series, scaled, as_type):
+    """The library's read options; dims and spacing given in (z, y, x) order."""
+    name = lambda t: None if t is None else (VALUE_TYPES[np.dtype(t)] if not isinstance(t, str) else t)  # noqa: E731
+    return _clfractal.raw_options(None if dims is None else [int(n) for n in dims][::-1], name(dtype), endian,
+                                  None if spacing is None else [float(x) for x in spacing][::-1], series or "",
+                                  bool(scaled), name(as_type))
+
+
+def read_volume(path, dims=None, dtype=None, endian: str = "little", spacing=None, series: str | None = None,
+                scaled: bool = False, as_type=None) -> VolumeFile:
+    """Reads a volume file the library reads, the format told by the content.
+
+    NRRD, NIfTI, DICOM (a file or a series directory), TIFF (multi-page or a directory of
+    slices), MetaImage, raw files (named ``NAME_XxYxZ_TYPE.raw``, or with ``dims`` and
+    ``dtype``), or ``synthetic:NAME[:N]``. Float data with NaN (an LD field) is read as it is;
+    the computing calls reject it. Options as the command line's.
+
+    Parameters
+    ----------
+    path : str or PathLike
+    dims : (nz, ny, nx), optional
+        Raw files: the grid (``--dims``, given there as X,Y,Z).
+    dtype : numpy dtype or type name, optional
+        Raw files: the value type (``--type``).
+    endian : {"little", "big"}, optional
+        Raw files: the byte order.
+    spacing : (dz, dy, dx), optional
+        Raw files: the spacing.
+    series : str, optional
+        DICOM directories: the series instance UID to read.
+    scaled : bool, optional
+        NIfTI: apply ``scl_slope``/``scl_inter``.
+    as_type : numpy dtype or type name, optional
+        Convert the values on read (may round; saturates to the type's range).
+
+    Returns
+    -------
+    VolumeFile
+        ``(volume, spacing)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the problem (missing, truncated, unknown format, ...).
+
+    Examples
+    --------
+    >>> import clfractal
+    >>> v, spacing = clfractal.read_volume("synthetic:sphere:16")
+    >>> v.shape, spacing
+    ((16, 16, 16), (1.0, 1.0, 1.0))
+    """
+    out, sp = _clfractal.read_volume(str(path), _raw_options(dims, dtype, endian, spacing, series, scaled, as_type))
+    return VolumeFile(_array(out), tuple(sp))
+
+
+def write_volume(path, volume, spacing=(1.0, 1.0, 1.0)) -> None:
+    """Writes a ``(z, y, x)`` array as NIfTI (``.nii``, ``.nii.gz``) or NRRD (any other name),
+    with its spacing; atomically (a temporary file renamed into place). NaN and Inf are
+    written as they are (LD fields).
+
+    Parameters
+    ----------
+    path : str or PathLike
+    volume : (z, y, x) array of a supported type
+    spacing : (dz, dy, dx), optional
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal, tempfile, os
+    >>> path = os.path.join(tempfile.mkdtemp(), "v.nii")
+    >>> clfractal.write_volume(path, np.arange(24, dtype=np.int16).reshape(2, 3, 4), spacing=(3.0, 2.0, 0.5))
+    >>> clfractal.read_volume(path).spacing
+    (3.0, 2.0, 0.5)
+    """
+    a = np.asarray(volume)
+    if a.ndim != 3:
+        raise ValueError(f"{path}: expected a 3D array in (z, y, x) order, got shape {a.shape}")
+    native = a.dtype.newbyteorder("=")
+    if native not in VALUE_TYPES:
+        raise ValueError(f"{path}: {a.dtype} is not a type the writers store ({', '.join(VALUE_TYPES.values())})")
+    a = a.astype(native, copy=False)
+    _clfractal.write_volume(a, VALUE_TYPES[native], str(path), [float(x) for x in spacing])
+
+
+@dataclasses.dataclass(frozen=True)
+class VolumeInfo(_Record):
+    """What ``clfractal info`` tells of a volume file (``info``).
+
+    Attributes
+    ----------
+    path : str
+    header : list of str
+        The format and header facts the array does not carry, one line each.
+    shape : tuple of int
+        ``(nz, ny, nx)``.
+    dtype : str
+        The library's type name.
+    spacing : tuple of float
+        ``(dz, dy, dx)``.
+    min, max : float
+        The smallest and largest finite value.
+    nan, inf : int
+        NaN and Inf counts.
+    """
+    path: str
+    header: list
+    shape: tuple
+    dtype: str
+    spacing: tuple
+    min: float
+    max: float
+    nan: int
+    inf: int
+
+
+def info(path, dims=None, dtype=None, endian: str = "little", spacing=None, series: str | None = None,
+         scaled: bool = False, as_type=None) -> VolumeInfo:
+    """The format, grid and value range of a volume file (``clfractal info``).
+
+    Parameters
+    ----------
+    path : str or PathLike
+    dims, dtype, endian, spacing, series, scaled, as_type
+        As for ``read_volume``.
+
+    Returns
+    -------
+    VolumeInfo
+
+    Examples
+    --------
+    >>> import clfractal
+    >>> i = clfractal.info("synthetic:sphere:16")
+    >>> i.shape, i.dtype
+    ((16, 16, 16), 'uint8')
+    """
+    r = dict(_clfractal.info(str(path), _raw_options(dims, dtype, endian, spacing, series, scaled, as_type)))
+    r["header"], r["shape"], r["spacing"] = list(r["header"]), tuple(r["shape"]), tuple(r["spacing"])
+    return VolumeInfo(**r)
 
 
 def devices() -> list[dict]:
-    """Every OpenCL device: platform, name, type, global_mem, max_alloc, compute_units, and
-    ``default`` (the one used without a ``device`` argument)."""
-    return [dict(d) for d in _clfractal.devices()]
+    """Every OpenCL device: platform, name, type, global_mem, max_alloc, compute_units,
+    ``default`` (the one used without a ``device`` argument) and ``drivers`` (where the
+    OpenCL drivers were found, ``OPENCL_DRIVERS``). An empty list when there is no device:
+    ``pip install 'clfractal[cpu]'`` gives a CPU device (PoCL from PyPI), a GPU vendor's
+    OpenCL driver a GPU."""
+    return [dict(d, drivers=OPENCL_DRIVERS) for d in _clfractal.devices()]
 
 
 def device_description(device: str | None = None) -> str:

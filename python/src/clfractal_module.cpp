@@ -1,7 +1,8 @@
 // The extension module behind the `clfractal` Python package (python/clfractal/__init__.py):
 // thin calls into the C++ library. Arrays arrive as 3D NumPy arrays in (z, y, x) order of a
-// value type the library computes in (the package's one dtype table chose it, by name); they
-// are copied once, honouring their strides, into a clfractal::Volume (x fastest). Results
+// value type the library computes in (the package's one dtype table chose it, by name); a
+// C-contiguous one is read in place (Volume::wrap), any other copied once, honouring its
+// strides, into a clfractal::Volume (x fastest). Results
 // leave as NumPy arrays that own the library's buffers (no copy). Device work runs without
 // the GIL, one call at a time per OpenCL context; contexts and their program caches live for
 // the whole process.
@@ -14,6 +15,7 @@
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -34,8 +36,10 @@
 #include "clfractal/mesh.hpp"
 #include "clfractal/noise.hpp"
 #include "clfractal/noise_level.hpp"
+#include "clfractal/ply.hpp"
 #include "clfractal/smooth.hpp"
 #include "clfractal/span.hpp"
+#include "clfractal/stream.hpp"
 #include "clfractal/volume_io.hpp"
 
 namespace nb = nanobind;
@@ -95,15 +99,35 @@ template <class F> auto on_device(const std::optional<std::string>& selector, F&
 
 using InArray = nb::ndarray<nb::ro, nb::ndim<3>, nb::device::cpu>;
 
-/// Copies a (z, y, x) array of the value type `type_name` into a Volume, following its
-/// strides (in elements, any sign), so views and transposes need no copy beforehand.
-/// Float data holding NaN or Inf is rejected.
-Volume to_volume(const InArray& a, const std::string& type_name) {
+/// Arrays copied into a Volume so far (clfractal._clfractal.host_copies): C-contiguous
+/// arrays are read in place and count none.
+std::atomic<std::size_t> host_copies{0};
+
+/// Whether the volume may read the array in place, or must own a copy of its values.
+enum class InPlace { allowed, never };
+
+/// A (z, y, x) array of the value type `type_name` as a Volume: read in place when it is
+/// C-contiguous (Volume::wrap; the array outlives the call that uses it) and `in_place`
+/// allows, else copied following its strides (in elements, any sign), so views and
+/// transposes need no copy beforehand. Float data holding NaN or Inf is rejected unless
+/// `finite` is keep.
+Volume to_volume(const InArray& a, const std::string& type_name, FiniteCheck finite = FiniteCheck::reject,
+                 InPlace in_place = InPlace::allowed) {
     const ValueType type = parse_value_type(type_name);
     const std::size_t item = value_size(type);
     if (a.itemsize() != item)
         throw InputError("array: " + std::to_string(a.itemsize()) + "-byte elements given as " + type_name);
-    Volume v(Dims{a.shape(2), a.shape(1), a.shape(0)}, type, "array");
+    const Dims dims{a.shape(2), a.shape(1), a.shape(0)};
+    const bool contiguous = a.stride(2) == 1 && a.stride(1) == std::int64_t(a.shape(2)) &&
+                            a.stride(0) == std::int64_t(a.shape(2) * a.shape(1));
+    if (contiguous && in_place == InPlace::allowed) {
+        // Read only: every computing call takes its input as const.
+        Volume v = Volume::wrap(const_cast<void*>(a.data()), dims, type, "array");
+        if (finite == FiniteCheck::reject) check_finite(v, "array");
+        return v;
+    }
+    ++host_copies;
+    Volume v(dims, type, "array");
     const auto* src = static_cast<const unsigned char*>(a.data());
     auto* dst = static_cast<unsigned char*>(v.data());
     const std::int64_t sz = a.stride(0) * std::int64_t(item), sy = a.stride(1) * std::int64_t(item),
@@ -118,7 +142,8 @@ Volume to_volume(const InArray& a, const std::string& type_name) {
                 for (std::size_t x = 0; x < nx; ++x) std::memcpy(dst + x * item, s + std::int64_t(x) * sx, item);
             }
         }
-    check_finite(v, "array");  // NaN and Inf rejected as from files (docs/definitions.md §1)
+    // NaN and Inf rejected as from files (docs/definitions.md §1); writers keep them (LD fields).
+    if (finite == FiniteCheck::reject) check_finite(v, "array");
     return v;
 }
 
@@ -130,7 +155,7 @@ struct Uploaded {
     Volume host;  // declared before `on_device`: it outlives the zero-copy buffer
     DeviceVolume on_device;
     Uploaded(const InArray& a, const std::string& type, const std::optional<std::string>& selector)
-        : device(device_for(selector)), host(to_volume(a, type)) {
+        : device(device_for(selector)), host(to_volume(a, type, FiniteCheck::reject, InPlace::never)) {
         nb::gil_scoped_release no_gil;
         std::lock_guard<std::mutex> guard(*device.lock);
         on_device = DeviceVolume(*device.ctx, host);
@@ -197,19 +222,25 @@ struct Isovalues {
     std::vector<std::size_t> pick;
 };
 
+Isovalues requested_isovalues(ValueType type, const std::vector<double>& s);
+
 Isovalues choose_isovalues(const Volume& v, const std::optional<std::vector<double>>& requested, std::size_t bins) {
     if (!requested) return {IsovalueSet::for_volume(v, bins), {}};
-    const std::vector<double>& s = *requested;
+    return requested_isovalues(v.type(), *requested);
+}
+
+/// The isovalue set of a requested list for data of `type`.
+Isovalues requested_isovalues(ValueType type, const std::vector<double>& s) {
     if (s.empty()) throw InputError("isovalues: the list is empty");
     for (std::size_t j = 0; j < s.size(); ++j) {
         if (!std::isfinite(s[j])) throw InputError("isovalues: value " + std::to_string(j) + " is not finite");
         if (j && !(s[j - 1] < s[j]))
             throw InputError("isovalues: the list must be strictly increasing (at index " + std::to_string(j) + ")");
     }
-    if (v.type() == ValueType::float32) return {IsovalueSet::floats(std::vector<float>(s.begin(), s.end())), {}};
+    if (type == ValueType::float32) return {IsovalueSet::floats(std::vector<float>(s.begin(), s.end())), {}};
     // float64 data, and int32/uint32 data (whose ranges may be wider than an integer set):
     // float64 isovalues, compared exactly in double.
-    if (!is_integer(v.type()) || is_wide(v.type())) return {IsovalueSet::doubles(s), {}};
+    if (!is_integer(type) || is_wide(type)) return {IsovalueSet::doubles(s), {}};
     for (std::size_t j = 0; j < s.size(); ++j)
         if (s[j] != std::floor(s[j]))
             throw InputError("isovalues: integer data takes integer isovalues (value " + std::to_string(j) + " is " +
@@ -235,27 +266,16 @@ std::vector<double> isovalue_list(const Isovalues& iso) {
 
 // ------------------------------------------------------------------ the calls
 
-nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string& kind_name, int levels,
-                       const std::optional<std::vector<double>>& isovalues, std::size_t bins,
-                       std::uint64_t min_count, const std::optional<std::string>& device) {
-    SpanKind kind;
-    if (kind_name == "box") kind = SpanKind::cubes;
-    else if (kind_name == "edge") kind = SpanKind::edges;
-    else throw InputError("kind '" + kind_name + "': expected 'box' or 'edge'");
-    if (levels < 2 || levels > 16) throw InputError("levels " + std::to_string(levels) + ": must be 2..16");
-    const Input in = input_of(a, type);
-    const Volume& v = in.host();
-    std::string description;
-    double compile = 0;
-    auto [iso, f, seconds] = on_input(in, device, [&](Context& ctx) {
-        Isovalues iso = choose_isovalues(v, isovalues, bins);
-        const SpanOptions opt{{kind}, levels};
-        SpanResult spans = in.device() ? count_spans(*in.device(), iso.set, opt) : count_spans(ctx, v, iso.set, opt);
-        FdCurve f = fd_curve(ctx, spans, kind);
-        description = ctx.description();
-        compile = ctx.compile_seconds();
-        return std::make_tuple(std::move(iso), std::move(f), spans.seconds);
-    });
+SpanKind span_kind(const std::string& kind_name) {
+    if (kind_name == "box") return SpanKind::cubes;
+    if (kind_name == "edge") return SpanKind::edges;
+    throw InputError("kind '" + kind_name + "': expected 'box' or 'edge'");
+}
+
+/// An FD curve as the package's FdCurve takes it: the rows of the requested isovalues
+/// (flattened level by level, levels x K), the curve and its summary.
+nb::dict curve_dict(const Isovalues& iso, const FdCurve& f, const std::string& kind_name, int levels,
+                    std::uint64_t min_count, const std::string& description, double seconds, double compile) {
     // Rows of the requested isovalues, flattened level by level (levels x K).
     std::vector<std::vector<std::uint64_t>> rows;
     std::vector<std::uint64_t> counts;
@@ -285,6 +305,80 @@ nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string&
     out["summary"] = summary;
     return out;
 }
+
+
+nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string& kind_name, int levels,
+                       const std::optional<std::vector<double>>& isovalues, std::size_t bins,
+                       std::uint64_t min_count, const std::optional<std::string>& device) {
+    const SpanKind kind = span_kind(kind_name);
+    if (levels < 2 || levels > 16) throw InputError("levels " + std::to_string(levels) + ": must be 2..16");
+    const Input in = input_of(a, type);
+    const Volume& v = in.host();
+    std::string description;
+    double compile = 0;
+    auto [iso, f, seconds] = on_input(in, device, [&](Context& ctx) {
+        Isovalues iso = choose_isovalues(v, isovalues, bins);
+        const SpanOptions opt{{kind}, levels};
+        SpanResult spans = in.device() ? count_spans(*in.device(), iso.set, opt) : count_spans(ctx, v, iso.set, opt);
+        FdCurve f = fd_curve(ctx, spans, kind);
+        description = ctx.description();
+        compile = ctx.compile_seconds();
+        return std::make_tuple(std::move(iso), std::move(f), spans.seconds);
+    });
+    return curve_dict(iso, f, kind_name, levels, min_count, description, seconds, compile);
+}
+
+/// clfractal.SliceStream: SpanStream (stream.hpp) on one device, fed (ny, nx) slices in z
+/// order; the curve of the slices so far at any time.
+struct SliceStream {
+    Device device;
+    Isovalues iso;
+    std::string kind_name;
+    int levels;
+    std::unique_ptr<SpanStream> stream;
+    std::size_t nx, ny;
+    SliceStream(std::size_t ny_, std::size_t nx_, const std::string& type, const std::vector<double>& isovalues,
+                int levels_, const std::string& kind, const std::optional<std::string>& selector)
+        : device(device_for(selector)), kind_name(kind), levels(levels_), nx(nx_), ny(ny_) {
+        const ValueType t = parse_value_type(type);
+        const SpanKind k = span_kind(kind);
+        if (levels < 2 || levels > 16) throw InputError("levels " + std::to_string(levels) + ": must be 2..16");
+        if (nx == 0 || ny == 0) throw InputError("shape: every axis needs at least 1 vertex");
+        iso = requested_isovalues(t, isovalues);
+        nb::gil_scoped_release no_gil;
+        std::lock_guard<std::mutex> guard(*device.lock);
+        stream = std::make_unique<SpanStream>(*device.ctx, nx, ny, t, iso.set, levels, std::vector<SpanKind>{k});
+    }
+    /// Adds (k, ny, nx) C-contiguous slices of the stream's type, in z order.
+    void push(const nb::ndarray<nb::ro, nb::ndim<3>, nb::c_contig, nb::device::cpu>& slices) {
+        if (slices.shape(1) != ny || slices.shape(2) != nx)
+            throw InputError("slice: shape (" + std::to_string(slices.shape(1)) + ", " +
+                             std::to_string(slices.shape(2)) + "), the stream takes (" + std::to_string(ny) + ", " +
+                             std::to_string(nx) + ")");
+        if (slices.itemsize() != value_size(stream->type()))
+            throw InputError("slice: " + std::to_string(slices.itemsize()) + "-byte values, the stream takes " +
+                             value_type_name(stream->type()));
+        const auto* p = static_cast<const unsigned char*>(slices.data());
+        const std::size_t bytes = nx * ny * value_size(stream->type());
+        nb::gil_scoped_release no_gil;
+        std::lock_guard<std::mutex> guard(*device.lock);
+        for (std::size_t z = 0; z < slices.shape(0); ++z) stream->push_slice(static_cast<const void*>(p + z * bytes));
+    }
+    nb::dict curve() {
+        FdCurve f;
+        double seconds = 0, compile = 0;
+        std::string description;
+        {
+            nb::gil_scoped_release no_gil;
+            std::lock_guard<std::mutex> guard(*device.lock);
+            f = stream->curve(span_kind(kind_name));
+            seconds = stream->counts().seconds;
+            description = device.ctx->description();
+            compile = device.ctx->compile_seconds();
+        }
+        return curve_dict(iso, f, kind_name, levels, 0, description, seconds, compile);
+    }
+};
 
 /// The LD field of the input (downloaded).
 Volume local_field(Context& ctx, const Input& in, double iso, int window) {
@@ -366,18 +460,42 @@ nb::tuple filter_call(nb::handle a, const std::string& type, const std::string& 
     }));
 }
 
-nb::tuple targeted_filter_call(const InArray& a, const std::string& type, double iso, double threshold,
-                               const std::string& method, int window, double sigma, double sigma_s, double sigma_r,
-                               const std::optional<std::string>& device) {
-    const FilterSpec spec = filter_spec(method, sigma, sigma_s, sigma_r);
-    Volume v = to_volume(a, type);
-    TargetedResult r =
-        on_device(device, [&](Context& ctx) { return targeted_filter(ctx, v, spec, iso, threshold, window); });
+/// The counts of a masked filter, as the package's TargetedFilterResult takes them.
+nb::tuple targeted_out(TargetedResult&& r) {
     nb::dict info = make_dict({{"selected", nb::cast(r.selected)},
                                {"changed", nb::cast(r.changed)},
                                {"selected_share", nb::cast(r.selected_share)},
                                {"changed_share", nb::cast(r.changed_share)}});
     return nb::make_tuple(volume_out(std::move(r.volume)), info);
+}
+
+/// The fractal-targeted filter where the LD field (`mask` "ld", isovalue `iso`) or the LD4
+/// field (`mask` "ld4", bin width `q`) exceeds `threshold`.
+nb::tuple targeted_filter_call(const InArray& a, const std::string& type, const std::string& mask, double iso,
+                               double q, double threshold, const std::string& method, int window, double sigma,
+                               double sigma_s, double sigma_r, const std::optional<std::string>& device) {
+    const FilterSpec spec = filter_spec(method, sigma, sigma_s, sigma_r);
+    if (mask != "ld" && mask != "ld4") throw InputError("mask '" + mask + "': expected 'ld' or 'ld4'");
+    Volume v = to_volume(a, type);
+    return targeted_out(on_device(device, [&](Context& ctx) {
+        if (mask == "ld") return targeted_filter(ctx, v, spec, iso, threshold, window);
+        const Volume field = local_fractal_dimension_4d(ctx, v, q, window);
+        return targeted_filter(ctx, v, spec, field, threshold);
+    }));
+}
+
+nb::tuple ld_guided_call(const InArray& a, const std::string& type, double iso, double sigma_s, double sigma_r,
+                         int window, const std::optional<std::string>& device) {
+    filter_spec("bilateral", 1.0, sigma_s, sigma_r);  // the same checks of the sigmas
+    Volume v = to_volume(a, type);
+    return targeted_out(
+        on_device(device, [&](Context& ctx) { return ld_bilateral_filter(ctx, v, sigma_s, sigma_r, iso, window); }));
+}
+
+nb::tuple local4_call(const InArray& a, const std::string& type, double q, int window,
+                      const std::optional<std::string>& device) {
+    Volume v = to_volume(a, type);
+    return volume_out(on_device(device, [&](Context& ctx) { return local_fractal_dimension_4d(ctx, v, q, window); }));
 }
 
 nb::tuple smooth_call(nb::handle a, const std::string& type, double iso, double threshold, int window,
@@ -439,14 +557,106 @@ nb::tuple mesh_call(nb::handle a, const std::string& type, double iso, const std
     return nb::make_tuple(owned(std::move(vertices)), owned(std::move(faces)), ld);
 }
 
-nb::tuple read_volume_call(const std::string& path) {
+/// The raw-read options of `clfractal` (--dims, --type, --endian, --spacing, --series,
+/// --scaled, --as); dims and spacing in (x, y, z) order.
+RawOptions raw_options(const std::optional<std::vector<std::size_t>>& dims, const std::optional<std::string>& type,
+                       const std::string& endian, const std::optional<std::vector<double>>& spacing,
+                       const std::string& series, bool scaled, const std::optional<std::string>& as) {
+    RawOptions o;
+    if (dims) {
+        if (dims->size() != 3) throw InputError("dims: expected 3 values (nz, ny, nx)");
+        o.dims = Dims{(*dims)[0], (*dims)[1], (*dims)[2]};
+    }
+    if (type) o.type = parse_value_type(*type);
+    if (endian == "big") o.big_endian = true;
+    else if (endian != "little") throw InputError("endian '" + endian + "': expected 'little' or 'big'");
+    if (spacing) {
+        if (spacing->size() != 3) throw InputError("spacing: expected 3 values (dz, dy, dx)");
+        for (double x : *spacing)
+            if (!(std::isfinite(x) && x > 0)) throw InputError("spacing: values must be finite and > 0");
+        o.spacing = {(*spacing)[0], (*spacing)[1], (*spacing)[2]};
+    }
+    o.series = series;
+    o.scaled = scaled;
+    if (as) o.as = parse_value_type(*as);
+    return o;
+}
+
+nb::tuple read_volume_call(const std::string& path, const RawOptions& raw) {
     Volume v;
     {
         nb::gil_scoped_release no_gil;
-        v = read_volume(path, {}, FiniteCheck::keep);  // LD fields hold NaN; computing calls reject it
+        v = read_volume(path, raw, FiniteCheck::keep);  // LD fields hold NaN; computing calls reject it
     }
     auto spacing = nb::make_tuple(v.spacing[2], v.spacing[1], v.spacing[0]);
     return nb::make_tuple(volume_out(std::move(v)), spacing);
+}
+
+/// What `clfractal info` reports: the header facts, the grid and the value statistics.
+nb::dict info_call(const std::string& path, const RawOptions& raw) {
+    std::vector<std::string> header;
+    Volume v;
+    ValueStats stats;
+    {
+        nb::gil_scoped_release no_gil;
+        header = describe_volume_file(path, raw);
+        v = read_volume(path, raw, FiniteCheck::keep);
+        stats = value_stats(v);
+    }
+    const Dims& d = v.dims();
+    return make_dict({{"path", nb::cast(path)},
+                      {"header", nb::cast(header)},
+                      {"shape", nb::make_tuple(d.nz, d.ny, d.nx)},
+                      {"dtype", nb::cast(std::string(value_type_name(v.type())))},
+                      {"spacing", nb::make_tuple(v.spacing[2], v.spacing[1], v.spacing[0])},
+                      {"min", nb::cast(stats.min)},
+                      {"max", nb::cast(stats.max)},
+                      {"nan", nb::cast(stats.nan)},
+                      {"inf", nb::cast(stats.inf)}});
+}
+
+/// Writes a (z, y, x) array as NRRD or NIfTI (by the extension) with spacing (dz, dy, dx).
+void write_volume_call(const InArray& a, const std::string& type, const std::string& path,
+                       const std::vector<double>& spacing_zyx) {
+    Volume v = to_volume(a, type, FiniteCheck::keep);
+    if (spacing_zyx.size() != 3) throw InputError("spacing: expected 3 values (dz, dy, dx)");
+    for (double x : spacing_zyx)
+        if (!(std::isfinite(x) && x > 0)) throw InputError("spacing: values must be finite and > 0");
+    v.spacing = {spacing_zyx[2], spacing_zyx[1], spacing_zyx[0]};
+    v.name = path;
+    nb::gil_scoped_release no_gil;
+    write_volume(v, path);
+}
+
+/// Writes a mesh as mesh_call returns it ((n, 3) float32 in (z, y, x), (m, 3) triangles of
+/// reversed winding, optional per-vertex LD coloured by the thesis map) as PLY.
+void write_ply_call(const std::string& path,
+                    const nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>& vertices,
+                    const nb::ndarray<const std::int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>& faces,
+                    const std::optional<nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>>& ld) {
+    if (vertices.shape(1) != 3 || faces.shape(1) != 3)
+        throw InputError(path + ": vertices and faces must have 3 columns");
+    const std::size_t n = vertices.shape(0), m = faces.shape(0);
+    Mesh mesh;
+    const float* p = vertices.data();
+    for (std::size_t i = 0; i < n; ++i) mesh.positions.push_back({p[3 * i + 2], p[3 * i + 1], p[3 * i]});
+    const std::int64_t* t = faces.data();
+    for (std::size_t i = 0; i < 3 * m; ++i)
+        if (t[i] < 0 || std::size_t(t[i]) >= n)
+            throw InputError(path + ": face " + std::to_string(i / 3) + " names vertex " + std::to_string(t[i]) +
+                             " of " + std::to_string(n));
+    for (std::size_t i = 0; i < m; ++i)
+        mesh.triangles.push_back({std::uint32_t(t[3 * i]), std::uint32_t(t[3 * i + 2]), std::uint32_t(t[3 * i + 1])});
+    if (ld) {
+        if (ld->shape(0) != n) throw InputError(path + ": ld must have one value per vertex");
+        mesh.ld.assign(ld->data(), ld->data() + n);
+        for (float x : mesh.ld) {
+            const Rgb c = ld_colour(x);
+            mesh.colors.push_back({c.r, c.g, c.b});
+        }
+    }
+    nb::gil_scoped_release no_gil;
+    write_ply(mesh, path);
 }
 
 nb::list devices_call() {
@@ -476,7 +686,11 @@ NB_MODULE(_clfractal, m) {
         } catch (const InputError& e) {
             PyErr_SetString(PyExc_ValueError, e.what());
         } catch (const DeviceError& e) {
-            PyErr_SetString(PyExc_RuntimeError, e.what());
+            std::string what = e.what();
+            if (e.code() == CL_DEVICE_NOT_FOUND && what.find("no OpenCL platform") != std::string::npos)
+                what += "; for a CPU device: pip install 'clfractal[cpu]' (PoCL from PyPI); for a GPU: its "
+                        "vendor's OpenCL driver (clfractal.OPENCL_DRIVERS says where drivers were looked for)";
+            PyErr_SetString(PyExc_RuntimeError, what.c_str());
         } catch (const cl::Error& e) {
             PyErr_Format(PyExc_RuntimeError, "%s: %s (%d)", e.what(), cl_error_name(e.err()), e.err());
         }
@@ -485,6 +699,13 @@ NB_MODULE(_clfractal, m) {
         .def(nb::init<const InArray&, const std::string&, const std::optional<std::string>&>(), "volume"_a, "type"_a,
              "device"_a.none())
         .def_prop_ro("zero_copy", [](const Uploaded& u) { return u.on_device.in_host_memory(); });
+    nb::class_<SliceStream>(m, "SliceStream", "A slice stream; see clfractal.SliceStream.")
+        .def(nb::init<std::size_t, std::size_t, const std::string&, const std::vector<double>&, int, const std::string&,
+                      const std::optional<std::string>&>(),
+             "ny"_a, "nx"_a, "type"_a, "isovalues"_a, "levels"_a, "kind"_a, "device"_a.none())
+        .def("push", &SliceStream::push, "slices"_a)
+        .def("curve", &SliceStream::curve)
+        .def_prop_ro("slices", [](const SliceStream& s) { return s.stream->slices(); });
     m.def("uploads", [](const std::optional<std::string>& device) {
         return on_device(device, [](Context& ctx) { return ctx.uploads(); });
     }, "device"_a = nb::none(), "Volumes uploaded to the device so far (DeviceVolume counts one).");
@@ -492,6 +713,8 @@ NB_MODULE(_clfractal, m) {
     m.def("device_description", [](const std::optional<std::string>& device) {
         return on_device(device, [](Context& ctx) { return ctx.description(); });
     }, "device"_a = nb::none());
+    m.def("host_copies", [] { return host_copies.load(); },
+          "Arrays copied into the library's volumes so far (C-contiguous ones are read in place).");
     m.def("context_count", [] {
         std::lock_guard<std::mutex> guard(registry_lock);
         return context_locks.size();
@@ -505,8 +728,11 @@ NB_MODULE(_clfractal, m) {
           "device"_a.none());
     m.def("filter", &filter_call, "volume"_a, "type"_a, "method"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a,
           "device"_a.none());
-    m.def("targeted_filter", &targeted_filter_call, "volume"_a, "type"_a, "iso"_a, "threshold"_a, "method"_a,
-          "window"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a, "device"_a.none());
+    m.def("targeted_filter", &targeted_filter_call, "volume"_a, "type"_a, "mask"_a, "iso"_a, "q"_a, "threshold"_a,
+          "method"_a, "window"_a, "sigma"_a, "sigma_s"_a, "sigma_r"_a, "device"_a.none());
+    m.def("ld_guided_filter", &ld_guided_call, "volume"_a, "type"_a, "iso"_a, "sigma_s"_a, "sigma_r"_a, "window"_a,
+          "device"_a.none());
+    m.def("local4", &local4_call, "volume"_a, "type"_a, "q"_a, "window"_a, "device"_a.none());
     m.def("smooth", &smooth_call, "volume"_a, "type"_a, "iso"_a, "threshold"_a, "window"_a, "variant"_a, "tau"_a,
           "device"_a.none());
     m.def("mesh", &mesh_call, "volume"_a, "type"_a, "iso"_a, "method"_a, "color_by_ld"_a, "window"_a, "spacing"_a,
@@ -516,5 +742,11 @@ NB_MODULE(_clfractal, m) {
         const NoiseKind k = parse_noise_kind(kind);
         return k == NoiseKind::uniform ? expected_edge_dimension(r) : expected_edge_dimension(r, k);
     }, "r"_a, "kind"_a);
-    m.def("read_volume", &read_volume_call, "path"_a);
+    nb::class_<RawOptions>(m, "RawOptions");
+    m.def("raw_options", &raw_options, "dims"_a.none(), "type"_a.none(), "endian"_a, "spacing"_a.none(), "series"_a,
+          "scaled"_a, "as_type"_a.none());
+    m.def("read_volume", &read_volume_call, "path"_a, "raw"_a);
+    m.def("info", &info_call, "path"_a, "raw"_a);
+    m.def("write_volume", &write_volume_call, "volume"_a, "type"_a, "path"_a, "spacing"_a);
+    m.def("write_ply", &write_ply_call, "path"_a, "vertices"_a, "faces"_a, "ld"_a.none());
 }

@@ -109,7 +109,7 @@ def test_one_vertex_and_thin_volumes():
     assert np.isnan(clfractal.local_fd(one, 7)).all()
     iso, comp = clfractal.components(one)
     np.testing.assert_array_equal(comp, [0])
-    verts, faces = clfractal.mesh(one, 7)
+    verts, faces, _ = clfractal.mesh(one, 7)
     assert verts.shape == (0, 3) and faces.shape == (0, 3)
     thin = noisy_sphere((1, 6, 7), np.float32)  # a single slice: no cubes, edges in x and y
     e = clfractal.fd_curve(thin, kind="edge")
@@ -174,3 +174,32 @@ def test_errors_never_crash():
         clfractal.mesh(v, 100, method="dc")
     with pytest.raises(TypeError):
         clfractal.local_fd(v, None)
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.int16, np.float32])
+def test_c_contiguous_arrays_are_read_in_place(dtype):
+    from clfractal import _clfractal
+    v = noisy_sphere((11, 12, 13), dtype, seed=8)
+    v.flags.writeable = False  # read in place, never written
+    iso = float(np.median(v))
+    before = _clfractal.host_copies()
+    curve, ld, med = clfractal.fd_curve(v), clfractal.local_fd(v, iso, window=4), clfractal.median(v)
+    smoothed = clfractal.smooth(v, iso, 2.3, window=4).volume
+    targeted = clfractal.targeted_filter(v, iso, 2.3, window=4).volume
+    assert _clfractal.host_copies() == before  # no copy of any of them
+    # A view of the same values (z reversed twice: not C-contiguous) is copied, with equal results.
+    clfractal.median(v[:, :, ::2])
+    assert _clfractal.host_copies() == before + 1
+    F = np.asfortranarray(v)
+    np.testing.assert_array_equal(clfractal.fd_curve(F).counts, curve.counts)
+    np.testing.assert_array_equal(clfractal.local_fd(F, iso, window=4), ld)
+    np.testing.assert_array_equal(clfractal.median(F), med)
+    np.testing.assert_array_equal(clfractal.smooth(F, iso, 2.3, window=4).volume, smoothed)
+    np.testing.assert_array_equal(clfractal.targeted_filter(F, iso, 2.3, window=4).volume, targeted)
+    assert _clfractal.host_copies() == before + 6
+    np.testing.assert_array_equal(med, ref_median(v))
+
+
+def ref_median(v):
+    from scipy import ndimage
+    return ndimage.median_filter(v, size=3, mode="nearest")

@@ -82,6 +82,8 @@ def test_fd_curve_to_pandas(volume):
     df = c.to_pandas()
     assert isinstance(df, pd.DataFrame)
     assert list(df.columns) == ["isovalue", "count", "count_sub", "count_l2", "fd", "fd_fit"]
+    d = c.to_dict()
+    assert d["summary"] == c.summary and d["counts"] is c.counts and d["levels"] == 3
     np.testing.assert_array_equal(df["count_l2"], c.counts[2])
 
 
@@ -139,16 +141,16 @@ def test_fd4_matches_definition_and_cli(dtype, cli, tmp_path):
     for q in (0.0, 2.5):
         r = clfractal.fd4(v, q=q)
         want_q = q or (1.0 if np.issubdtype(v.dtype, np.integer) else (float(v.max()) - float(v.min())) / 256)
-        assert r["q"] == want_q and r["vmin"] == float(v.min())
-        i0, i1, d4 = fd4_reference(v, r["q"])
-        assert (r["i4_l0"], r["i4_l1"]) == (i0, i1)
-        assert r["d4"] == pytest.approx(d4, rel=1e-12)
-        assert 2.5 < r["d4"] < 4.0
+        assert r.q == want_q and r.vmin == float(v.min())
+        i0, i1, d4 = fd4_reference(v, r.q)
+        assert (r.i4_l0, r.i4_l1) == (i0, i1)
+        assert r.d4 == pytest.approx(d4, rel=1e-12)
+        assert 2.5 < r.d4 < 4.0
     out = tmp_path / "fd4.json"
     cli("fd4", write_raw(tmp_path, "v", v), "--json", out)
     j = json.loads(out.read_text())
     r = clfractal.fd4(v)
-    assert (j["i4_l0"], j["i4_l1"], j["q"]) == (r["i4_l0"], r["i4_l1"], r["q"])
+    assert (j["i4_l0"], j["i4_l1"], j["q"]) == (r.i4_l0, r.i4_l1, r.q)
     with pytest.raises(ValueError, match="q"):
         clfractal.fd4(v, q=-1.0)
 
@@ -168,15 +170,16 @@ def test_noise_level_matches_definition_and_cli(dtype, cli, tmp_path):
     for block in (4, 8):
         r = clfractal.noise_level(v, block=block)
         sigma, share, usable, flat = ref.noise_level(v, block)
-        assert (r["blocks_usable"], r["blocks_flat"]) == (usable, flat)
-        assert r["sigma"] == pytest.approx(sigma, rel=1e-5) and r["flat_share"] == pytest.approx(share, rel=1e-12)
-        assert r["sigma"] == pytest.approx(3.0, rel=0.08)
-        assert r["map"].dtype == np.float32 and r["map"].shape == (1, 1, 2)
-    assert clfractal.noise_level(clfractal.DeviceVolume(v))["sigma"] == clfractal.noise_level(v)["sigma"]
+        assert (r.blocks_usable, r.blocks_flat) == (usable, flat)
+        assert r.sigma == pytest.approx(sigma, rel=1e-5) and r.flat_share == pytest.approx(share, rel=1e-12)
+        assert r.sigma == pytest.approx(3.0, rel=0.08)
+        assert r.map.dtype == np.float32 and r.map.shape == (1, 1, 2)
+        assert r.to_dict()["sigma"] == r.sigma
+    assert clfractal.noise_level(clfractal.DeviceVolume(v)).sigma == clfractal.noise_level(v).sigma
     out = tmp_path / "fd.json"
     cli("fd", write_raw(tmp_path, "v", v), "--noise-level", "--isovalues", "150", "--json", out)
     j = json.loads(out.read_text())["noise"]
-    assert j["sigma"] == pytest.approx(clfractal.noise_level(v)["sigma"], rel=1e-12)
+    assert j["sigma"] == pytest.approx(clfractal.noise_level(v).sigma, rel=1e-12)
     with pytest.raises(ValueError, match="block"):
         clfractal.noise_level(v, block=1)
 
@@ -251,13 +254,16 @@ def test_bilateral_matches_its_definition(volume):
 
 def test_targeted_filter(volume):
     s, h = float(np.median(volume)), 2.3
-    out, changed = clfractal.targeted_filter(volume, s, h, window=4)
+    r = clfractal.targeted_filter(volume, s, h, window=4)
+    out, changed = r.volume, r.changed_share
     ld = clfractal.local_fd(volume, s, window=4)
     expected = np.where(ld > h, ndimage.median_filter(volume, size=3, mode="nearest"), volume)
     np.testing.assert_array_equal(out, expected)
     assert changed == pytest.approx(np.mean(out != volume))
     assert 0 < changed < 1
-    g, _ = clfractal.targeted_filter(volume, s, h, method="gaussian", sigma=1.0, window=4)
+    assert r.changed == np.count_nonzero(out != volume)
+    assert r.selected == np.count_nonzero(ld > h) and r.selected_share == pytest.approx(np.mean(ld > h))
+    g = clfractal.targeted_filter(volume, s, h, method="gaussian", sigma=1.0, window=4).volume
     full = clfractal.gaussian(volume, 1.0)
     np.testing.assert_array_equal(g, np.where(ld > h, full, volume))
     with pytest.raises(ValueError, match="method"):
@@ -267,10 +273,11 @@ def test_targeted_filter(volume):
 @pytest.mark.parametrize("variant", ["plain", "gaussian"])
 def test_smooth_leaves_no_high_fractal_edge(volume, variant, cli, tmp_path):
     s, h = float(np.median(volume)) + 0.5, 2.2
-    out, info = clfractal.smooth(volume, s, h, window=4, variant=variant)
+    r = clfractal.smooth(volume, s, h, window=4, variant=variant)
+    out = r.volume
     assert out.dtype == volume.dtype
     assert (out <= volume).all()  # values only decrease
-    assert info["vertices_changed"] == np.count_nonzero(out != volume) > 0
+    assert r.vertices_changed == np.count_nonzero(out != volume) > 0
     ld = clfractal.local_fd(volume, s, window=4)  # computed once, on the input
     high = ld > h
     s_cmp = np.float32(s) if volume.dtype == np.float32 else s
@@ -322,15 +329,21 @@ def test_mesh(volume, method, cli, tmp_path):
     np.testing.assert_array_equal(verts, np.stack([pv["z"], pv["y"], pv["x"]], axis=1))
     np.testing.assert_array_equal(faces, pf["i"][:, [0, 2, 1]])
     np.testing.assert_array_equal(ld, pv["ld"])
+    # write_ply writes what the CLI writes.
+    clfractal.write_ply(tmp_path / "py.ply", verts, faces, ld)
+    qv, qf = read_ply(tmp_path / "py.ply")
+    assert qv.dtype == pv.dtype and qv.tobytes() == pv.tobytes()  # bytes: NaN LD compares equal
+    np.testing.assert_array_equal(qf, pf)
     plain = clfractal.mesh(volume, s, method=method, spacing=(2.0, 1.0, 0.5))
-    assert len(plain) == 2
+    assert len(plain) == 3 and plain.ld is None
     np.testing.assert_allclose(plain[0], verts * np.float32([2.0, 1.0, 0.5]), rtol=1e-6)
 
 
 def test_mesh_normals_point_to_lower_values():
     # Distance from the centre: low inside, so normals point inwards.
     v = noisy_sphere((21, 20, 19), np.float32, amplitude=0.0)
-    verts, faces = clfractal.mesh(-v, -100.0)
+    verts, faces, ld = clfractal.mesh(-v, -100.0)
+    assert ld is None
     a, b, c = (verts[faces[:, i]] for i in range(3))
     normals = np.cross(b - a, c - a)
     centre = np.array([(n - 1) / 2 for n in v.shape])
@@ -398,7 +411,8 @@ def test_device_volume_is_uploaded_once_and_gives_the_array_results(volume):
     ld = clfractal.local_fd(dv, iso, window=4)
     med = clfractal.median(dv)
     gauss = clfractal.gaussian(dv, 1.0)
-    smoothed, info = clfractal.smooth(dv, iso, 2.3, window=4)
+    smoothed = clfractal.smooth(dv, iso, 2.3, window=4)
+    smoothed, info = smoothed.volume, smoothed.to_dict()
     verts, faces, mesh_ld = clfractal.mesh(dv, iso, color_by_ld=True, window=4, spacing=(2.0, 1.0, 0.5))
     iso_c, counts = clfractal.components(dv)
     assert clfractal.uploads() == before  # every call read the device copy
@@ -409,9 +423,10 @@ def test_device_volume_is_uploaded_once_and_gives_the_array_results(volume):
     np.testing.assert_array_equal(ld, clfractal.local_fd(volume, iso, window=4))
     np.testing.assert_array_equal(med, clfractal.median(volume))
     np.testing.assert_array_equal(gauss, clfractal.gaussian(volume, 1.0))
-    want_s, want_info = clfractal.smooth(volume, iso, 2.3, window=4)
+    want = clfractal.smooth(volume, iso, 2.3, window=4)
+    want_s, want_info = want.volume, want.to_dict()
     np.testing.assert_array_equal(smoothed, want_s)
-    assert info == want_info
+    assert {k: v for k, v in info.items() if k != "volume"} == {k: v for k, v in want_info.items() if k != "volume"}
     w_verts, w_faces, w_ld = clfractal.mesh(volume, iso, color_by_ld=True, window=4, spacing=(2.0, 1.0, 0.5))
     np.testing.assert_array_equal(verts, w_verts)
     np.testing.assert_array_equal(faces, w_faces)
@@ -422,8 +437,8 @@ def test_device_volume_is_uploaded_once_and_gives_the_array_results(volume):
     assert clfractal.uploads() > before  # the array calls uploaded
     # fd4 and targeted_filter take it too (uploading its array).
     assert clfractal.fd4(dv) == clfractal.fd4(volume)
-    np.testing.assert_array_equal(clfractal.targeted_filter(dv, iso, 2.3, window=4)[0],
-                                  clfractal.targeted_filter(volume, iso, 2.3, window=4)[0])
+    np.testing.assert_array_equal(clfractal.targeted_filter(dv, iso, 2.3, window=4).volume,
+                                  clfractal.targeted_filter(volume, iso, 2.3, window=4).volume)
 
 
 def test_device_volume_counts_one_upload_and_copies_the_array():
@@ -438,3 +453,111 @@ def test_device_volume_counts_one_upload_and_copies_the_array():
         clfractal.DeviceVolume(np.zeros((2, 2)))
     with pytest.raises(ValueError):
         clfractal.local_fd(dv, 100, window=3)
+
+
+# ------------------------------------------------------------------ CLI parity: local4, masked filters
+
+def test_local4_and_the_ld4_targeted_filter_match_the_cli(volume, cli, tmp_path):
+    raw = write_raw(tmp_path, "v", volume)
+    ld4 = clfractal.local4(volume, window=4)
+    assert ld4.dtype == np.float32 and ld4.shape == volume.shape
+    cli("local4", raw, "--window", 4, "-o", tmp_path / "ld4.nrrd")
+    np.testing.assert_array_equal(ld4, read_nrrd(tmp_path / "ld4.nrrd"))
+    h = float(np.nanmedian(ld4))
+    r = clfractal.targeted_filter(volume, None, h, mask="ld4", window=4)
+    expected = np.where(ld4 > h, ndimage.median_filter(volume, size=3, mode="nearest"), volume)
+    np.testing.assert_array_equal(r.volume, expected)
+    assert r.selected == np.count_nonzero(ld4 > h) > 0
+    cli("filter", raw, "--median", "--fractal4", "--threshold", repr(h), "--window", 4, "-o", tmp_path / "f4.nrrd")
+    np.testing.assert_array_equal(r.volume, read_nrrd(tmp_path / "f4.nrrd"))
+    with pytest.raises(ValueError, match="mask"):
+        clfractal.targeted_filter(volume, 1.0, h, mask="ld5")
+    with pytest.raises(ValueError, match="iso"):
+        clfractal.targeted_filter(volume, None, h)
+
+
+def test_bilateral_targeted_and_ld_guided_filters_match_the_cli(volume, cli, tmp_path):
+    raw = write_raw(tmp_path, "v", volume)
+    s, h = float(np.median(volume)), 2.3
+    ss, sr = 1.5, float(volume.max() - volume.min()) / 10
+    ld = clfractal.local_fd(volume, s, window=4)
+    r = clfractal.targeted_filter(volume, s, h, method="bilateral", sigma_s=ss, sigma_r=sr, window=4)
+    np.testing.assert_array_equal(r.volume, np.where(ld > h, clfractal.bilateral(volume, ss, sr), volume))
+    cli("filter", raw, "--bilateral", f"{ss},{sr!r}", "--fractal", "--iso", repr(s), "--threshold", h,
+        "--window", 4, "-o", tmp_path / "b.nrrd")
+    np.testing.assert_array_equal(r.volume, read_nrrd(tmp_path / "b.nrrd"))
+    g = clfractal.ld_guided_filter(volume, s, sigma_s=ss, sigma_r=sr, window=4)
+    assert g.selected == np.count_nonzero(ld > 2)
+    np.testing.assert_array_equal(g.volume[~(ld > 2)], volume[~(ld > 2)])  # LD <= 2 or NaN: kept
+    cli("filter", raw, "--bilateral", f"{ss},{sr!r}", "--ld-guided", "--iso", repr(s), "--window", 4,
+        "-o", tmp_path / "g.nrrd")
+    np.testing.assert_array_equal(g.volume, read_nrrd(tmp_path / "g.nrrd"))
+    with pytest.raises(ValueError, match="(?i)sigma"):
+        clfractal.ld_guided_filter(volume, s, sigma_s=-1.0)
+
+
+# ------------------------------------------------------------------ files: writers, raw options, info
+
+@pytest.mark.parametrize("suffix", [".nii", ".nii.gz", ".nrrd"])
+def test_write_volume_round_trips_with_its_spacing(tmp_path, suffix):
+    v = noisy_sphere((7, 9, 11), np.int16, seed=5) - 300
+    path = tmp_path / f"v{suffix}"
+    clfractal.write_volume(path, v, spacing=(2.5, 0.75, 1.25))
+    back, spacing = clfractal.read_volume(path)
+    np.testing.assert_array_equal(back, v)
+    assert back.dtype == v.dtype and spacing == (2.5, 0.75, 1.25)
+    ld = clfractal.local_fd(v, float(np.median(v)), window=4)  # NaN where undefined: written as it is
+    clfractal.write_volume(tmp_path / f"ld{suffix}", ld)
+    stored = np.frombuffer((tmp_path / f"ld{suffix}").read_bytes()[-ld.nbytes:], dtype="<f4") if suffix != ".nii.gz" \
+        else None
+    if stored is not None:  # the file's last bytes are the values, x fastest
+        np.testing.assert_array_equal(stored, ld.ravel())
+    with pytest.raises(ValueError, match="v.tif"):
+        clfractal.write_volume(tmp_path / "v.tif", v)
+    with pytest.raises(ValueError, match="spacing"):
+        clfractal.write_volume(path, v, spacing=(1, 0, 1))
+
+
+def test_read_volume_raw_options_and_info(tmp_path, cli):
+    rng = np.random.default_rng(2)
+    v = rng.integers(-3000, 3000, (5, 6, 7), dtype=np.int16)
+    path = tmp_path / "scan.bin"
+    v.astype(">i2").tofile(path)
+    got, spacing = clfractal.read_volume(path, dims=(5, 6, 7), dtype=np.int16, endian="big", spacing=(3, 2, 1))
+    np.testing.assert_array_equal(got, v)
+    assert spacing == (3.0, 2.0, 1.0)
+    as_float = clfractal.read_volume(path, dims=(5, 6, 7), dtype="int16", endian="big", as_type=np.float32).volume
+    assert as_float.dtype == np.float32
+    np.testing.assert_array_equal(as_float, v.astype(np.float32))
+    i = clfractal.info(path, dims=(5, 6, 7), dtype=np.int16, endian="big")
+    assert (i.shape, i.dtype, i.min, i.max, i.nan) == ((5, 6, 7), "int16", float(v.min()), float(v.max()), 0)
+    text = cli("info", path, "--dims", "7,6,5", "--type", "int16", "--endian", "big")
+    for line in i.header:
+        assert line in text
+    with pytest.raises(ValueError, match="scan.bin"):
+        clfractal.read_volume(path, dims=(5, 6, 8), dtype=np.int16)
+    with pytest.raises(ValueError, match="endian"):
+        clfractal.read_volume(path, dims=(5, 6, 7), dtype=np.int16, endian="middle")
+
+
+# ------------------------------------------------------------------ slice streams
+
+@pytest.mark.parametrize("kind,levels", [("box", 2), ("edge", 3)])
+def test_slice_stream_equals_the_whole_volume(volume, kind, levels):
+    iso = np.unique(volume)[1:][::3]
+    stream = clfractal.SliceStream(volume.shape[1:], volume.dtype, iso, levels=levels, kind=kind)
+    stream.push(volume[:3])  # a stack, then slice by slice
+    partial = stream.curve()
+    np.testing.assert_array_equal(partial.counts, ref.span_counts(volume[:3], partial.isovalues, kind, levels))
+    for z in range(3, volume.shape[0]):
+        stream.push(volume[z])
+    assert stream.slices == volume.shape[0]
+    c, whole = stream.curve(), clfractal.fd_curve(volume, kind=kind, levels=levels, isovalues=iso)
+    np.testing.assert_array_equal(c.isovalues, whole.isovalues)
+    np.testing.assert_array_equal(c.counts, whole.counts)
+    np.testing.assert_array_equal(c.counts, ref.span_counts(volume, c.isovalues, kind, levels))
+    assert_same_nan(c.fd, whole.fd)
+    with pytest.raises(ValueError, match="shape"):
+        stream.push(volume[0, :, :-1])
+    with pytest.raises(ValueError, match="fit"):
+        stream.push(np.full(volume.shape[1:], 1e300))

@@ -122,6 +122,28 @@ TEST_CASE("host storage: page-aligned, zero, copies are deep") {
     CHECK(value_range(w).max == 0);
 }
 
+TEST_CASE("wrapped volumes read the caller's values in place; copies own theirs") {
+    std::vector<std::uint16_t> values(3 * 4 * 5);
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = std::uint16_t(i * 7);
+    {
+        Volume v = Volume::wrap(values.data(), {3, 4, 5}, ValueType::uint16, "array");
+        CHECK(v.wrapped());
+        CHECK(v.data() == values.data());
+        CHECK(v.value(v.index(2, 3, 4)) == double(values.back()));
+        Volume copy = v;
+        CHECK_FALSE(copy.wrapped());
+        CHECK(copy.data() != values.data());
+        values[0] = 1;
+        CHECK(v.value(0) == 1);
+        CHECK(copy.value(0) == 0);
+        Volume moved = std::move(v);
+        CHECK(moved.wrapped());
+        CHECK(moved.data() == values.data());
+    }  // destroyed without freeing the caller's values
+    CHECK(values[1] == 7);
+    CHECK(contains(input_error([&] { Volume::wrap(values.data(), {0, 4, 5}, ValueType::uint16, "array"); }), "array"));
+}
+
 TEST_CASE("value stats: one pass finds the finite range and counts NaN and Inf, every type") {
     std::uint32_t seed = 40;
     for (ValueType t : all_value_types)
