@@ -28,13 +28,14 @@ library's message; device failures raise RuntimeError.
 Results: arrays are NumPy arrays; a result that is a fixed sequence of arrays is a named
 tuple that unpacks like ``skimage.measure.marching_cubes`` (``Components``, ``Mesh``,
 ``VolumeFile``); a record of numbers (with its arrays) is a frozen dataclass with
-``to_dict()`` (``Fd4``, ``Filtered``, ``Smoothed``, ``NoiseLevel``, ``VolumeInfo``), and
+``to_dict()`` (``Analysis``, ``Recommendation``, ``Fd4``, ``Filtered``, ``Smoothed``, ``NoiseLevel``, ``VolumeInfo``), and
 the curve ``FdCurve`` a class with the same ``to_dict()`` and ``to_pandas()``.
 """
 from __future__ import annotations
 
 import dataclasses
 import glob
+import json
 import importlib.util
 import os
 from typing import NamedTuple, Optional
@@ -86,7 +87,7 @@ __all__ = [
     "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "SliceStream", "Fd4", "fd4", "local4",
     "Components", "components", "median", "gaussian", "bilateral", "Filtered", "targeted_filter",
     "ld_guided_filter", "Smoothed", "smooth", "Mesh", "mesh", "write_ply", "NoiseLevel", "noise_level",
-    "noise_dimension", "VolumeFile", "read_volume", "write_volume", "VolumeInfo", "info",
+    "noise_dimension", "Recommendation", "Analysis", "analyse", "VolumeFile", "read_volume", "write_volume", "VolumeInfo", "info",
     "devices", "device_description", "OPENCL_DRIVERS",
 ]
 
@@ -845,6 +846,110 @@ def noise_level(volume, block: int = 0, map_block: int = 32, clip: float = 3.0,
     r = dict(_clfractal.noise_level(a, type_name, int(block), int(map_block), float(clip), device))
     r["map"] = np.asarray(r["map"]).reshape(r.pop("map_shape"))
     return NoiseLevel(**r)
+
+
+@dataclasses.dataclass(frozen=True)
+class Recommendation(_Record):
+    """One recommended isovalue (``analyse``): ``isovalue``, ``fd``, ``count``, ``count_sub``,
+    ``components`` (None when not computed), ``verdict`` ("clean", "rough", "noisy",
+    "undefined"), the band ``first``..``last`` it stands for, ``boundary`` (the mean gradient of
+    its surfaces in cubes per vertex) and ``basis`` ("clean band", "cleanest quarter" or
+    "largest surface")."""
+    isovalue: float
+    fd: float
+    count: int
+    count_sub: int
+    components: Optional[int]
+    verdict: str
+    first: float
+    last: float
+    boundary: float
+    basis: str
+
+
+def _recommendation(e: dict) -> Recommendation:
+    return Recommendation(e["isovalue"], float("nan") if e["fd"] is None else e["fd"], e["count"], e["count_sub"],
+                          e["components"], e["verdict"], e["first"], e["last"], e["boundary"], e["basis"])
+
+
+@dataclasses.dataclass(frozen=True)
+class Analysis(_Record):
+    """The answer ``analyse`` gives: which isovalue to use, how noisy the scan is, what
+    denoising helps.
+
+    ``clean`` says whether a well-populated isovalue is clean; ``recommended`` (a list of
+    ``Recommendation``, best first) is never empty when a cube is intersected; ``noisiest``
+    the well-populated isovalue with the largest D (or None); ``noise_sigma`` the noise's
+    standard deviation in grey values (NaN when not computed or no block is usable);
+    ``denoise`` the attempts of the denoising ladder (dicts with ``filter``, ``threshold``,
+    ``changed_share``, ``clean``, ``recommended``, ``command``), empty when the scan is clean;
+    ``json`` the whole analysis as ``clfractal fd --json`` writes its shared part.
+    """
+    clean: bool
+    recommended: list
+    noisiest: Optional[Recommendation]
+    noise_sigma: float
+    clean_bands: list
+    denoise: list
+    json: dict
+
+    @property
+    def best(self) -> Recommendation:
+        """The isovalue to use: the first recommendation."""
+        return self.recommended[0]
+
+
+def analyse(volume, clean_fd: float = 2.2, noisy_fd: float = 2.5, clean_share: float = 0.01, bins: int = 256,
+            components: str = "recommended", noise_level: bool = True, fd4: bool = False, denoise: bool = True,
+            window: int = 8, device: str | None = None) -> Analysis:
+    """Which isovalue gives a clean surface, how noisy the scan is, and what to do about it.
+
+    The same analysis ``clfractal fd`` and ``clfractal report`` print (docs/definitions.md
+    §33): the curve D(s), verdicts (clean ``D <= clean_fd``, noisy ``D >= noisy_fd``, rough
+    between), the clean bands, recommendations at the material boundaries of each band (never
+    empty: when nothing is clean, the cleanest quarter of the well-populated isovalues), the
+    noise level, and, when nothing is clean, the fractal-targeted median (LD > 2.5, then > 2.2)
+    and the median, each re-analysed until one leaves a clean isovalue.
+
+    Parameters
+    ----------
+    volume : (z, y, x) array
+    clean_fd, noisy_fd : float, optional
+        The verdicts' thresholds.
+    clean_share : float, optional
+        Well-populated: ``I(s) >= clean_share * max I``.
+    bins : int, optional
+        Uniform isovalues of float and wide integer data.
+    components : {"none", "recommended", "curve"}, optional
+        Isosurface components at the recommended isovalues, over the whole curve, or none.
+    noise_level, fd4, denoise : bool, optional
+        Compute the noise level (and Theorem 1 inverted per isovalue), the 4D dimension, the
+        denoising ladder.
+    window : int, optional
+        The LD window of the targeted filter (even).
+    device : str, optional
+        A substring of a device name (``devices()``).
+
+    Returns
+    -------
+    Analysis
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> z, y, x = np.mgrid[:32, :32, :32]
+    >>> sphere = np.clip(200 - 12 * np.sqrt((x - 15.5) ** 2 + (y - 15.3) ** 2 + (z - 15.7) ** 2), 0, 255)
+    >>> a = clfractal.analyse(sphere.astype(np.uint8), noise_level=False)
+    >>> a.clean, a.best.verdict, a.best.components
+    (True, 'clean', 1)
+    """
+    a, type_name = _volume(volume)
+    j = json.loads(_clfractal.analyse(a, type_name, float(clean_fd), float(noisy_fd), float(clean_share), int(bins),
+                                      components, bool(noise_level), bool(fd4), bool(denoise), int(window), device))
+    sigma = j.get("noise", {}).get("sigma")
+    return Analysis(j["clean"], [_recommendation(e) for e in j["recommended"]],
+                    _recommendation(j["noisiest"]) if j["noisiest"] else None,
+                    float("nan") if sigma is None else float(sigma), j["clean_bands"], j["denoise"]["attempts"], j)
 
 
 def noise_dimension(mu, gamma: float = 1.0, kind: str = "uniform"):

@@ -127,6 +127,33 @@ class NoiseLevel(_Record):
 
 def noise_level(volume: _Volume, block: int = 0, map_block: int = 32, clip: float = 3.0,
                 device: _Device = None) -> NoiseLevel: ...
+class Recommendation(_Record):
+    isovalue: float
+    fd: float
+    count: int
+    count_sub: int
+    components: int | None
+    verdict: Literal["clean", "rough", "noisy", "undefined"]
+    first: float
+    last: float
+    boundary: float
+    basis: str
+
+class Analysis(_Record):
+    clean: bool
+    recommended: list[Recommendation]
+    noisiest: Recommendation | None
+    noise_sigma: float
+    clean_bands: list[dict[str, Any]]
+    denoise: list[dict[str, Any]]
+    json: dict[str, Any]
+    @property
+    def best(self) -> Recommendation: ...
+
+def analyse(volume: npt.ArrayLike, clean_fd: float = 2.2, noisy_fd: float = 2.5, clean_share: float = 0.01,
+            bins: int = 256, components: Literal["none", "recommended", "curve"] = "recommended",
+            noise_level: bool = True, fd4: bool = False, denoise: bool = True, window: int = 8,
+            device: _Device = None) -> Analysis: ...
 @overload
 def noise_dimension(mu: float, gamma: float = 1.0, kind: Literal["uniform", "gaussian"] = "uniform") -> float: ...
 @overload

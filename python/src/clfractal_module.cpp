@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "clfractal/analysis.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/device.hpp"
 #include "clfractal/device_volume.hpp"
@@ -402,6 +403,29 @@ nb::dict fd4_call(const InArray& a, const std::string& type, double q, const std
                       {"d4", nb::cast(r.d4)}});
 }
 
+// The analysis (clfractal::analyse) as the JSON text of to_json; Python builds its records.
+std::string analyse_call(const InArray& a, const std::string& type, double clean_fd, double noisy_fd,
+                         double clean_share, std::size_t bins, const std::string& components, bool noise_level,
+                         bool fd4, bool denoise, int window, const std::optional<std::string>& device) {
+    Volume v = to_volume(a, type);
+    AnalysisOptions o;
+    o.advice.clean_fd = clean_fd;
+    o.advice.noisy_fd = noisy_fd;
+    o.advice.clean_share = clean_share;
+    o.bins = bins;
+    if (components == "none") o.components = ComponentsScope::none;
+    else if (components == "recommended") o.components = ComponentsScope::recommended;
+    else if (components == "curve") o.components = ComponentsScope::curve;
+    else throw InputError("components: one of none, recommended, curve, not " + components);
+    o.noise_level = o.surface_noise = noise_level;
+    o.fd4 = fd4;
+    o.denoise = denoise;
+    if (!window_problem(window).empty()) throw InputError("window: " + window_problem(window));
+    o.window = window;
+    const Analysis r = on_device(device, [&](Context& ctx) { return analyse(ctx, v, o); });
+    return to_json(r, -1);
+}
+
 nb::dict noise_level_call(nb::handle a, const std::string& type, std::size_t block, std::size_t map_block, double clip,
                           const std::optional<std::string>& device) {
     const Input in = input_of(a, type);
@@ -723,6 +747,8 @@ NB_MODULE(_clfractal, m) {
           "min_count"_a, "device"_a.none());
     m.def("local_fd", &local_fd_call, "volume"_a, "type"_a, "iso"_a, "window"_a, "device"_a.none());
     m.def("fd4", &fd4_call, "volume"_a, "type"_a, "q"_a, "device"_a.none());
+    m.def("analyse", &analyse_call, "volume"_a, "type"_a, "clean_fd"_a, "noisy_fd"_a, "clean_share"_a, "bins"_a,
+          "components"_a, "noise_level"_a, "fd4"_a, "denoise"_a, "window"_a, "device"_a.none());
     m.def("noise_level", &noise_level_call, "volume"_a, "type"_a, "block"_a, "map_block"_a, "clip"_a, "device"_a.none());
     m.def("components", &components_call, "volume"_a, "type"_a, "connectivity"_a, "isovalues"_a.none(), "bins"_a,
           "device"_a.none());

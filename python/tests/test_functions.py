@@ -561,3 +561,33 @@ def test_slice_stream_equals_the_whole_volume(volume, kind, levels):
         stream.push(volume[0, :, :-1])
     with pytest.raises(ValueError, match="fit"):
         stream.push(np.full(volume.shape[1:], 1e300))
+
+
+@pytest.mark.parametrize("noise", [4.0, 40.0])
+def test_analyse_matches_the_cli_and_the_reference(noise, cli, tmp_path):
+    # A clean ball (noise 4) and one with no clean isovalue (noise 40, the denoising ladder).
+    v = noisy_sphere((40, 40, 40), np.uint8, seed=3, amplitude=noise)
+    a = clfractal.analyse(v, noise_level=False)
+    path = write_raw(tmp_path, "ball", v)
+    cli("fd", path, "--json", tmp_path / "fd.json")
+    j = json.loads((tmp_path / "fd.json").read_text())
+    assert a.json["recommended"] == j["recommended"] and a.json["noisiest"] == j["noisiest"]
+    assert [t["command"].split(" -o ")[0].split(" ", 3)[3] for t in a.denoise] == \
+        [t["command"].split(" -o ")[0].split(" ", 3)[3] for t in j["denoise"]["attempts"]]
+    assert a.clean == j["clean"] and a.recommended and a.best is a.recommended[0]
+    # D and the verdicts from the plain NumPy counts.
+    c = clfractal.fd_curve(v)
+    d = ref.dimension(c.counts)
+    for e in a.recommended:
+        k = int(np.searchsorted(c.isovalues, e.isovalue))
+        assert e.count == c.counts[0][k] and e.count_sub == c.counts[1][k]
+        assert e.fd == pytest.approx(d[k], abs=1e-12)
+        want = "clean" if d[k] <= 2.2 else "noisy" if d[k] >= 2.5 else "rough"
+        assert e.verdict == want and e.components >= 1
+    if noise == 40.0:
+        assert not a.clean and a.best.basis == "cleanest quarter" and a.denoise
+        assert a.denoise[-1]["clean"] == (a.denoise[-1]["recommended"][0]["verdict"] == "clean")
+    else:
+        assert a.clean and a.best.verdict == "clean" and a.denoise == []
+    with pytest.raises(ValueError, match="components"):
+        clfractal.analyse(v, components="some")
