@@ -81,6 +81,8 @@ SmallComponents filter(const clfractal::Volume& v, double s, std::size_t k, int 
         if (negative.label[i] >= 0 && negative.sizes[std::size_t(negative.label[i])] <= k) g[i] = at_or_above;
     r.positive_after = label_components(v.dims(), set_of(true), positive_adjacency).sizes.size();
     r.negative_after = label_components(v.dims(), set_of(false), 6).sizes.size();
+    const T* f = v.as<T>();
+    for (std::size_t i = 0; i < n; ++i) r.changed += g[i] != f[i];
     return r;
 }
 

@@ -1,6 +1,7 @@
 // The small-components filter straight from docs/definitions.md §33, by breadth-first
 // search: the reference of test/processing/small_components_test.cpp.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -20,6 +21,11 @@ struct SmallComponents {
     clfractal::Volume volume;
     std::size_t positive_before = 0, negative_before = 0, positive_removed = 0, negative_removed = 0,
                 positive_after = 0, negative_after = 0;
+    std::size_t changed = 0;  ///< vertices whose value differs from the input
+    /// The six component counts in declaration order, for comparisons in one piece.
+    std::array<std::size_t, 6> counts() const {
+        return {positive_before, negative_before, positive_removed, negative_removed, positive_after, negative_after};
+    }
 };
 
 /// Step (1): small `positive_adjacency`-connected components of {f >= s} to the largest value
