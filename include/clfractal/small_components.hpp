@@ -19,11 +19,10 @@
 // ends at the value of step (2): one positive component of at most K vertices.
 //
 // The labelling is one raster-order union-find pass per set on the host (union by size, path
-// halving; 4 bytes per vertex, 8 above 2^31 vertices), three passes in all (the third counts
-// the positive components of the result). It reads each vertex once and is bound by memory
-// latency; the isovalue and K are known before it starts, so unlike the all-isovalue sweeps
-// of components.hpp no sort is needed and there is nothing for the device to do that the
-// transfers would not cost more than (README "Small-components filter" has the timings).
+// halving; 4 bytes per vertex, 8 above 2^31 vertices), four passes in all (the last two count
+// the components of the input's negative set and of the result's positive set). It reads
+// each vertex once per pass and is bound by memory latency (README "Small-components filter"
+// has the timings against the device filters).
 #pragma once
 #include <cstddef>
 #include <string>
