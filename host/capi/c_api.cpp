@@ -15,6 +15,7 @@
 #include "clfractal/fd.hpp"
 #include "clfractal/fd4.hpp"
 #include "clfractal/local.hpp"
+#include "clfractal/small_components.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
 #include "clfractal/volume_io.hpp"
@@ -424,6 +425,25 @@ double clf_analysis_noise_sigma(const clf_analysis* analysis) {
 const char* clf_analysis_json(const clf_analysis* analysis) {
     return got<const char*>(analysis != nullptr, analysis ? analysis->json.c_str() : nullptr, nullptr,
                             "clf_analysis_json: analysis is NULL");
+}
+
+clf_status clf_small_components_filter(const clf_volume* volume, double iso, uint64_t k, int connectivity, void* out,
+                                       clf_small_components* stats) {
+    return guarded([&] {
+        require(volume && out, "clf_small_components_filter: volume or out is NULL");
+        if (connectivity != int(CLF_SMALL_CUBE) && connectivity != int(CLF_SMALL_SIX))
+            throw InputError("clf_small_components_filter: connectivity " + std::to_string(connectivity) +
+                             " must be CLF_SMALL_CUBE or CLF_SMALL_SIX");
+        const SmallComponentsResult r =
+            small_components_filter(volume->volume, iso, std::size_t(k),
+                                    connectivity == int(CLF_SMALL_CUBE) ? SmallComponentsConnectivity::cube
+                                                                        : SmallComponentsConnectivity::six);
+        std::memcpy(out, r.volume.data(), r.volume.size_bytes());
+        if (stats)
+            *stats = clf_small_components{r.isovalue,        r.positive_before, r.negative_before,
+                                          r.positive_removed, r.negative_removed, r.positive_after,
+                                          r.negative_after,   r.changed,          r.changed_share};
+    });
 }
 
 }  // extern "C"

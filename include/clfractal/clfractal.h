@@ -230,6 +230,30 @@ double clf_analysis_noise_sigma(const clf_analysis* analysis);
 /* The whole analysis as JSON (the schema of `clfractal fd --json`'s shared part), valid
  * while the analysis lives. */
 const char* clf_analysis_json(const clf_analysis* analysis);
+/* ---- small-components filter (Zhao & Wenger 2025; README "Small-components filter") ---- */
+
+/* Connectivity of the small-components filter: CLF_SMALL_CUBE {f >= s} 26-connected and
+ * {f < s} 6-connected (marching cubes); CLF_SMALL_SIX both 6-connected (the paper's). */
+typedef enum clf_small_connectivity { CLF_SMALL_CUBE = 0, CLF_SMALL_SIX = 1 } clf_small_connectivity;
+
+typedef struct clf_small_components {
+    double isovalue;           /* s in the data's type (integer data: ceil(s)) */
+    uint64_t positive_before;  /* components of {f >= s} in the input */
+    uint64_t negative_before;  /* components of {f < s} in the input */
+    uint64_t positive_removed; /* components of {f >= s} with <= k vertices, set just below s */
+    uint64_t negative_removed; /* then components of {f < s} with <= k vertices, set to s */
+    uint64_t positive_after;   /* components of {f >= s} in the result */
+    uint64_t negative_after;   /* components of {f < s} in the result */
+    uint64_t changed;          /* vertices whose value differs from the input */
+    double changed_share;      /* changed / vertices */
+} clf_small_components;
+
+/* Writes the small-components filter of `volume` at isovalue `iso` with size `k` to `out`
+ * (nx * ny * nz values of the volume's type, x fastest; it may not overlap the volume), and
+ * its counts to `stats` (may be NULL). An isovalue with no value of the type below it or
+ * none at or above it (uint8 data at s <= 0 or s > 255) is CLF_ERROR_INPUT. */
+clf_status clf_small_components_filter(const clf_volume* volume, double iso, uint64_t k, int connectivity, void* out,
+                                       clf_small_components* stats);
 
 #ifdef __cplusplus
 }

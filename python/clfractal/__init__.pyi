@@ -98,6 +98,20 @@ class Smoothed(_Record):
     edges_lowered: int
     vertices_changed: int
 
+class SmallComponents(_Record):
+    volume: npt.NDArray[Any]
+    isovalue: float
+    positive_before: int
+    negative_before: int
+    positive_removed: int
+    negative_removed: int
+    positive_after: int
+    negative_after: int
+    changed: int
+    changed_share: float
+
+def small_components(volume: _Volume, iso: float, k: int,
+                     connectivity: Literal["cube", "six"] = "cube") -> SmallComponents: ...
 def smooth(volume: _Volume, iso: float, threshold: float, window: int = 8,
            variant: Literal["plain", "gaussian"] = "plain", tau: float = 1.0,
            device: _Device = None) -> Smoothed: ...

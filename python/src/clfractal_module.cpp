@@ -38,6 +38,7 @@
 #include "clfractal/noise.hpp"
 #include "clfractal/noise_level.hpp"
 #include "clfractal/ply.hpp"
+#include "clfractal/small_components.hpp"
 #include "clfractal/smooth.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
@@ -538,6 +539,28 @@ nb::tuple smooth_call(nb::handle a, const std::string& type, double iso, double 
     return nb::make_tuple(volume_out(std::move(r.volume)), info);
 }
 
+/// The small-components filter (host labelling, no device): the volume and its counts.
+nb::tuple small_components_call(const InArray& a, const std::string& type, double iso, std::size_t k,
+                                const std::string& connectivity) {
+    const SmallComponentsConnectivity mode = parse_small_components_connectivity(connectivity);
+    const Volume v = to_volume(a, type);
+    SmallComponentsResult r;
+    {
+        nb::gil_scoped_release no_gil;
+        r = small_components_filter(v, iso, k, mode);
+    }
+    nb::dict info = make_dict({{"isovalue", nb::cast(r.isovalue)},
+                               {"positive_before", nb::cast(r.positive_before)},
+                               {"negative_before", nb::cast(r.negative_before)},
+                               {"positive_removed", nb::cast(r.positive_removed)},
+                               {"negative_removed", nb::cast(r.negative_removed)},
+                               {"positive_after", nb::cast(r.positive_after)},
+                               {"negative_after", nb::cast(r.negative_after)},
+                               {"changed", nb::cast(r.changed)},
+                               {"changed_share", nb::cast(r.changed_share)}});
+    return nb::make_tuple(volume_out(std::move(r.volume)), info);
+}
+
 /// Mesh vertices as (n, 3) float32 in (z, y, x) order and triangles as (m, 3) int32 with the
 /// winding reversed, so that the right-hand normals still point towards lower values after
 /// the axis swap (a reflection).
@@ -761,6 +784,7 @@ NB_MODULE(_clfractal, m) {
     m.def("local4", &local4_call, "volume"_a, "type"_a, "q"_a, "window"_a, "device"_a.none());
     m.def("smooth", &smooth_call, "volume"_a, "type"_a, "iso"_a, "threshold"_a, "window"_a, "variant"_a, "tau"_a,
           "device"_a.none());
+    m.def("small_components", &small_components_call, "volume"_a, "type"_a, "iso"_a, "k"_a, "connectivity"_a);
     m.def("mesh", &mesh_call, "volume"_a, "type"_a, "iso"_a, "method"_a, "color_by_ld"_a, "window"_a, "spacing"_a,
           "device"_a.none());
     m.def("noise_dimension", [](double r, const std::string& kind) {

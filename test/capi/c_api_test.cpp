@@ -2,6 +2,7 @@
 // same curves, same LD field, status codes and last-error messages on bad input.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -12,6 +13,7 @@
 #include "clfractal/fd.hpp"
 #include "clfractal/local.hpp"
 #include "reference/fd4_reference.hpp"
+#include "reference/small_components_reference.hpp"
 #include "reference/span_reference.hpp"
 #include "test_util.hpp"
 
@@ -402,6 +404,47 @@ TEST_CASE("D4 through the C ABI equals the definition count for count, every typ
     CHECK(clf_fd4_compute(nullptr, cv, 0, &r) == CLF_ERROR_INPUT);
     CHECK(clf_fd4_compute(cc.c, nullptr, 0, &r) == CLF_ERROR_INPUT);
     CHECK(clf_fd4_compute(cc.c, cv, 0, nullptr) == CLF_ERROR_INPUT);
+    CHECK(std::string(clf_last_error()).find("NULL") != std::string::npos);
+    clf_volume_destroy(cv);
+}
+
+TEST_CASE("the small-components filter through the C ABI equals the reference, every type; bad input is refused") {
+    std::uint32_t seed = 70;
+    for (const ValueType t : all_value_types)
+        for (const int connectivity : {int(CLF_SMALL_CUBE), int(CLF_SMALL_SIX)}) {
+            CAPTURE(value_type_name(t));
+            CAPTURE(connectivity);
+            const Dims d{13, 6, 9};
+            const Volume v = testutil::random_volume(d, t, 0, 6, ++seed);
+            const double s = is_integer(t) ? 3.5 : 1.75;
+            clf_volume* cv = nullptr;
+            REQUIRE(clf_volume_create(v.data(), d.nx, d.ny, d.nz, c_type(t), &cv) == CLF_OK);
+            std::vector<unsigned char> out(v.size_bytes());
+            clf_small_components st{};
+            REQUIRE(clf_small_components_filter(cv, s, 4, connectivity, out.data(), &st) == CLF_OK);
+            CHECK(std::string(clf_last_error()).empty());
+            const reference::SmallComponents want =
+                reference::small_components_filter(v, s, 4, connectivity == int(CLF_SMALL_CUBE) ? 26 : 6);
+            CHECK(std::memcmp(out.data(), want.volume.data(), out.size()) == 0);
+            const std::array<std::size_t, 6> counts{st.positive_before,  st.negative_before, st.positive_removed,
+                                                    st.negative_removed, st.positive_after,  st.negative_after};
+            CHECK(counts == want.counts());
+            CHECK(st.changed == want.changed);
+            CHECK(st.isovalue == (is_integer(t) ? 4.0 : s));
+            REQUIRE(clf_small_components_filter(cv, s, 4, connectivity, out.data(), nullptr) == CLF_OK);
+            clf_volume_destroy(cv);
+        }
+    const Volume v = testutil::random_volume(Dims{5, 5, 5}, ValueType::uint8, 0, 200, 3);
+    clf_volume* cv = nullptr;
+    REQUIRE(clf_volume_create(v.data(), 5, 5, 5, CLF_UINT8, &cv) == CLF_OK);
+    std::vector<unsigned char> out(v.size_bytes());
+    CHECK(clf_small_components_filter(cv, 100, 4, 2, out.data(), nullptr) == CLF_ERROR_INPUT);
+    CHECK(std::string(clf_last_error()).find("CLF_SMALL_CUBE") != std::string::npos);
+    CHECK(clf_small_components_filter(cv, 300, 4, CLF_SMALL_CUBE, out.data(), nullptr) == CLF_ERROR_INPUT);
+    CHECK(std::string(clf_last_error()).find("no uint8 value at or above") != std::string::npos);
+    CHECK(clf_small_components_filter(cv, std::nan(""), 4, CLF_SMALL_CUBE, out.data(), nullptr) == CLF_ERROR_INPUT);
+    CHECK(clf_small_components_filter(nullptr, 100, 4, CLF_SMALL_CUBE, out.data(), nullptr) == CLF_ERROR_INPUT);
+    CHECK(clf_small_components_filter(cv, 100, 4, CLF_SMALL_CUBE, nullptr, nullptr) == CLF_ERROR_INPUT);
     CHECK(std::string(clf_last_error()).find("NULL") != std::string::npos);
     clf_volume_destroy(cv);
 }

@@ -223,6 +223,16 @@ expect 0 'clfractal: uploads 2$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q filter syn
 expect 0 'clfractal: uploads 2$' -- env CLFRACTAL_UPLOADS=1 "$bin" -q smooth synthetic:noisy-sphere:24 --iso 128 --threshold 2.4 -o up.nrrd
 expect 0 'float32' -- "$bin" -q filter ml.nrrd --bilateral 1,0.2 -o mlb.nrrd
 expect 0 'float32' -- "$bin" info mlb.nrrd
+# filter --small-components: counts before/after, the new values, the bad inputs.
+expect 0 'removed +[0-9]+ components of \{f >= s\}' -- "$bin" -q filter synthetic:noisy-sphere:24 --small-components 5 --iso 128 -o small.nrrd
+expect 0 'components +[0-9]+ +[0-9]+' -- "$bin" -q filter synthetic:noisy-sphere:24 --small-components 5 --iso 128 --connectivity six -o small6.nrrd
+expect 0 'changed +0 vertices' -- "$bin" -q filter synthetic:noisy-sphere:24 --small-components 0 --iso 128 -o small0.nrrd
+expect 2 'clfractal: error: .*--small-components needs --iso' -- "$bin" filter synthetic:sphere:20 --small-components 5 -o bad.nrrd
+expect 2 'clfractal: error: .*K must be >= 0' -- "$bin" filter synthetic:sphere:20 --small-components -1 --iso 100 -o bad.nrrd
+expect 2 'clfractal: error: .*not with --median' -- "$bin" filter synthetic:sphere:20 --small-components 5 --median --iso 100 -o bad.nrrd
+expect 2 'clfractal: error: .*expected one of cube, six' -- "$bin" filter synthetic:sphere:20 --small-components 5 --iso 100 --connectivity 18 -o bad.nrrd
+expect 2 'clfractal: error: synthetic:sphere:20: .*no uint8 value at or above' -- "$bin" filter synthetic:sphere:20 --small-components 5 --iso 256 -o bad.nrrd
+expect 2 'clfractal: error: .*--connectivity: only with --small-components' -- "$bin" filter synthetic:sphere:20 --median --connectivity six -o bad.nrrd
 expect 2 'clfractal: error: .*exactly one' -- "$bin" filter synthetic:sphere:20 -o bad.nrrd
 expect 2 'clfractal: error: .*exactly one' -- "$bin" filter synthetic:sphere:20 --median --gaussian 1 -o bad.nrrd
 expect 2 'clfractal: error: .*--gaussian' -- "$bin" filter synthetic:sphere:20 --gaussian -1 -o bad.nrrd

@@ -1,5 +1,6 @@
 // clfractal filter: median, Gaussian or bilateral denoising, everywhere or only where the
-// local fractal dimension says there is noise (include/clfractal/filter.hpp).
+// local fractal dimension says there is noise (include/clfractal/filter.hpp); or the
+// small-components filter at one isovalue (include/clfractal/small_components.hpp).
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -12,6 +13,7 @@
 #include "clfractal/components.hpp"
 #include "clfractal/fd4.hpp"
 #include "clfractal/filter.hpp"
+#include "clfractal/small_components.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "clfractal/stream.hpp"
 #include "clfractal/span.hpp"
@@ -25,10 +27,11 @@ using namespace clfractal;
 namespace {
 
 struct FilterArgs {
-    std::string volume, output, bilateral, json_path;
+    std::string volume, output, bilateral, json_path, connectivity = "cube";
     bool median = false, fractal = false, fractal4 = false, ld_guided = false, stream = false;
     double gaussian = 0, iso = NAN, threshold = NAN, q = 0;
     int window = 8;
+    long long small_components = -1;
     cli::RawArgs raw;
     CLI::App* app = nullptr;  // for which options were given
 };
@@ -268,7 +271,85 @@ void write_filter_json(const FilterArgs& a, const std::string& how, const Contex
     write_file_atomic(a.json_path, j.dump(2) + "\n");
 }
 
+// --small-components K: the options it excludes, before any file is read.
+void check_small_components_options(const FilterArgs& a, CLI::App* app) {
+    for (const char* other : {"--median", "--gaussian", "--bilateral", "--fractal", "--fractal4", "--ld-guided",
+                              "--threshold", "--q", "--stream"})
+        if (app->count(other)) throw InputError(std::string("--small-components: not with ") + other);
+    if (a.small_components < 0) throw InputError("--small-components: K must be >= 0");
+    if (std::isnan(a.iso)) throw InputError("--small-components needs --iso S (or --iso auto)");
+}
+
+int run_small_components(FilterArgs a, CLI::App* app) {
+    check_small_components_options(a, app);
+    const SmallComponentsConnectivity mode = parse_small_components_connectivity(a.connectivity);
+    Volume v = read_volume(a.volume, a.raw.options());
+    a.iso = cli::checked_isovalue(v, a.iso);
+    Context& ctx = Context::shared();
+    const cli::ReportVolume input(ctx, v);
+    const AtIso before = measure(input, a.iso);
+    std::ostringstream how;
+    how << "small components: at most " << a.small_components << " vertices (isovalue " << a.iso << ", "
+        << small_components_connectivity_name(mode) << " connectivity)";
+    cli::progress(how.str() + " of " + dims_string(v.dims()) + " " + value_type_name(v.type()));
+    SmallComponentsResult r;
+    try {
+        r = small_components_filter(v, a.iso, std::size_t(a.small_components), mode);
+    } catch (const InputError& e) {
+        throw InputError(a.volume + ": " + e.what());
+    }
+    const cli::ReportVolume output(ctx, r.volume);
+    const AtIso after = measure(output, a.iso);
+    write_volume(r.volume, a.output, &v);
+    const double n = double(v.vertices());
+    const auto surface = [](std::size_t p, std::size_t q) { return p && q ? std::int64_t(p + q) - 1 : 0; };
+    std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type())
+              << "\n"
+              << "filter      " << how.str() << "\n"
+              << "removed     " << r.positive_removed << " components of {f >= s} (" << r.lowered
+              << " vertices to " << r.lowered_value << "), " << r.negative_removed << " of {f < s} (" << r.raised
+              << " vertices to " << r.raised_value << ")\n"
+              << std::fixed << std::setprecision(2) << "changed     " << r.changed << " vertices ("
+              << 100 * double(r.changed) / n << "%)\n"
+              << "isovalue    " << a.iso << "     before      after\n"
+              << "  cubes     " << std::setw(12) << before.cubes << " " << std::setw(10) << after.cubes << "\n"
+              << "  FD        " << std::setw(12) << fd_text(before.fd) << " " << std::setw(10) << fd_text(after.fd)
+              << "\n"
+              << "  {f >= s}  " << std::setw(12) << r.positive_before << " " << std::setw(10) << r.positive_after
+              << "\n"
+              << "  {f < s}   " << std::setw(12) << r.negative_before << " " << std::setw(10) << r.negative_after
+              << "\n"
+              << "  components" << std::setw(12) << surface(r.positive_before, r.negative_before) << " "
+              << std::setw(10) << surface(r.positive_after, r.negative_after) << "\n"
+              << std::defaultfloat << std::setprecision(4) << "time        " << r.seconds << " s (host labelling)\n"
+              << "wrote       " << a.output << " (" << value_type_name(v.type()) << ")\n";
+    if (!a.json_path.empty()) {
+        nlohmann::json j;
+        j["volume"] = a.volume;
+        j["dims"] = {v.dims().nx, v.dims().ny, v.dims().nz};
+        j["type"] = value_type_name(v.type());
+        j["filter"] = how.str();
+        j["isovalue"] = r.isovalue;
+        j["vertices"] = v.vertices();
+        j["changed"] = r.changed;
+        j["fraction_changed"] = r.changed_share;
+        j["positive_before"] = r.positive_before;
+        j["negative_before"] = r.negative_before;
+        j["positive_removed"] = r.positive_removed;
+        j["negative_removed"] = r.negative_removed;
+        j["positive_after"] = r.positive_after;
+        j["negative_after"] = r.negative_after;
+        j["seconds"] = r.seconds;
+        j["seconds_compile"] = 0.0;
+        j["seconds_compute"] = r.seconds;
+        write_file_atomic(a.json_path, j.dump(2) + "\n");
+    }
+    return 0;
+}
+
 int run_filter(FilterArgs a, CLI::App* app) {
+    if (app->count("--small-components")) return run_small_components(a, app);
+    if (app->count("--connectivity")) throw InputError("--connectivity: only with --small-components");
     const FilterSpec spec = parse_spec(a, app);
     check_filter_options(a, spec, app);
     if (a.stream) return run_filter_stream(a, spec);
@@ -324,8 +405,12 @@ void setup_filter(CLI::App* c, FilterArgs& a) {
     cli::add_q_option(c, a.q);
     c->add_flag("--ld-guided", a.ld_guided,
                 "bilateral with the range scale sigma_r * min(LD - 2, 1) (thesis 6.3; needs --iso)");
-    cli::add_iso_option(c, a.iso, "isovalue S of the LD field, needed by --fractal and --ld-guided; also reports cubes and FD at S before/after");
+    cli::add_iso_option(c, a.iso, "isovalue S of the LD field, needed by --fractal, --ld-guided and --small-components; also reports cubes and FD at S before/after");
     c->add_option("--threshold", a.threshold, "LD threshold H of --fractal (LD4 threshold H4 of --fractal4), needed by both");
+    c->add_option("--small-components", a.small_components,
+                  "set the components of {f >= s} and {f < s} with at most K vertices just across s (needs --iso)");
+    c->add_option("--connectivity", a.connectivity,
+                  "of --small-components: cube ({f >= s} 26-connected, {f < s} 6-connected) or six (both 6)");
     cli::add_window_option(c, a.window);
     cli::add_output_option(c, a.output, "output .nrrd, .nii or .nii.gz (the input's type)");
     c->add_option("--json", a.json_path,
@@ -342,7 +427,7 @@ namespace cli {
 
 Command filter_command() {
     return command<FilterArgs>(
-        "filter", "median, Gaussian or bilateral filter, everywhere or where the local fractal dimension is high",
+        "filter", "median, Gaussian or bilateral filter, everywhere or where the local fractal dimension is high; or small components removed",
         setup_filter, [](const FilterArgs& a) { return run_filter(a, a.app); });
 }
 
