@@ -410,8 +410,10 @@ void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::ND
             compile_seconds_ += std::max(0.0, wall - run);
         }
         std::lock_guard<std::mutex> lock(mutex_);
+        // Collected at every launch: an event holds its command and the buffers it reads
+        // (a stream's consumed batches) until it is released.
+        collect_completed_events();
         pending_events_.push_back(std::move(event));
-        if (pending_events_.size() >= 4096) collect_completed_events();
     } catch (const cl::Error& e) {
         check_cl(e.err(), ("clEnqueueNDRangeKernel " + name).c_str());
     }
@@ -424,14 +426,13 @@ double Context::event_seconds(const cl::Event& event) {
 }
 
 // Adds the execution times of the finished kernels to kernel_seconds_ and forgets them
-// (the caller holds mutex_).
+// (the caller holds mutex_). The queue is in order: the finished ones are a prefix.
 void Context::collect_completed_events() {
-    std::vector<cl::Event> running;
-    for (cl::Event& e : pending_events_) {
-        if (e.getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>() == CL_COMPLETE) kernel_seconds_ += event_seconds(e);
-        else running.push_back(std::move(e));
-    }
-    pending_events_.swap(running);
+    std::size_t done = 0;
+    while (done < pending_events_.size() &&
+           pending_events_[done].getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>() == CL_COMPLETE)
+        kernel_seconds_ += event_seconds(pending_events_[done++]);
+    pending_events_.erase(pending_events_.begin(), pending_events_.begin() + std::ptrdiff_t(done));
 }
 
 double Context::kernel_seconds() {
