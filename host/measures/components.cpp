@@ -506,7 +506,8 @@ template <class T> std::size_t sweep_window(const Context& ctx, const Volume& v,
     if (ctx.tuning.component_window) return ctx.tuning.component_window;
     const double n = double(v.vertices()), vb = double(v.size_bytes());
     if (16 * n + vb <= 3 * vb + double(128 << 20)) return 0;
-    return std::size_t(1) << 24;
+    // Windows of an eighth of the volume (a scan of the volume each), 1 Mi to 16 Mi vertices.
+    return std::clamp<std::size_t>(v.vertices() / 8, std::size_t(1) << 20, std::size_t(1) << 24);
 }
 
 template <class T, class I>
