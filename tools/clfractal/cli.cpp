@@ -324,9 +324,7 @@ IsoCounts ReportVolume::counts_at(double s) const {
 }
 
 std::int64_t ReportVolume::components_at(double s) const {
-    // From the host copy: the sweeps run on the host, and the device copy's download would
-    // be one more volume in memory.
-    return count_components_at(ctx_, host_, s);
+    return device_ ? count_components_at(*device_, s) : count_components_at(ctx_, host_, s);
 }
 
 }  // namespace cli

@@ -33,10 +33,12 @@ int run_smooth(SmoothArgs a) {
     progress("smooth isosurface of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " (" +
              smooth_variant_name(variant) + "), window " + std::to_string(a.window) + ", on " + ctx.description());
     const bool want_mesh = !a.mesh.empty() || !a.preview.empty();
-    // The input on the device for the reports before, the result for the reports after. The
-    // smoothing takes the host volume: from a device copy it would download one more.
+    // The input on the device once (the smoothing and the reports before read it), the
+    // result once (the reports after).
     const ReportVolume input(ctx, v);
-    const SmoothResult r = smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
+    const SmoothResult r = input.device()
+                               ? smooth_isosurface(*input.device(), a.iso, a.threshold, a.window, variant, a.tau, want_mesh)
+                               : smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
     const ReportVolume output(ctx, r.volume);
     const IsoCounts before = input.counts_at(a.iso), after = output.counts_at(a.iso);
     write_volume(r.volume, a.output, &v);
