@@ -11,6 +11,7 @@
 #include "device/fault_injection.hpp"
 #include "device/kernel_sources.hpp"
 #include "device/name_table.hpp"
+#include "device/program_cache.hpp"
 
 namespace clfractal {
 
@@ -290,8 +291,28 @@ const cl::Program& Context::program(const std::string& family, const std::string
 
     auto t0 = std::chrono::steady_clock::now();
     fault_point(*this, FaultSite::build);
-    cl::Program program(context_, source);
     std::string all_options = "-cl-std=CL1.2" + options;
+    // A binary of an earlier process, when one was stored for this device, driver, source
+    // and options; a binary the driver refuses is rebuilt from the source (and replaced).
+    const std::string cache_dir = detail::program_cache_dir();
+    const std::string cache_key =
+        cache_dir.empty() ? std::string()
+                          : detail::program_cache_key(
+                                device_.getInfo<CL_DEVICE_NAME>() + "\n" + device_.getInfo<CL_DEVICE_VERSION>() +
+                                    "\ndriver " + device_.getInfo<CL_DRIVER_VERSION>() + "\nplatform " +
+                                    cl::Platform(device_.getInfo<CL_DEVICE_PLATFORM>()).getInfo<CL_PLATFORM_VERSION>(),
+                                source, all_options);
+    if (auto binary = detail::load_program_binary(cache_dir, cache_key)) {
+        try {
+            cl::Program cached(context_, std::vector<cl::Device>{device_}, cl::Program::Binaries{std::move(*binary)});
+            cached.build(std::vector<cl::Device>{device_}, all_options.c_str());
+            compile_seconds_ += seconds_since(t0);
+            return programs_.emplace(key, std::move(cached)).first->second;
+        } catch (const cl::Error&) {
+            // rebuilt from the source below
+        }
+    }
+    cl::Program program(context_, source);
     cl_int err = CL_SUCCESS;
     try {
         program.build(std::vector<cl::Device>{device_}, all_options.c_str());
@@ -304,6 +325,14 @@ const cl::Program& Context::program(const std::string& family, const std::string
         throw DeviceError("building kernels/" + family + ".cl with '" + all_options + "': " +
                               cl_error_name(err) + "\n" + log,
                           err);
+    }
+    if (!cache_dir.empty()) {
+        try {
+            const auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
+            if (binaries.size() == 1) detail::store_program_binary(cache_dir, cache_key, binaries[0]);
+        } catch (const cl::Error&) {
+            // a driver without binaries: nothing to store
+        }
     }
     compile_seconds_ += seconds_since(t0);
     return programs_.emplace(key, std::move(program)).first->second;
@@ -410,8 +439,10 @@ void Context::launch(cl::Kernel& kernel, const cl::NDRange& global, const cl::ND
             compile_seconds_ += std::max(0.0, wall - run);
         }
         std::lock_guard<std::mutex> lock(mutex_);
+        // Collected at every launch: an event holds its command and the buffers it reads
+        // (a stream's consumed batches) until it is released.
+        collect_completed_events();
         pending_events_.push_back(std::move(event));
-        if (pending_events_.size() >= 4096) collect_completed_events();
     } catch (const cl::Error& e) {
         check_cl(e.err(), ("clEnqueueNDRangeKernel " + name).c_str());
     }
@@ -424,14 +455,13 @@ double Context::event_seconds(const cl::Event& event) {
 }
 
 // Adds the execution times of the finished kernels to kernel_seconds_ and forgets them
-// (the caller holds mutex_).
+// (the caller holds mutex_). The queue is in order: the finished ones are a prefix.
 void Context::collect_completed_events() {
-    std::vector<cl::Event> running;
-    for (cl::Event& e : pending_events_) {
-        if (e.getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>() == CL_COMPLETE) kernel_seconds_ += event_seconds(e);
-        else running.push_back(std::move(e));
-    }
-    pending_events_.swap(running);
+    std::size_t done = 0;
+    while (done < pending_events_.size() &&
+           pending_events_[done].getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>() == CL_COMPLETE)
+        kernel_seconds_ += event_seconds(pending_events_[done++]);
+    pending_events_.erase(pending_events_.begin(), pending_events_.begin() + std::ptrdiff_t(done));
 }
 
 double Context::kernel_seconds() {

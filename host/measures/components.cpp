@@ -226,86 +226,295 @@ std::vector<std::uint32_t> neighbour_masks(const Volume& v, const DeviceVolume* 
     return mask;
 }
 
-// One union-find sweep over `order` (forward: increasing (value, index); backward:
-// decreasing). The neighbours of v already swept are the bits [shift, shift + |nbrs|) of
-// mask[v] (neighbour_masks). `met(v)` gets the number of distinct components among them,
+// Union-find sweeps in (value, index) order (forward: increasing; backward: decreasing),
+// fed a run of vertices at a time. For each vertex v of a run, `bits` are its neighbours
+// (in `nbrs`) already swept. `met(v)` gets the number of distinct components among them,
 // then v joins them all: v becomes a leaf of the first one met, whose root also takes the
-// roots of the others; paths are halved on every find. Swept
-// neighbours that are adjacent to each other are already in one component, so only one of
-// each such group is looked up (with 26-connectivity usually one or two finds instead of
-// ~13). The loop is bound by memory latency: masks and parents of vertices a few steps
-// ahead are prefetched.
-template <bool forward, class I, class P, class F>
-void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::uint32_t>& mask, int shift,
-           const std::vector<Offset>& nbrs, std::vector<I>& parent, P&& prefetch_value, F&& met) {
-    const std::size_t n = order.size(), nx = d.nx, ny = d.ny;
-    const std::size_t m = nbrs.size();
-    const std::uint32_t bits = m == 32 ? ~0u : ((std::uint32_t(1) << m) - 1);
-    std::vector<std::ptrdiff_t> lin(m);
-    std::vector<std::uint32_t> adj(m, 0);  // adj[q]: the neighbours adjacent to neighbour q
-    for (std::size_t q = 0; q < m; ++q) {
-        lin[q] = std::ptrdiff_t(nbrs[q].dx) + std::ptrdiff_t(nx) * (nbrs[q].dy + std::ptrdiff_t(ny) * nbrs[q].dz);
-        for (std::size_t r = 0; r < m; ++r)
-            for (const Offset& o : nbrs)
-                if (nbrs[r].dx - nbrs[q].dx == o.dx && nbrs[r].dy - nbrs[q].dy == o.dy && nbrs[r].dz - nbrs[q].dz == o.dz)
-                    adj[q] |= std::uint32_t(1) << r;
+// roots of the others; paths are halved on every find. Swept neighbours that are adjacent
+// to each other are already in one component, so only one of each such group is looked up
+// (with 26-connectivity usually one or two finds instead of ~13). The loop is bound by
+// memory latency: parents of vertices a few steps ahead are prefetched.
+template <class I> class Sweeper {
+public:
+    Sweeper(const Dims& d, const std::vector<Offset>& nbrs, std::vector<I>& parent)
+        : parent_(parent), m_(nbrs.size()), lin_(m_), adj_(m_, 0) {
+        const std::size_t nx = d.nx, ny = d.ny;
+        for (std::size_t q = 0; q < m_; ++q) {
+            lin_[q] = std::ptrdiff_t(nbrs[q].dx) + std::ptrdiff_t(nx) * (nbrs[q].dy + std::ptrdiff_t(ny) * nbrs[q].dz);
+            for (std::size_t r = 0; r < m_; ++r)
+                for (const Offset& o : nbrs)
+                    if (nbrs[r].dx - nbrs[q].dx == o.dx && nbrs[r].dy - nbrs[q].dy == o.dy &&
+                        nbrs[r].dz - nbrs[q].dz == o.dz)
+                        adj_[q] |= std::uint32_t(1) << r;
+        }
     }
-    auto find = [&](I x) {
+    std::uint32_t bits() const { return m_ == 32 ? ~0u : ((std::uint32_t(1) << m_) - 1); }
+
+    // Sweeps `count` vertices: at(k) the k-th, swept(k) its swept-neighbour bits.
+    template <class At, class Swept, class P, class F>
+    void run(std::size_t count, At&& at, Swept&& swept_bits, P&& prefetch_value, F&& met) {
+        constexpr std::size_t far = 24, near = 8;
+        std::vector<I>& parent = parent_;
+        for (std::size_t k = 0; k < count; ++k) {
+            if (k + far < count) {
+                const I w = at(k + far);
+                __builtin_prefetch(&parent[w], 1);
+                prefetch_value(w);
+            }
+            if (k + near < count) {
+                const I w = at(k + near);
+                for (std::uint32_t ahead = swept_bits(k + near); ahead; ahead &= ahead - 1)
+                    __builtin_prefetch(&parent[std::ptrdiff_t(w) + lin_[__builtin_ctz(ahead)]], 1);
+            }
+            const I v = at(k);
+            parent[v] = v;
+            std::uint32_t swept = swept_bits(k);
+            int found = 0;
+            I root = v;  // the root of v's component: v itself, or the first component met
+            while (swept) {
+                const int q = __builtin_ctz(swept);
+                std::uint32_t group = std::uint32_t(1) << q, frontier = group;
+                while (frontier) {
+                    std::uint32_t reach = 0;
+                    for (std::uint32_t b = frontier; b; b &= b - 1) reach |= adj_[__builtin_ctz(b)];
+                    frontier = reach & swept & ~group;
+                    group |= frontier;
+                }
+                swept &= ~group;
+                const I r = find(I(std::ptrdiff_t(v) + lin_[q]));
+                if (found == 0) {
+                    // v joins the first component as a leaf: old trees do not grow deeper.
+                    parent[v] = root = r;
+                    ++found;
+                } else if (r != root) {
+                    parent[r] = root;
+                    ++found;
+                }
+            }
+            met(v, found);
+        }
+    }
+
+private:
+    I find(I x) {
+        std::vector<I>& parent = parent_;
         while (parent[x] != x) {
             parent[x] = parent[parent[x]];
             x = parent[x];
         }
         return x;
-    };
-    auto at = [&](std::size_t k) { return order[forward ? k : n - 1 - k]; };
-    constexpr std::size_t far = 24, near = 8;
-    for (std::size_t k = 0; k < n; ++k) {
-        if (k + far < n) {
-            const I w = at(k + far);
-            __builtin_prefetch(&mask[w]);
-            __builtin_prefetch(&parent[w], 1);
-            prefetch_value(w);
-        }
-        if (k + near < n) {
-            const I w = at(k + near);
-            std::uint32_t ahead = (mask[w] >> shift) & bits;
-            for (; ahead; ahead &= ahead - 1) __builtin_prefetch(&parent[std::ptrdiff_t(w) + lin[__builtin_ctz(ahead)]], 1);
-        }
-        const I v = at(k);
-        parent[v] = v;
-        std::uint32_t swept = (mask[v] >> shift) & bits;
-        int count = 0;
-        I root = v;  // the root of v's component: v itself, or the first component met
-        while (swept) {
-            const int q = __builtin_ctz(swept);
-            std::uint32_t group = std::uint32_t(1) << q, frontier = group;
-            while (frontier) {
-                std::uint32_t reach = 0;
-                for (std::uint32_t b = frontier; b; b &= b - 1) reach |= adj[__builtin_ctz(b)];
-                frontier = reach & swept & ~group;
-                group |= frontier;
-            }
-            swept &= ~group;
-            const I r = find(I(std::ptrdiff_t(v) + lin[q]));
-            if (count == 0) {
-                // v joins the first component as a leaf: old trees do not grow deeper.
-                parent[v] = root = r;
-                ++count;
-            } else if (r != root) {
-                parent[r] = root;
-                ++count;
-            }
-        }
-        met(v, count);
     }
+    std::vector<I>& parent_;
+    std::size_t m_;
+    std::vector<std::ptrdiff_t> lin_;
+    std::vector<std::uint32_t> adj_;  // adj_[q]: the neighbours adjacent to neighbour q
+};
+
+// One sweep over the whole `order`; the swept neighbours of v are the bits
+// [shift, shift + |nbrs|) of mask[v] (neighbour_masks).
+template <bool forward, class I, class P, class F>
+void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::uint32_t>& mask, int shift,
+           const std::vector<Offset>& nbrs, std::vector<I>& parent, P&& prefetch_value, F&& met) {
+    const std::size_t n = order.size();
+    Sweeper<I> s(d, nbrs, parent);
+    const std::uint32_t bits = s.bits();
+    auto at = [&](std::size_t k) { return order[forward ? k : n - 1 - k]; };
+    s.run(n, at, [&](std::size_t k) { return (mask[at(k)] >> shift) & bits; }, prefetch_value, met);
+}
+
+// The swept-neighbour bits of vertex v = (x, y, z): bit q set when nbrs[q] is inside the grid
+// and precedes v in (value, index) order (`precede`), or follows it (!precede); the bits of
+// neighbour_masks, one neighbourhood at a time.
+struct SweptNeighbours {
+    const std::vector<Offset>& nbrs;
+    std::vector<std::ptrdiff_t> lin;
+    bool precede;
+
+    SweptNeighbours(const Dims& d, const std::vector<Offset>& n, bool forward) : nbrs(n), lin(n.size()), precede(forward) {
+        for (std::size_t q = 0; q < n.size(); ++q)
+            lin[q] = std::ptrdiff_t(n[q].dx) + std::ptrdiff_t(d.nx) * (n[q].dy + std::ptrdiff_t(d.ny) * n[q].dz);
+    }
+    template <class T>
+    std::uint32_t operator()(const T* f, const Dims& d, std::size_t v, long x, long y, long z) const {
+        const T fv = f[v];
+        std::uint32_t m = 0;
+        const bool interior = x > 0 && y > 0 && z > 0 && x + 1 < long(d.nx) && y + 1 < long(d.ny) && z + 1 < long(d.nz);
+        for (std::size_t q = 0; q < nbrs.size(); ++q) {
+            if (!interior) {
+                const Offset& o = nbrs[q];
+                if (x + o.dx < 0 || x + o.dx >= long(d.nx) || y + o.dy < 0 || y + o.dy >= long(d.ny) || z + o.dz < 0 ||
+                    z + o.dz >= long(d.nz))
+                    continue;
+            }
+            const T fu = f[std::size_t(std::ptrdiff_t(v) + lin[q])];
+            const bool lower = fu < fv || (fu == fv && lin[q] < 0);
+            if (lower == precede) m |= std::uint32_t(1) << q;
+        }
+        return m;
+    }
+};
+
+// The (value, index) order of integer data built a window at a time, so that memory is
+// O(window) instead of O(vertices). The grid is cut into index segments with one value
+// histogram each; a window is a run of whole values over every segment, or one value over a
+// run of segments (a value with more vertices than a window). Within a window a counting
+// sort by value scatters each segment's vertices in index order.
+template <class T> class WindowedOrder {
+public:
+    struct Window {
+        std::size_t b0, b1;  // bins (value - vmin) b0..b1
+        std::size_t s0, s1;  // segments [s0, s1)
+        std::size_t count;
+    };
+
+    WindowedOrder(const T* f, std::size_t n, long vmin, long vmax, std::size_t window) : f_(f), n_(n), vmin_(vmin) {
+        nbins_ = std::size_t(vmax - vmin + 1);
+        // Segment histograms of at most 64 MiB in all; a segment is never larger than a window.
+        segments_ = std::clamp<std::size_t>((std::size_t(16) << 20) / nbins_, 1, 64);
+        seg_len_ = (n + segments_ - 1) / segments_;
+        window_ = std::max(window, seg_len_);
+        hist_.assign(segments_ * nbins_, 0);
+#pragma omp parallel for schedule(dynamic, 1)
+        for (long long s = 0; s < (long long)segments_; ++s) {
+            std::uint32_t* h = &hist_[std::size_t(s) * nbins_];
+            const std::size_t i1 = std::min(n, std::size_t(s + 1) * seg_len_);
+            for (std::size_t i = std::size_t(s) * seg_len_; i < i1; ++i) ++h[std::size_t(long(f[i]) - vmin)];
+        }
+        plan();
+    }
+
+    const std::vector<Window>& windows() const { return windows_; }
+    std::size_t largest() const { return largest_; }
+
+    // The vertices of window w in (value, index) order, into out[0, count), and their
+    // swept-neighbour bits into swept[0, count) (read in index order: the neighbours are
+    // in cache).
+    template <class I>
+    void collect(const Window& w, const Dims& d, const SweptNeighbours& bits, I* out, std::uint32_t* swept) const {
+        const std::size_t nb = w.b1 - w.b0 + 1, ns = w.s1 - w.s0;
+        std::vector<std::size_t> next(ns * nb);  // next slot of (segment, bin)
+        std::size_t slot = 0;
+        for (std::size_t b = 0; b < nb; ++b)
+            for (std::size_t s = 0; s < ns; ++s) {
+                next[s * nb + b] = slot;
+                slot += hist_[(w.s0 + s) * nbins_ + w.b0 + b];
+            }
+        const long lo = vmin_ + long(w.b0), hi = vmin_ + long(w.b1);
+#pragma omp parallel for schedule(dynamic, 1)
+        for (long long s = 0; s < (long long)ns; ++s) {
+            std::size_t* nxt = &next[std::size_t(s) * nb];
+            const std::size_t seg = w.s0 + std::size_t(s);
+            const std::size_t i0 = seg * seg_len_, i1 = std::min(n_, (seg + 1) * seg_len_);
+            long x = long(i0 % d.nx), y = long((i0 / d.nx) % d.ny), z = long(i0 / (d.nx * d.ny));
+            for (std::size_t i = i0; i < i1; ++i) {
+                const long value = long(f_[i]);
+                if (value >= lo && value <= hi) {
+                    const std::size_t slot = nxt[std::size_t(value - lo)]++;
+                    out[slot] = I(i);
+                    swept[slot] = bits(f_, d, i, x, y, z);
+                }
+                if (++x == long(d.nx)) {
+                    x = 0;
+                    if (++y == long(d.ny)) y = 0, ++z;
+                }
+            }
+        }
+    }
+
+private:
+    void plan() {
+        Window cur{0, 0, 0, segments_, 0};
+        bool open = false;
+        auto close = [&] {
+            if (open && cur.count) windows_.push_back(cur), largest_ = std::max(largest_, cur.count);
+            open = false;
+        };
+        for (std::size_t b = 0; b < nbins_; ++b) {
+            std::size_t total = 0;
+            for (std::size_t s = 0; s < segments_; ++s) total += hist_[s * nbins_ + b];
+            if (total == 0) continue;
+            if (total > window_) {
+                // One value over runs of segments.
+                close();
+                Window part{b, b, 0, 0, 0};
+                for (std::size_t s = 0; s < segments_; ++s) {
+                    const std::size_t c = hist_[s * nbins_ + b];
+                    if (part.count + c > window_) {
+                        part.s1 = s;
+                        if (part.count) windows_.push_back(part), largest_ = std::max(largest_, part.count);
+                        part.s0 = s;
+                        part.count = 0;
+                    }
+                    part.count += c;
+                }
+                part.s1 = segments_;
+                if (part.count) windows_.push_back(part), largest_ = std::max(largest_, part.count);
+                continue;
+            }
+            if (open && cur.count + total > window_) close();
+            if (!open) cur = Window{b, b, 0, segments_, 0}, open = true;
+            cur.b1 = b;
+            cur.count += total;
+        }
+        close();
+    }
+
+    const T* f_;
+    std::size_t n_;
+    long vmin_;
+    std::size_t nbins_ = 0, segments_ = 1, seg_len_ = 0, window_ = 0, largest_ = 0;
+    std::vector<std::uint32_t> hist_;  // segments_ x nbins_
+    std::vector<Window> windows_;
+};
+
+// Both sweeps over a windowed order, one after the other with one union-find forest: memory
+// 4 or 8 bytes per vertex plus two window buffers.
+template <class T, class I, class Bin>
+void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, const std::vector<Offset>& a_nbrs,
+                     const std::vector<Offset>& c_nbrs, Bin&& bin, std::vector<std::int64_t>& delta) {
+    const T* f = v.as<T>();
+    const Dims d = v.dims();
+    const WindowedOrder<T> order(f, v.vertices(), vmin, vmax, window);
+    std::vector<I> buffer(order.largest());
+    std::vector<std::uint32_t> swept(order.largest());
+    std::vector<I> parent(v.vertices());
+    auto prefetch_value = [f](I i) { __builtin_prefetch(&f[i]); };
+    auto pass = [&](bool forward, const std::vector<Offset>& nbrs, int sign) {
+        Sweeper<I> s(d, nbrs, parent);
+        const SweptNeighbours bits(d, nbrs, forward);
+        const auto& ws = order.windows();
+        for (std::size_t j = 0; j < ws.size(); ++j) {
+            const auto& w = ws[forward ? j : ws.size() - 1 - j];
+            order.collect(w, d, bits, buffer.data(), swept.data());
+            const std::size_t m = w.count;
+            auto at = [&](std::size_t k) { return buffer[forward ? k : m - 1 - k]; };
+            s.run(m, at, [&](std::size_t k) { return swept[forward ? k : m - 1 - k]; }, prefetch_value,
+                  [&](I i, int found) { delta[bin(i)] += sign * found; });
+        }
+    };
+    // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign. Split sweep:
+    // C = {f >= s} grows as s falls; up(v) enters with a plus sign.
+    pass(true, a_nbrs, -1);
+    pass(false, c_nbrs, +1);
+}
+
+// Whether the windowed sweeps take integer data of range [vmin, vmax]: when forced
+// (Tuning::component_window), or when the whole order, the masks and two forests (16 bytes a
+// vertex, and the device copy) would pass 4 volumes + 128 MiB beside the caller's volume.
+template <class T> std::size_t sweep_window(const Context& ctx, const Volume& v, const ValueRange& r) {
+    if (!std::is_integral<T>::value || !(r.max - r.min < double(counting_sort_values))) return 0;
+    if (ctx.tuning.component_window) return ctx.tuning.component_window;
+    const double n = double(v.vertices()), vb = double(v.size_bytes());
+    if (16 * n + vb <= 3 * vb + double(128 << 20)) return 0;
+    // Windows of an eighth of the volume (a scan of the volume each), 1 Mi to 16 Mi vertices.
+    return std::clamp<std::size_t>(v.vertices() / 8, std::size_t(1) << 20, std::size_t(1) << 24);
 }
 
 template <class T, class I>
-std::vector<std::int64_t> component_counts(const Volume& v, const DeviceVolume* dv, const IsovalueSet& iso,
-                                           Connectivity mode) {
+std::vector<std::int64_t> component_counts(const Context& ctx, const Volume& v, const DeviceVolume* dv,
+                                           const IsovalueSet& iso, Connectivity mode) {
     const T* f = v.as<T>();
     const std::size_t K = iso.size();
-    std::vector<I> order = sorted_vertices<T, I>(v, dv);
     // Bin of a vertex: the first isovalue index j with f(v) < s_j (K when none).
     auto bin = [&](I i) -> std::size_t {
         if (iso.integer()) {
@@ -319,45 +528,62 @@ std::vector<std::int64_t> component_counts(const Volume& v, const DeviceVolume* 
     std::vector<std::int64_t> delta(K + 1, 0);
     const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
     const std::vector<Offset> a_nbrs = neighbourhood(a_adj), c_nbrs = neighbourhood(c_adj);
-    const std::vector<std::uint32_t> mask = neighbour_masks<T>(v, dv, a_adj, c_adj);
-    // The two sweeps are independent: each runs on its own core with its own union-find
-    // forest and its own differences (4 bytes per vertex more than one after the other).
     std::vector<std::int64_t> delta_split(K + 1, 0);
-    auto prefetch_value = [f](I i) { __builtin_prefetch(&f[i]); };
-    // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign.
-    auto join = [&] {
-        std::vector<I> parent(v.vertices());
-        sweep<true, I>(v.dims(), order, mask, 0, a_nbrs, parent, prefetch_value,
-                       [&](I i, int down) { delta[bin(i)] -= down; });
-    };
-    // Split sweep: C = {f >= s} grows as s falls; up(v) enters with a plus sign.
-    auto split = [&] {
-        std::vector<I> parent(v.vertices());
-        sweep<false, I>(v.dims(), order, mask, int(a_nbrs.size()), c_nbrs, parent, prefetch_value,
-                        [&](I i, int up) { delta_split[bin(i)] += up; });
-    };
-    std::exception_ptr failed[2];
+    const ValueRange range = value_range(v);
+    if (const std::size_t window = sweep_window<T>(ctx, v, range)) {
+        windowed_sweeps<T, I>(v, long(range.min), long(range.max), window, a_nbrs, c_nbrs, bin, delta);
+    } else {
+        const std::vector<I> order = sorted_vertices<T, I>(v, dv);
+        const std::vector<std::uint32_t> mask = neighbour_masks<T>(v, dv, a_adj, c_adj);
+        // The two sweeps are independent: each runs on its own core with its own union-find
+        // forest and its own differences (4 bytes per vertex more than one after the other).
+        auto prefetch_value = [f, &mask](I i) {
+            __builtin_prefetch(&f[i]);
+            __builtin_prefetch(&mask[i]);
+        };
+        // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign.
+        auto join = [&] {
+            std::vector<I> parent(v.vertices());
+            sweep<true, I>(v.dims(), order, mask, 0, a_nbrs, parent, prefetch_value,
+                           [&](I i, int down) { delta[bin(i)] -= down; });
+        };
+        // Split sweep: C = {f >= s} grows as s falls; up(v) enters with a plus sign.
+        auto split = [&] {
+            std::vector<I> parent(v.vertices());
+            sweep<false, I>(v.dims(), order, mask, int(a_nbrs.size()), c_nbrs, parent, prefetch_value,
+                            [&](I i, int up) { delta_split[bin(i)] += up; });
+        };
+        std::exception_ptr failed[2];
 #pragma omp parallel sections num_threads(2)
-    {
+        {
 #pragma omp section
-        try {
-            join();
-        } catch (...) {
-            failed[0] = std::current_exception();
-        }
+            try {
+                join();
+            } catch (...) {
+                failed[0] = std::current_exception();
+            }
 #pragma omp section
-        try {
-            split();
-        } catch (...) {
-            failed[1] = std::current_exception();
+            try {
+                split();
+            } catch (...) {
+                failed[1] = std::current_exception();
+            }
         }
+        for (const auto& e : failed)
+            if (e) std::rethrow_exception(e);
     }
-    for (const auto& e : failed)
-        if (e) std::rethrow_exception(e);
     std::vector<std::int64_t> c(K);
     std::int64_t sum = 0;
     for (std::size_t j = 0; j < K; ++j) c[j] = sum += delta[j] + delta_split[j];
     return c;
+}
+
+// Whether component_counts would take the windowed sweeps (no device steps then).
+bool windowed(const Context& ctx, const Volume& v) {
+    return visit(v, [&](const auto* p) {
+        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
+        return sweep_window<T>(ctx, v, value_range(v)) != 0;
+    });
 }
 
 }  // namespace
@@ -375,8 +601,8 @@ ComponentCurve components_of(Context& ctx, const Volume& v, const DeviceVolume* 
     if (iso.size() > 0 && v.vertices() > 0) {
         c.components = visit(v, [&](const auto* p) {
             using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-            return v.vertices() < std::size_t(0xffffffffu) ? component_counts<T, std::uint32_t>(v, dv, iso, mode)
-                                                            : component_counts<T, std::uint64_t>(v, dv, iso, mode);
+            return v.vertices() < std::size_t(0xffffffffu) ? component_counts<T, std::uint32_t>(ctx, v, dv, iso, mode)
+                                                            : component_counts<T, std::uint64_t>(ctx, v, dv, iso, mode);
         });
     }
     c.components.resize(iso.size(), 0);
@@ -395,7 +621,7 @@ ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet
     need.input_slice_bytes = d.nx * d.ny * value_size(v.type());
     need.memory_divisor = 1;
     const bool fits = v.vertices() > 0 && int_axes(d) && slab_fit(ctx, need) >= d.nz;
-    if (!fits || iso.size() == 0) return components_of(ctx, v, nullptr, iso, mode);
+    if (!fits || iso.size() == 0 || windowed(ctx, v)) return components_of(ctx, v, nullptr, iso, mode);
     try {
         const DeviceVolume dv(ctx, v);
         return components_of(ctx, v, &dv, iso, mode);

@@ -336,6 +336,18 @@ Volume local_fractal_dimension(Context& ctx, const Volume& v, double iso, int wi
     std::size_t depth = d.nz;  // output slices per pass: all of them in core
     if (d.nz > 1 && slab_fit(ctx, local_need(ctx, d, v.type(), 0)) < d.nz)
         depth = plan_slab(ctx, local_need(ctx, d, v.type(), std::size_t(window / 2) + 1), d);
+    // On a CPU device the buffers are host memory: where the tables beside the values and
+    // the field would pass a volume + 128 MiB, slabs whose buffers take about 192 MiB (the
+    // process then holds the values, the field and one slab).
+    if (ctx.is_cpu() && !ctx.tuning.slab_bytes && d.nz > 1) {
+        const SlabNeed need = local_need(ctx, d, v.type(), 0);
+        const std::size_t plane = d.nx * d.ny, tables = need.slice_bytes - plane * (value_size(v.type()) + 4);
+        if (tables * d.nz > v.size_bytes() + (std::size_t(128) << 20)) {
+            const std::size_t slab_slice = need.slice_bytes + plane * (value_size(v.type()) + 4);
+            depth = std::min(depth, std::max<std::size_t>(std::size_t(window) + 2,
+                                                          (std::size_t(192) << 20) / std::max<std::size_t>(1, slab_slice)));
+        }
+    }
     return with_smaller_slabs(depth, [&](std::size_t slab) {
         return slab >= d.nz ? local_in_core(ctx, v, iso, window) : local_in_slabs(ctx, v, iso, window, slab);
     });

@@ -117,6 +117,10 @@ struct Tuning {
     /// Noise level (noise_level.hpp): blocks through local-memory tiles where they fit; tests
     /// clear it to force the kernel that reads each residual's 27 values from global memory.
     bool noise_tiles = true;
+    /// Components of 8/16-bit-range integer data: vertices per window of the windowed
+    /// sweeps (the (value, index) order built a window at a time, memory O(window)); 0 = the
+    /// whole order at once unless it would pass the memory bound. Tests set it to force windows.
+    std::size_t component_window = 0;
 };
 
 namespace detail {

@@ -3,12 +3,18 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <fstream>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "clfractal/device.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/span.hpp"
 #include "device/kernel_call.hpp"
+#include "device/program_cache.hpp"
 #include "device/type_options.hpp"
 #include "test_util.hpp"
 
@@ -57,6 +63,78 @@ TEST_CASE("error names and build logs") {
     }
     CHECK_THROWS_AS(ctx().program("no_such_family", ""), DeviceError);
     CHECK_THROWS_AS(ctx().kernel("copy", "no_such_kernel", ""), DeviceError);
+}
+
+TEST_CASE("program binaries across processes: stored, loaded, checked, rebuilt when corrupt, disabled by 'off'") {
+    namespace fs = std::filesystem;
+    const std::string dir = fs::temp_directory_path() / ("clfractal_program_cache_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const char* before = std::getenv("CLFRACTAL_PROGRAM_CACHE");
+    const std::string saved = before ? before : "";
+    ::setenv("CLFRACTAL_PROGRAM_CACHE", dir.c_str(), 1);
+    CHECK(detail::program_cache_dir() == dir);
+
+    // The entry format on its own: the binary back for its key only; truncation, a flipped
+    // byte or a foreign key read as absent.
+    const std::vector<unsigned char> bytes = {1, 2, 3, 250, 0, 7};
+    detail::store_program_binary(dir, "key one", bytes);
+    CHECK(detail::load_program_binary(dir, "key one") == bytes);
+    CHECK(!detail::load_program_binary(dir, "key two"));
+    const std::string file = detail::program_cache_file(dir, "key one");
+    std::string whole;
+    {
+        std::ifstream in(file, std::ios::binary);
+        whole.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    for (std::size_t cut : {std::size_t(0), std::size_t(10), whole.size() - 1}) {
+        std::ofstream(file, std::ios::binary | std::ios::trunc).write(whole.data(), std::streamsize(cut));
+        CHECK(!detail::load_program_binary(dir, "key one"));
+    }
+    std::string flipped = whole;
+    flipped[whole.size() - 10] ^= 1;  // a byte of the binary
+    std::ofstream(file, std::ios::binary | std::ios::trunc).write(flipped.data(), std::streamsize(flipped.size()));
+    CHECK(!detail::load_program_binary(dir, "key one"));
+    fs::remove_all(dir);
+
+    // Contexts as new processes: the first stores, the second loads (the entries are not
+    // rewritten: same inodes), garbage entries are rebuilt and replaced; same counts throughout.
+    const Volume v = testutil::random_volume({19, 11, 7}, ValueType::uint8, 0, 255, 5);
+    const IsovalueSet iso = IsovalueSet::for_volume(v);
+    auto counts = [&] {
+        Context fresh(ctx().device());
+        return count_spans(fresh, v, iso).get(SpanKind::cubes).counts;
+    };
+    auto entries = [&] {
+        std::map<std::string, ino_t> m;
+        for (const auto& e : fs::directory_iterator(dir)) {
+            struct stat st {};
+            ::stat(e.path().c_str(), &st);
+            m[e.path().filename().string()] = st.st_ino;
+        }
+        return m;
+    };
+    const auto want = count_spans(ctx(), v, iso).get(SpanKind::cubes).counts;
+    CHECK(counts() == want);
+    const auto stored = entries();
+    REQUIRE(!stored.empty());
+    for (const auto& [name, inode] : stored) CHECK(name.size() == 36);  // 32 hex digits + ".bin": no temporaries
+    CHECK(counts() == want);
+    CHECK(entries() == stored);
+    for (const auto& [name, inode] : stored) std::ofstream(dir + "/" + name, std::ios::trunc) << "not a binary";
+    CHECK(counts() == want);
+    const auto rebuilt = entries();
+    CHECK(rebuilt.size() == stored.size());
+    for (const auto& [name, inode] : rebuilt) CHECK(fs::file_size(dir + "/" + name) > 100);
+    CHECK(counts() == want);
+    CHECK(entries() == rebuilt);
+
+    ::setenv("CLFRACTAL_PROGRAM_CACHE", "off", 1);
+    CHECK(detail::program_cache_dir().empty());
+    fs::remove_all(dir);
+    CHECK(counts() == want);
+    CHECK(!fs::exists(dir));
+    if (before) ::setenv("CLFRACTAL_PROGRAM_CACHE", saved.c_str(), 1);
+    else ::unsetenv("CLFRACTAL_PROGRAM_CACHE");
 }
 
 TEST_CASE("programs are cached per (family, options)") {

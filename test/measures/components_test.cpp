@@ -256,6 +256,30 @@ TEST_CASE("value histogram and neighbour masks on the host (volume above the dev
         }
 }
 
+TEST_CASE("windowed sweeps (the order built a window at a time): the whole-order curves, every window size") {
+    testutil::TuningGuard guard;
+    // Wide and narrow ranges, a plateau value over many windows (the value split over segments).
+    Volume wide = testutil::random_volume({23, 19, 17}, ValueType::uint16, 0, 60000, 31);
+    Volume narrow = testutil::random_volume({31, 7, 29}, ValueType::uint8, 0, 5, 32);
+    Volume signed16 = testutil::random_volume({13, 17, 19}, ValueType::int16, -300, 300, 33);
+    Volume plateau = testutil::random_volume({40, 30, 20}, ValueType::int8, -3, 3, 34);
+    for (std::size_t i = 0; i < plateau.vertices(); i += 3) plateau.as<std::int8_t>()[i] = 0;
+    for (Volume* v : {&wide, &narrow, &signed16, &plateau})
+        for (Connectivity m : modes) {
+            CAPTURE(value_type_name(v->type()));
+            CAPTURE(connectivity_name(m));
+            const IsovalueSet iso = IsovalueSet::for_volume(*v, 64);
+            testutil::ctx().tuning.component_window = 0;
+            const ComponentCurve whole = count_components(testutil::ctx(), *v, iso, m);
+            for (std::size_t window : {std::size_t(1), std::size_t(97), std::size_t(5000), std::size_t(1) << 24}) {
+                CAPTURE(window);
+                testutil::ctx().tuning.component_window = window;
+                CHECK(count_components(testutil::ctx(), *v, iso, m).components == whole.components);
+            }
+            CHECK(check_curve(*v, m, iso) == 0);
+        }
+}
+
 TEST_CASE("parse_connectivity") {
     CHECK(parse_connectivity("cube") == Connectivity::cube);
     CHECK(parse_connectivity("freudenthal") == Connectivity::freudenthal);

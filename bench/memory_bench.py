@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""Peak resident memory of each clfractal command on a CT-like uint16 phantom.
+
+The phantom: air (20..60, uniform noise), a body ellipsoid (1000 +- 150 structure, +-40
+noise) and a bone shell (1800..3500): a wide 16-bit value range, as a CT scan has. Each
+command runs alone under /usr/bin/time -v; its peak RSS is compared with the bounds of a
+volume of B bytes: in-core commands 4 B + 256 MiB, fd 1.25 B + 256 MiB, streamed commands
+512 MiB. Exit 1 when a command fails or passes its bound.
+
+    memory_bench.py CLFRACTAL [--size N] [--keep DIR] [--markdown]
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+MIB = 1 << 20
+
+
+def phantom(n, path):
+    """Writes the n^3 uint16 phantom as a raw-encoded NRRD, one slice at a time."""
+    rng = np.random.default_rng(88172645)
+    c = (n - 1) / 2.0
+    y, x = np.mgrid[0:n, 0:n].astype(np.float64)
+    with open(path, "wb") as f:
+        f.write(("NRRD0004\ntype: uint16\ndimension: 3\nsizes: %d %d %d\nendian: little\nencoding: raw\n\n"
+                 % (n, n, n)).encode())
+        for z in range(n):
+            r = np.sqrt(((x - c) / (0.45 * n)) ** 2 + ((y - c) / (0.38 * n)) ** 2 + ((z - c) / (0.48 * n)) ** 2)
+            body = 1000 + 150 * np.sin(x * 0.05) * np.cos(y * 0.07) + 80 * (rng.random((n, n)) - 0.5)
+            rb = np.sqrt(((x - c) / (0.15 * n)) ** 2 + ((y - c - 0.1 * n) / (0.12 * n)) ** 2)
+            bone = 1800 + 1700 * (1 - np.abs(rb - 0.9) / 0.1) + 100 * (rng.random((n, n)) - 0.5)
+            v = np.where(r > 1, 20 + 40 * rng.random((n, n)), np.where((rb > 0.8) & (rb < 1.0), bone, body))
+            f.write(np.clip(np.rint(v), 0, 65535).astype("<u2").tobytes())
+
+
+def commands(vol, out):
+    """(name, arguments, bound kind)."""
+    return [
+        ("fd", ["fd", vol], "fd"),
+        ("fd --stream", ["fd", "--stream", vol], "stream"),
+        ("components", ["components", vol], "in-core"),
+        ("smooth", ["smooth", vol, "--iso", "500", "--threshold", "2.3", "-o", out + "/smooth.nrrd"], "in-core"),
+        ("local", ["local", vol, "--iso", "500", "-o", out + "/local.nrrd"], "in-core"),
+        ("local --stream", ["local", "--stream", vol, "--iso", "500", "-o", out + "/local_s.nrrd"], "stream"),
+        ("median", ["filter", "--median", vol, "-o", out + "/median.nrrd"], "in-core"),
+        ("mesh", ["mesh", vol, "--iso", "500", "-o", out + "/mesh.ply"], "in-core"),
+        ("report", ["report", vol, "-o", out + "/report.html"], "in-core"),
+    ]
+
+
+def bound(kind, volume_bytes):
+    if kind == "stream":
+        return 512 * MIB
+    return (1.25 if kind == "fd" else 4.0) * volume_bytes + 256 * MIB
+
+
+def peak_rss(cli, args):
+    """(exit status, peak RSS in bytes, wall seconds) of one run."""
+    p = subprocess.run(["/usr/bin/time", "-v", cli, "-q"] + args, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.PIPE, text=True)
+    rss, wall = 0, 0.0
+    for line in p.stderr.splitlines():
+        line = line.strip()
+        if line.startswith("Maximum resident set size"):
+            rss = int(line.split(":")[1]) * 1024
+        elif line.startswith("Elapsed (wall clock)"):
+            parts = line.split(": ")[-1].split(":")
+            wall = sum(float(x) * 60 ** i for i, x in enumerate(reversed(parts)))
+    if p.returncode != 0:
+        sys.stderr.write(p.stderr[-2000:])
+    return p.returncode, rss, wall
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("cli")
+    ap.add_argument("--size", type=int, default=64)
+    ap.add_argument("--only", action="append", help="run only these commands (by name)")
+    ap.add_argument("--keep", help="write the phantom and outputs here instead of a temporary directory")
+    ap.add_argument("--markdown", action="store_true", help="print the table as markdown")
+    a = ap.parse_args()
+    work = a.keep or tempfile.mkdtemp(prefix="clfractal_memory_")
+    os.makedirs(work, exist_ok=True)
+    vol = os.path.join(work, "ct_%d.nrrd" % a.size)
+    if not os.path.exists(vol):
+        phantom(a.size, vol)
+    volume_bytes = 2 * a.size ** 3
+    rows, failed = [], False
+    for name, args, kind in commands(vol, work):
+        if a.only and name not in a.only:
+            continue
+        rc, rss, wall = peak_rss(a.cli, args)
+        limit = bound(kind, volume_bytes)
+        ok = rc == 0 and rss <= limit
+        failed |= not ok
+        status = "yes" if ok else ("NO (exit %d)" % rc if rc else "NO")
+        rows.append((name, rss / MIB, rss / volume_bytes, limit / MIB, wall, status))
+    head = "%d^3 uint16 CT-like phantom (%.0f MiB)" % (a.size, volume_bytes / MIB)
+    if a.markdown:
+        print("| command | peak RSS (MiB) | / volume | bound (MiB) | wall (s) | within |\n|---|---:|---:|---:|---:|---|")
+        for r in rows:
+            print("| %s | %.0f | %.2f | %.0f | %.1f | %s |" % r)
+        print("\n" + head)
+    else:
+        print(head)
+        for r in rows:
+            print("%-15s %8.0f MiB %6.2fx  bound %6.0f MiB  %7.1f s  %s" % r)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
