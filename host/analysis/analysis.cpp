@@ -13,6 +13,7 @@
 
 #include "clfractal/error.hpp"
 #include "clfractal/filter.hpp"
+#include "clfractal/small_components.hpp"
 
 namespace clfractal {
 
@@ -227,6 +228,17 @@ std::size_t ladder_bytes(const Volume& v) { return v.size_bytes() + 4 * v.vertic
 bool within(const AnalysisOptions& o, std::size_t bytes) { return o.memory_budget == 0 || bytes <= o.memory_budget; }
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
+// The share of vertices whose value differs between two volumes of the same type and dims.
+double changed_share(const Volume& a, const Volume& b) {
+    std::size_t changed = 0;
+    const std::size_t bytes = value_size(a.type());
+    const auto* x = static_cast<const unsigned char*>(a.data());
+    const auto* y = static_cast<const unsigned char*>(b.data());
+#pragma omp parallel for reduction(+ : changed) schedule(static)
+    for (std::size_t i = 0; i < a.vertices(); ++i) changed += std::memcmp(x + i * bytes, y + i * bytes, bytes) != 0;
+    return a.vertices() ? double(changed) / double(a.vertices()) : 0.0;
+}
+
 // Components at the entries' isovalues: one sort and two sweeps give every isovalue at once
 // (count_components), cheaper than one labelling per entry from the second entry on.
 void fill_components(Context& ctx, const Volume& v, const IsovalueSet& iso, std::vector<Recommendation*> entries) {
@@ -263,13 +275,17 @@ Advice advise(Context& ctx, const Volume& v, const IsovalueSet& iso, const Analy
 }
 
 // The denoising ladder: the fractal-targeted median at the first recommendation's isovalue
-// (LD > 2.5, then LD > 2.2), then the median everywhere; each re-runs the advice on its
-// result, and the ladder stops at the first that leaves a clean well-populated isovalue.
+// (LD > 2.5; then the same followed by the small-components filter of size 20, the best
+// for the component count in bench/denoise_benchmark.py; then LD > 2.2), then the median
+// everywhere; each re-runs the advice on its result, and the ladder stops at the first that
+// leaves a clean well-populated isovalue.
 std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const IsovalueSet& iso,
                                            const AnalysisOptions& o, double at) {
     std::vector<DenoiseAttempt> tried;
-    const double thresholds[] = {2.5, 2.2, NAN};
-    for (double h : thresholds) {
+    // (threshold, K): the targeted median where LD > threshold (NaN: the median everywhere),
+    // then, for K > 0, the small-components filter of size K at the same isovalue.
+    const std::pair<double, std::size_t> steps[] = {{2.5, 0}, {2.5, 20}, {2.2, 0}, {NAN, 0}};
+    for (const auto& [h, k] : steps) {
         const auto t0 = std::chrono::steady_clock::now();
         DenoiseAttempt d;
         d.method = "median";
@@ -278,21 +294,14 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         d.isovalue = at;
         d.threshold = h;
         d.window = o.window;
-        Volume out;
-        if (d.targeted) {
-            TargetedResult r = targeted_filter(ctx, v, FilterSpec::median(), at, h, o.window);
-            d.changed_share = r.changed_share;
-            out = std::move(r.volume);
-        } else {
-            out = median_filter(ctx, v);
-            std::size_t changed = 0;
-            const std::size_t bytes = value_size(v.type());
-            const auto* a = static_cast<const unsigned char*>(v.data());
-            const auto* b = static_cast<const unsigned char*>(out.data());
-#pragma omp parallel for reduction(+ : changed) schedule(static)
-            for (std::size_t i = 0; i < v.vertices(); ++i) changed += std::memcmp(a + i * bytes, b + i * bytes, bytes) != 0;
-            d.changed_share = double(changed) / double(v.vertices());
+        d.small_components = k;
+        Volume out = d.targeted ? targeted_filter(ctx, v, FilterSpec::median(), at, h, o.window).volume
+                                : median_filter(ctx, v);
+        if (k) {
+            d.filter += " and small components (K " + std::to_string(k) + ")";
+            out = small_components_filter(out, at, k).volume;
         }
+        d.changed_share = changed_share(v, out);
         Advice adv = advise(ctx, out, iso, o, false);
         d.clean = adv.clean;
         d.bands = std::move(adv.bands);
@@ -424,12 +433,28 @@ std::vector<Recommendation> recommend(const FdCurve& f, const std::vector<std::u
     return out;
 }
 
+namespace {
+// A number that reads back to the same double: 9 significant digits when they do, else 17.
+std::string exact(double x) {
+    for (int digits : {9, 17}) {
+        std::ostringstream o;
+        o.precision(digits);
+        o << x;
+        if (std::stod(o.str()) == x || digits == 17) return o.str();
+    }
+    return {};
+}
+}  // namespace
+
 std::string DenoiseAttempt::command(const std::string& volume, const std::string& output) const {
     std::ostringstream s;
-    s.precision(9);
+    const std::string first = small_components ? output + ".median.nrrd" : output;
     s << "clfractal filter " << volume << " --median";
-    if (targeted) s << " --fractal --iso " << isovalue << " --threshold " << threshold << " --window " << window;
-    s << " -o " << output;
+    if (targeted) s << " --fractal --iso " << exact(isovalue) << " --threshold " << threshold << " --window " << window;
+    s << " -o " << first;
+    if (small_components)
+        s << " && clfractal filter " << first << " --small-components " << small_components << " --iso " << exact(isovalue)
+          << " -o " << output;
     return s.str();
 }
 
@@ -548,6 +573,7 @@ std::string to_json(const Analysis& a, int indent) {
                          {"isovalue", d.targeted ? json(d.isovalue) : json(nullptr)},
                          {"threshold", number_json(d.threshold)},
                          {"window", d.window},
+                         {"small_components", d.small_components},
                          {"changed_share", d.changed_share},
                          {"clean", d.clean},
                          {"fd", summary_json(d.summary)},

@@ -83,13 +83,14 @@ struct DenoiseAttempt {
     double isovalue = 0;                ///< the LD field's isovalue (targeted)
     double threshold = std::numeric_limits<double>::quiet_NaN();
     int window = 8;
+    std::size_t small_components = 0;   ///< then the small-components filter of this size (0: none)
     double changed_share = 0;           ///< vertices whose value changed / all vertices
     bool clean = false;                 ///< a well-populated isovalue is clean afterwards
     std::vector<CleanBand> bands;       ///< the clean bands of the result
     std::vector<Recommendation> recommended;  ///< the advice on the result
     FdSummary summary;                  ///< of the result's curve
     double seconds = 0;                 ///< wall time of the filter and the re-run
-    /// The command line that writes the filtered volume ("VOLUME" stands for the input).
+    /// The command line(s) that write the filtered volume ("VOLUME" stands for the input).
     std::string command(const std::string& volume = "VOLUME", const std::string& output = "OUT.nrrd") const;
 };
 

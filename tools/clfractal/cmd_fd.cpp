@@ -252,7 +252,7 @@ void setup_fd(CLI::App* fd, FdArgs& fa) {
                  "the noise's standard deviation in grey values (residuals of flat blocks), and per isovalue "
                  "whether the surface is noise-dominated (Theorem 1 inverted)");
     fd->add_flag("--no-denoise", fa.no_denoise,
-                 "when no isovalue is clean, do not try the denoising ladder (targeted median, then median)");
+                 "when no isovalue is clean, do not try the denoising ladder (targeted median, with small components, median)");
     fa.raw.add(fd);
 }
 

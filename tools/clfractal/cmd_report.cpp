@@ -160,7 +160,7 @@ std::string answer_section(const json& j) {
               << number(j, p + "/recommended/0/fd", 4) << ").</p>\n<p><code>"
               << escape(tried[i]["command"].get<std::string>()) << "</code></p>\n";
         } else if (!tried.empty()) {
-            o << "<p>None of the denoising tried (targeted median, median everywhere) leaves a clean isovalue: "
+            o << "<p>None of the denoising tried (targeted median, with small components, median everywhere) leaves a clean isovalue: "
                  "the scan's surfaces are rough at every isovalue.</p>\n";
         }
     }
