@@ -2,9 +2,9 @@
 """Choose an isovalue from the fractal dimension curve and plot the curve (thesis Fig. 2.1).
 
 The box span dimension D(s) is near 2 where the isosurface is a smooth surface and rises
-towards 3 where it is noise. Among the isovalues whose subsampled grid still has a useful
-number of intersected cubes (1% of the largest count), the one with the lowest D gives the
-cleanest surface.
+towards 3 where it is noise. The isovalue comes from clfractal.analyse, the same
+recommendation `clfractal fd` prints: the material boundary of the best clean band (or,
+when nothing is clean, of the cleanest quarter), with its verdict.
 
     python fd_isovalue.py [VOLUME] [--out fd.png]
 
@@ -21,13 +21,6 @@ import numpy as np
 import clfractal
 
 
-def choose_isovalue(curve):
-    """The isovalue with the lowest D among those with enough cubes in the subsampled grid."""
-    enough = curve.counts[1] >= max(1, curve.counts[1].max() // 100)
-    candidates = np.where(enough & ~np.isnan(curve.fd))[0]
-    return candidates[np.argmin(curve.fd[candidates])]
-
-
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("volume", nargs="?", default="synthetic:noisy-sphere:96")
@@ -36,11 +29,13 @@ def main():
 
     volume, spacing = clfractal.read_volume(a.volume)
     curve = clfractal.fd_curve(volume)
-    j = choose_isovalue(curve)
+    best = clfractal.analyse(volume, noise_level=False, denoise=False).best
+    j = int(np.searchsorted(curve.isovalues, best.isovalue))
     s = curve.summary
     print(f"{a.volume}: {volume.shape} {volume.dtype} on {s['device']}")
     print(f"mean D {s['mean']:.3f} (std {s['std']:.3f}) over {s['defined']} isovalues")
-    print(f"cleanest isovalue {curve.isovalues[j]}: D = {curve.fd[j]:.3f}, {curve.counts[0][j]} cubes")
+    print(f"recommended isovalue {curve.isovalues[j]} ({best.verdict}): D = {curve.fd[j]:.3f}, "
+          f"{curve.counts[0][j]} cubes, {best.components} components")
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     ax.plot(curve.isovalues, curve.fd, color="#1f5fa8", lw=1.5, label="D(s)")
