@@ -85,8 +85,9 @@ def check_page(tab, check, page, work, name):
     del tab.events[:]
     tab.call("Page.navigate", url=url)
     if not tab.wait_for("document.readyState === 'complete' && !!document.getElementById('view3d') && "
-                        "document.getElementById('view3d').dataset.rendered !== undefined", 30):
-        return fail(name + ": the 3D view did not render")
+                        "document.getElementById('view3d').dataset.rendered !== undefined", 20):
+        fail(name + ": the 3D view did not render")
+        return check_events(tab, name, url)
     controls = tab.evaluate("Array.from(document.querySelectorAll('[data-isovalue]')).map(function(b){"
                             "return b.dataset.isovalue;})")
     first = tab.evaluate("document.getElementById('view3d').dataset.rendered")
@@ -115,7 +116,11 @@ def check_page(tab, check, page, work, name):
     tip = tab.evaluate("document.getElementById('tip').hidden ? '' : document.getElementById('tip').textContent")
     if not re.search(r"isovalue .* D = .* count I\(s\) = \d+ .*components = \d+ .*verdict: \w+ .*r\(s\) = ", tip or ""):
         fail(name + ": pointing at the D(s) plot shows %r" % tip)
-    # Console, exceptions, requests.
+    check_events(tab, name, url)
+
+
+def check_events(tab, name, url):
+    """No exception, console error or log error, no request but the page and data: URIs."""
     tab.call("Runtime.evaluate", expression="0")
     for e in tab.events:
         method, p = e.get("method"), e.get("params", {})

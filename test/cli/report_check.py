@@ -114,6 +114,27 @@ def check_png(data, what):
     return (w, h)
 
 
+def check_plot(plot, data):
+    """The curves' inline columns equal the JSON (D to 6 digits, r(s) to 4)."""
+    curve = data["curve"]
+    ratio = {e["isovalue"]: e["ratio"] for e in data["noise"].get("surface", {}).get("per_isovalue", [])}
+    if len(plot["isovalue"]) != len(curve):
+        return fail("plot data: %d isovalues, the JSON %d" % (len(plot["isovalue"]), len(curve)))
+    for i, e in enumerate(curve):
+        got = (plot["isovalue"][i], plot["fd"][i], plot["count"][i], plot["components"][i],
+               plot["verdicts"][plot["verdict"][i]], plot["ratio"][i])
+        r = ratio.get(e["isovalue"])
+        want = (e["isovalue"], None if e["fd"] is None else float("%.6g" % e["fd"]), e["counts"][0], e["components"],
+                e["verdict"], None if r is None else float("%.4g" % r))
+        if got != want:
+            return fail("plot data at isovalue %r: %r, the JSON %r" % (e["isovalue"], got, want))
+    if plot["recommended"] != [r["isovalue"] for r in data["recommended"]] or \
+            plot["noisiest"] != (data["noisiest"] or {}).get("isovalue") or \
+            plot["clean_bands"] != [[b["first"], b["last"]] for b in data["clean_bands"]] or \
+            plot["clean_fd"] != data["advice"]["clean_fd"]:
+        fail("plot data: the marks differ from the JSON")
+
+
 def resolve(doc, pointer):
     for part in pointer.split("/")[1:]:
         part = part.replace("~1", "/").replace("~0", "~")
@@ -191,7 +212,7 @@ def main():
             if not 0 < c["triangles"] <= 300000 or c["triangles"] > c["triangles_full"]:
                 fail("JSON: a mesh of %d triangles (of %d)" % (c["triangles"], c["triangles_full"]))
         ids = {a.get("id") for a, _ in page.scripts}
-        for want_id in ("report-data", "report-choices", "report-script"):
+        for want_id in ("report-plot", "report-choices", "report-script"):
             if want_id not in ids:
                 fail("HTML: no script " + want_id)
         if not any("OrbitControls" in b for _, b in page.scripts) or not any("WebGLRenderer" in b for _, b in page.scripts):
@@ -200,11 +221,9 @@ def main():
             fail("HTML: the report's script is empty")
         elif len(mine) == 1:
             try:
-                embedded = json.loads([b for a, b in page.scripts if a.get("id") == "report-data"][0])
-                if embedded.get("explore") != explore or embedded.get("curve") != data.get("curve"):
-                    fail("HTML: the inline JSON differs from --json")
-            except (ValueError, IndexError) as e:
-                fail("HTML: the inline JSON does not parse: %s" % e)
+                check_plot(json.loads([b for a, b in page.scripts if a.get("id") == "report-plot"][0]), data)
+            except (ValueError, IndexError, KeyError, TypeError) as e:
+                fail("HTML: the curves' inline data does not parse: %r" % e)
     else:
         if page.scripts or controls:
             fail("HTML: scripts or data-isovalue controls on a page without the interactive view")

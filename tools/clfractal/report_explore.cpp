@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
@@ -182,7 +184,7 @@ namespace {
 const char* const script = R"JS(
 (function () {
   "use strict";
-  var report = JSON.parse(document.getElementById("report-data").textContent);
+  var data = JSON.parse(document.getElementById("report-plot").textContent);
   var choices = JSON.parse(document.getElementById("report-choices").textContent);
   var section = document.getElementById("explore");
   section.hidden = false;
@@ -266,9 +268,11 @@ const char* const script = R"JS(
   });
 
   // The curves.
-  var ratio = {};
-  ((report.noise.surface || {}).per_isovalue || []).forEach(function (e) { ratio[e.isovalue] = e.ratio; });
-  var curve = report.curve, tip = document.getElementById("tip");
+  var curve = data.isovalue.map(function (s, i) {
+    return {isovalue: s, fd: data.fd[i], count: data.count[i], components: data.components[i],
+            verdict: data.verdicts[data.verdict[i]], ratio: data.ratio[i]};
+  });
+  var tip = document.getElementById("tip");
   var NS = "http://www.w3.org/2000/svg";
   function el(name, attrs, parent) {
     var e = document.createElementNS(NS, name);
@@ -292,17 +296,17 @@ const char* const script = R"JS(
     if (x1 === x0) { x0 -= 0.5; x1 += 0.5; }
     var ys = curve.map(value).filter(function (y) { return y !== null && isFinite(y); });
     var y0 = ys.length ? Math.min.apply(null, ys) : 0, y1 = ys.length ? Math.max.apply(null, ys) : 1;
-    if (!log && id === "plot-fd") { y0 = Math.min(y0, report.advice.clean_fd); y1 = Math.max(y1, report.advice.clean_fd); }
+    if (!log && id === "plot-fd") { y0 = Math.min(y0, data.clean_fd); y1 = Math.max(y1, data.clean_fd); }
     if (y1 === y0) { y0 -= 0.5; y1 += 0.5; }
     var pad = 0.05 * (y1 - y0); y0 -= pad; y1 += pad;
     function X(x) { return L + (x - x0) / (x1 - x0) * (W - L - R); }
     function Y(y) { return H - B - (y - y0) / (y1 - y0) * (H - T - B); }
-    report.clean_bands.forEach(function (b) {
-      el("rect", {x: X(b.first), y: T, width: Math.max(1, X(b.last) - X(b.first)), height: H - T - B,
+    data.clean_bands.forEach(function (b) {
+      el("rect", {x: X(b[0]), y: T, width: Math.max(1, X(b[1]) - X(b[0])), height: H - T - B,
                   fill: "#d8f0d8"}, svg);
     });
     if (id === "plot-fd")
-      el("line", {x1: L, x2: W - R, y1: Y(report.advice.clean_fd), y2: Y(report.advice.clean_fd),
+      el("line", {x1: L, x2: W - R, y1: Y(data.clean_fd), y2: Y(data.clean_fd),
                   stroke: "#2a8a2a", "stroke-dasharray": "4 3"}, svg);
     el("rect", {x: L, y: T, width: W - L - R, height: H - T - B, fill: "none", stroke: "#888"}, svg);
     ticks(x0, x1, 6).forEach(function (t) {
@@ -325,12 +329,12 @@ const char* const script = R"JS(
       up = true;
     });
     el("path", {d: d, fill: "none", stroke: "#1f5fa8", "stroke-width": 1.5}, svg);
-    report.recommended.forEach(function (r) {
-      el("line", {x1: X(r.isovalue), x2: X(r.isovalue), y1: T, y2: H - B, stroke: "#2a8a2a", "stroke-width": 1.5},
+    data.recommended.forEach(function (r) {
+      el("line", {x1: X(r), x2: X(r), y1: T, y2: H - B, stroke: "#2a8a2a", "stroke-width": 1.5},
          svg);
     });
-    if (report.noisiest)
-      el("line", {x1: X(report.noisiest.isovalue), x2: X(report.noisiest.isovalue), y1: T, y2: H - B,
+    if (data.noisiest !== null)
+      el("line", {x1: X(data.noisiest), x2: X(data.noisiest), y1: T, y2: H - B,
                   stroke: "#c62828", "stroke-width": 1.5, "stroke-dasharray": "5 3"}, svg);
     var mark = el("line", {y1: T, y2: H - B, stroke: "#222", "stroke-width": 2.5, opacity: 0.7}, svg);
     markers.push(function (s) { mark.setAttribute("x1", X(s)); mark.setAttribute("x2", X(s)); });
@@ -343,8 +347,8 @@ const char* const script = R"JS(
       var e = curve[best];
       hover.setAttribute("x1", X(e.isovalue)); hover.setAttribute("x2", X(e.isovalue));
       hover.setAttribute("visibility", "visible");
-      tip.textContent = "isovalue " + fmt(e.isovalue, 8) + "  D = " + fmt(e.fd, 4) + "  count I(s) = " + e.counts[0] +
-        "  components = " + e.components + "  verdict: " + e.verdict + "  r(s) = " + fmt(ratio[e.isovalue], 3);
+      tip.textContent = "isovalue " + fmt(e.isovalue, 8) + "  D = " + fmt(e.fd, 4) + "  count I(s) = " + e.count +
+        "  components = " + e.components + "  verdict: " + e.verdict + "  r(s) = " + fmt(e.ratio, 3);
       tip.style.left = (ev.pageX + 14) + "px"; tip.style.top = (ev.pageY + 14) + "px";
       tip.hidden = false;
     });
@@ -359,7 +363,47 @@ const char* const script = R"JS(
 })();
 )JS";
 
+// A double with `digits` significant digits (what the plots need, a third of the JSON's text).
+json rounded(const json& x, int digits) {
+    if (!x.is_number()) return nullptr;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, x.get<double>());
+    return std::stod(buf);
+}
+
 }  // namespace
+
+json plot_data(const json& report) {
+    json p = {{"isovalue", json::array()}, {"fd", json::array()},      {"count", json::array()},
+              {"components", json::array()}, {"verdict", json::array()}, {"verdicts", json::array()},
+              {"ratio", json::array()}};
+    std::map<double, json> ratio;
+    const json surface = report.at("noise").value("surface", json::object());
+    if (surface.is_object())
+        for (const json& e : surface.value("per_isovalue", json::array()))
+            ratio[e.at("isovalue").get<double>()] = e.at("ratio");
+    std::map<std::string, int> code;
+    for (const json& e : report["curve"]) {
+        const double s = e["isovalue"].get<double>();
+        p["isovalue"].push_back(s);
+        p["fd"].push_back(rounded(e["fd"], 6));
+        p["count"].push_back(e["counts"].empty() ? json(nullptr) : e["counts"][0]);
+        p["components"].push_back(e["components"]);
+        const std::string v = e["verdict"].get<std::string>();
+        const auto [it, added] = code.emplace(v, int(code.size()));
+        if (added) p["verdicts"].push_back(v);
+        p["verdict"].push_back(it->second);
+        const auto r = ratio.find(s);
+        p["ratio"].push_back(r == ratio.end() ? json(nullptr) : rounded(r->second, 4));
+    }
+    p["clean_fd"] = report["advice"]["clean_fd"];
+    p["clean_bands"] = json::array();
+    for (const json& b : report["clean_bands"]) p["clean_bands"].push_back({b["first"], b["last"]});
+    p["recommended"] = json::array();
+    for (const json& r : report["recommended"]) p["recommended"].push_back(r["isovalue"]);
+    p["noisiest"] = report["noisiest"].is_null() ? json(nullptr) : report["noisiest"]["isovalue"];
+    return p;
+}
 
 std::string section(const json& report, const std::vector<Choice>& choices, const Three& three) {
     std::ostringstream o;
@@ -390,7 +434,7 @@ std::string section(const json& report, const std::vector<Choice>& choices, cons
         e["slice"] = html::base64(c.slice_png);
         data.push_back(std::move(e));
     }
-    o << "<script type=\"application/json\" id=\"report-data\">" << script_safe_json(report) << "</script>\n"
+    o << "<script type=\"application/json\" id=\"report-plot\">" << script_safe_json(plot_data(report)) << "</script>\n"
       << "<script type=\"application/json\" id=\"report-choices\">" << script_safe_json(data) << "</script>\n"
       << three.js << "<script id=\"report-script\">" << script << "</script>\n";
     return o.str();

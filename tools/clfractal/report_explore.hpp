@@ -57,7 +57,13 @@ struct Choice {
 /// The JSON facts of a choice (report --json "explore" entries).
 nlohmann::json facts(const Choice& c);
 
-/// The section (hidden until its script runs), the report's JSON and the meshes as inline data,
+/// What the curves of the section plot, from the report's JSON, in columns: per isovalue D
+/// (6 significant digits), the count I(s), components, verdict (an index into "verdicts") and
+/// r(s) (4 digits, null where not estimated); the clean limit, the clean bands as [first,
+/// last], the recommended and the noisiest isovalues.
+nlohmann::json plot_data(const nlohmann::json& report);
+
+/// The section (hidden until its script runs), the curves' data and the meshes inline,
 /// three.js and the script that draws the 3D view, the slice and the SVG curves.
 std::string section(const nlohmann::json& report, const std::vector<Choice>& choices, const Three& three);
 
