@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages clfractal needs to build, test and benchmark (chromium:
-# the headless render test of `clfractal report`).
+# the headless render test of `clfractal report`; libjs-three: the report's 3D view).
 # Does nothing when they are already there. Run as root (or with sudo available).
 set -euo pipefail
 packages=(build-essential cmake pkg-config git
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo libclblast-dev
   doctest-dev libteem-dev zlib1g-dev libpng-dev libcli11-dev nlohmann-json3-dev gnuplot-nox
-  chromium
+  chromium libjs-three
   python3 python3-numpy python3-venv python3-dev openmpi-bin libopenmpi-dev
   libgdcm-dev libnifti2-dev libtiff-dev
   clang-14 libfuzzer-14-dev libomp-14-dev python3-clang-14 oclgrind)

@@ -2,7 +2,8 @@
 # - pip builds (scikit-build-core sets SKBUILD): the build environment's Python, which has
 #   nanobind.
 # - plain CMake builds: a venv in the build tree (build/python-venv) from Debian's python3,
-#   with nanobind, numpy, scipy, pytest, matplotlib (the examples) and pandas from PyPI, installed on the first configure only;
+#   with nanobind, numpy, scipy, pytest, matplotlib (the examples), pandas and websocket-client (the report's
+#   browser test over the DevTools protocol) from PyPI, installed on the first configure only;
 #   the tests and benchmarks run in it.
 set(CLFRACTAL_PYTHON_READY OFF)
 if(SKBUILD)
@@ -11,7 +12,7 @@ if(SKBUILD)
 endif()
 set(CLFRACTAL_PYTHON_VENV ${CMAKE_BINARY_DIR}/python-venv)
 set(venv_python ${CLFRACTAL_PYTHON_VENV}/bin/python)
-set(venv_packages nanobind numpy scipy pytest matplotlib pandas)
+set(venv_packages nanobind numpy scipy pytest matplotlib pandas websocket-client)
 if(NOT EXISTS ${venv_python})
   find_program(CLFRACTAL_BASE_PYTHON NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)
   find_program(CLFRACTAL_BASE_PYTHON NAMES python3)
@@ -28,7 +29,7 @@ if(NOT EXISTS ${venv_python})
     return()
   endif()
 endif()
-execute_process(COMMAND ${venv_python} -c "import nanobind, numpy, scipy, pytest, matplotlib, pandas"
+execute_process(COMMAND ${venv_python} -c "import nanobind, numpy, scipy, pytest, matplotlib, pandas, websocket"
   RESULT_VARIABLE missing OUTPUT_QUIET ERROR_QUIET)
 if(NOT missing EQUAL 0)
   string(REPLACE ";" " " venv_list "${venv_packages}")

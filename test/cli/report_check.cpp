@@ -11,6 +11,9 @@
 //   report_check screenshot SHOT.png
 //     decodes a browser screenshot (libpng) and checks it is not blank: many distinct colours,
 //     a share of non-white pixels, and pixels of the LD colour map's blue and red ends.
+//   report_check canvas FIRST.png SECOND.png
+//     the 3D view's canvas before and after a switch of isovalue: >= 0.5% blue pixels in the
+//     first, >= 0.5% red in the first or the second, >= 5% of the pixels changed.
 // Exit 0 when everything holds, 1 with one line per failure otherwise.
 #include <nlohmann/json.hpp>
 
@@ -158,6 +161,36 @@ int check_screenshot(const std::string& path) {
     return failures ? 1 : 0;
 }
 
+// The 3D view's canvas at the first isovalue (the recommended one) and after the switch to the
+// second (the noisiest): the LD colour map's blue end on >= 0.5% of the first, its red end on
+// >= 0.5% of either (a clean recommended surface is blue all over), >= 5% of the pixels changed.
+int check_canvas(const std::string& first, const std::string& second) {
+    const Image a = read_png(first), b = read_png(second);
+    if (a.width != b.width || a.height != b.height) {
+        fail("the canvas screenshots differ in size");
+        return 1;
+    }
+    std::size_t blue[2] = {0, 0}, red[2] = {0, 0}, changed = 0;
+    for (std::size_t y = 0; y < a.height; ++y)
+        for (std::size_t x = 0; x < a.width; ++x) {
+            const std::array<std::array<std::uint8_t, 3>, 2> p{a.pixel(x, y), b.pixel(x, y)};
+            for (int i = 0; i < 2; ++i) {
+                blue[i] += p[i][2] > 100 && p[i][2] > 2 * p[i][0] && p[i][2] > 2 * p[i][1];
+                red[i] += p[i][0] > 100 && p[i][0] > 2 * p[i][1] && p[i][0] > 2 * p[i][2];
+            }
+            changed += std::abs(int(p[0][0]) - int(p[1][0])) + std::abs(int(p[0][1]) - int(p[1][1])) +
+                           std::abs(int(p[0][2]) - int(p[1][2])) > 24;
+        }
+    const double n = double(a.width * a.height);
+    std::cout << "canvas " << a.width << "x" << a.height << ": first " << 100 * blue[0] / n << "% blue, "
+              << 100 * red[0] / n << "% red; second " << 100 * blue[1] / n << "% blue, " << 100 * red[1] / n
+              << "% red; " << 100 * changed / n << "% changed by the switch\n";
+    if (blue[0] < 0.005 * n) fail("less than 0.5% blue pixels in the first canvas");
+    if (std::max(red[0], red[1]) < 0.005 * n) fail("less than 0.5% red pixels in both canvases");
+    if (changed < 0.05 * n) fail("the switch changed less than 5% of the canvas");
+    return failures ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -165,7 +198,8 @@ int main(int argc, char** argv) {
         const std::string mode = argc > 1 ? argv[1] : "";
         if (mode == "curve" && argc == 4) return check_curve(argv[2], argv[3]);
         if (mode == "screenshot" && argc == 3) return check_screenshot(argv[2]);
-        std::cerr << "usage: report_check curve VOLUME REPORT.json | screenshot SHOT.png\n";
+        if (mode == "canvas" && argc == 4) return check_canvas(argv[2], argv[3]);
+        std::cerr << "usage: report_check curve VOLUME REPORT.json | screenshot SHOT.png | canvas FIRST.png SECOND.png\n";
         return 2;
     } catch (const std::exception& e) {
         std::cout << "FAIL: " << e.what() << "\n";

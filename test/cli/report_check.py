@@ -6,8 +6,12 @@ report_check.py REPORT.html REPORT.json
     view per picture set the JSON lists);
   - every image is a data:image/png;base64 URI that decodes to a valid PNG (signature,
     chunk CRCs, IHDR first and IEND last, IDAT inflating to the size IHDR implies);
-  - nothing is fetched: no http(s):// anywhere, no src/href other than data: URIs, no
-    script, link, iframe, object, embed or CSS url();
+  - nothing is fetched: no http(s):// outside scripts, and inside them only in comments or
+    as the XHTML and SVG namespace names (never requested); no src/href other than data:
+    URIs; scripts only inline (no src), no link, iframe, object, embed, base or CSS url();
+  - with the interactive view (JSON "explore" with "choices"): the section, one data-isovalue
+    control per choice, the JSON and the meshes inline, three.js inlined, every mesh at most
+    300000 triangles; without it (--static, or three.js missing) no script at all;
   - the JSON has the keys the report promises;
   - every number of the page (span data-json="/pointer") equals the JSON's: integers
     exactly, floats as printf %.*g with the page's data-digits;
@@ -39,6 +43,8 @@ class Page(HTMLParser):
         self._num = None
         self.tables = {}        # section id -> data rows
         self._section = None
+        self.scripts = []       # (attrs, text)
+        self._script = None
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
@@ -55,10 +61,15 @@ class Page(HTMLParser):
             self._last_tr_counted = False
         if tag == "span" and "data-json" in a:
             self._num = [a["data-json"], a.get("data-digits"), ""]
+        if tag == "script":
+            self._script = [a, ""]
 
     _last_tr_counted = True
 
     def handle_endtag(self, tag):
+        if tag == "script" and self._script is not None:
+            self.scripts.append(tuple(self._script))
+            self._script = None
         if tag == "span" and self._num is not None:
             self.numbers.append(tuple(self._num))
             self._num = None
@@ -66,6 +77,8 @@ class Page(HTMLParser):
             self._section = None
 
     def handle_data(self, data):
+        if self._script is not None:
+            self._script[1] += data
         if self._num is not None:
             self._num[2] += data
 
@@ -101,6 +114,27 @@ def check_png(data, what):
     return (w, h)
 
 
+def check_plot(plot, data):
+    """The curves' inline columns equal the JSON (D to 6 digits, r(s) to 4)."""
+    curve = data["curve"]
+    ratio = {e["isovalue"]: e["ratio"] for e in data["noise"].get("surface", {}).get("per_isovalue", [])}
+    if len(plot["isovalue"]) != len(curve):
+        return fail("plot data: %d isovalues, the JSON %d" % (len(plot["isovalue"]), len(curve)))
+    for i, e in enumerate(curve):
+        got = (plot["isovalue"][i], plot["fd"][i], plot["count"][i], plot["components"][i],
+               plot["verdicts"][plot["verdict"][i]], plot["ratio"][i])
+        r = ratio.get(e["isovalue"])
+        want = (e["isovalue"], None if e["fd"] is None else float("%.6g" % e["fd"]), e["counts"][0], e["components"],
+                e["verdict"], None if r is None else float("%.4g" % r))
+        if got != want:
+            return fail("plot data at isovalue %r: %r, the JSON %r" % (e["isovalue"], got, want))
+    if plot["recommended"] != [r["isovalue"] for r in data["recommended"]] or \
+            plot["noisiest"] != (data["noisiest"] or {}).get("isovalue") or \
+            plot["clean_bands"] != [[b["first"], b["last"]] for b in data["clean_bands"]] or \
+            plot["clean_fd"] != data["advice"]["clean_fd"]:
+        fail("plot data: the marks differ from the JSON")
+
+
 def resolve(doc, pointer):
     for part in pointer.split("/")[1:]:
         part = part.replace("~1", "/").replace("~0", "~")
@@ -117,7 +151,7 @@ def main():
 
     # JSON keys.
     for key in ["volume", "recommended", "fd4", "clean_bands", "clean", "noise", "noisiest", "views", "isovalues",
-                "advice", "fd", "denoise", "curve"]:
+                "advice", "fd", "denoise", "curve", "explore"]:
         if key not in data:
             fail("JSON: no key " + key)
     for key in ["file", "format", "dims", "type", "spacing", "value_range"]:
@@ -144,14 +178,63 @@ def main():
             fail("HTML: no section " + s)
 
     # Self-contained: images inline, nothing fetched.
-    if re.search(r"https?://", text, re.I):
+    outside = re.sub(r"<script\b.*?</script\s*>", "", text, flags=re.I | re.S)
+    if re.search(r"https?://", outside, re.I):
         fail("HTML: an http(s):// reference")
-    if re.search(r"url\s*\(", text, re.I):
+    if re.search(r"url\s*\(", outside, re.I):
         fail("HTML: a CSS url()")
+    namespaces = ("http://www.w3.org/1999/xhtml", "http://www.w3.org/2000/svg")
+    for attrs, body in page.scripts:
+        for line in body.splitlines():
+            for m in re.finditer(r"https?://", line, re.I):
+                before = line[:m.start()]
+                if line[m.start():].startswith(namespaces) or "//" in before or before.strip().startswith("*"):
+                    continue
+                fail("HTML: a script holds %r outside a comment" % line[m.start():m.start() + 60])
+        if attrs.get("type") not in (None, "application/json"):
+            fail("HTML: a script of type %r" % attrs.get("type"))
+    mine = [body for attrs, body in page.scripts if attrs.get("id") == "report-script"]
+    for body in mine:
+        for api in ("fetch(", "XMLHttpRequest", "import(", "WebSocket", "sendBeacon", "EventSource", "location"):
+            if api in body:
+                fail("HTML: the report's script uses " + api)
+    explore = data.get("explore", {})
+    choices = explore.get("choices")
+    controls = [a for t, a in page.tags if "data-isovalue" in a]
+    if choices:
+        if "explore" not in page.sections:
+            fail("HTML: no section explore")
+        if len(controls) != len(choices):
+            fail("HTML: %d data-isovalue controls, %d choices" % (len(controls), len(choices)))
+        for a, c in zip(controls, choices):
+            if float(a["data-isovalue"]) != c["isovalue"]:
+                fail("HTML: data-isovalue %r, the JSON %r" % (a["data-isovalue"], c["isovalue"]))
+            if not 0 < c["triangles"] <= 300000 or c["triangles"] > c["triangles_full"]:
+                fail("JSON: a mesh of %d triangles (of %d)" % (c["triangles"], c["triangles_full"]))
+        ids = {a.get("id") for a, _ in page.scripts}
+        for want_id in ("report-plot", "report-choices", "report-script"):
+            if want_id not in ids:
+                fail("HTML: no script " + want_id)
+        if not any("OrbitControls" in b for _, b in page.scripts) or not any("WebGLRenderer" in b for _, b in page.scripts):
+            fail("HTML: three.js and its OrbitControls are not inlined")
+        if not mine or not mine[0].strip():
+            fail("HTML: the report's script is empty")
+        elif len(mine) == 1:
+            try:
+                check_plot(json.loads([b for a, b in page.scripts if a.get("id") == "report-plot"][0]), data)
+            except (ValueError, IndexError, KeyError, TypeError) as e:
+                fail("HTML: the curves' inline data does not parse: %r" % e)
+    else:
+        if page.scripts or controls:
+            fail("HTML: scripts or data-isovalue controls on a page without the interactive view")
+        if "explore" in page.sections:
+            fail("HTML: a section explore without choices")
     images = 0
     for tag, attrs in page.tags:
-        if tag in ("script", "link", "iframe", "object", "embed", "base"):
+        if tag in ("link", "iframe", "object", "embed", "base"):
             fail("HTML: a <%s> element" % tag)
+        if tag == "script" and "src" in attrs:
+            fail("HTML: a script with src")
         for name in ("src", "href", "srcset", "poster", "data"):
             value = attrs.get(name)
             if value is None:

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # clfractal report end to end: the page and its JSON on a synthetic volume (and on a real
 # MRI in NIfTI when ../shared/data is there), checked by report_check.py (structure, inline
-# PNGs, no network, numbers equal to the JSON) and report_check (every recommended isovalue
-# clean by the plain reference curve); bad input fails with one line and leaves nothing.
+# PNGs and scripts, no network, numbers equal to the JSON) and report_check (every recommended
+# isovalue clean by the plain reference curve); the interactive view's meshes and size,
+# --static, the page without three.js; bad input fails with one line and leaves nothing.
 # usage: report_test.sh CLFRACTAL REPORT_CHECK PYTHON3 REPORT_CHECK_PY WORKDIR SHARED_DATA
 set -u
 cli=$1 check=$2 py=$3 check_py=$4 work=$5 data=$6
@@ -49,6 +50,42 @@ PY
 nifti="$data/formats/avg152T1_RL_nifti.nii.gz"
 if [ -f "$nifti" ]; then report mri "$nifti"; else echo "skip: $nifti not found"; fi
 
+# The interactive view: a 3D view of each choice (at least the recommended and the noisiest),
+# its meshes within the budget, the page within 8 MB.
+"$py" - "$work/sphere.json" "$work/sphere.html" <<'PY' && pass || fail "sphere: the interactive view"
+import json, os, sys
+j = json.load(open(sys.argv[1]))
+c = j["explore"]["choices"]
+assert len(c) >= 2 and c[0]["isovalue"] == j["recommended"][0]["isovalue"] and c[1]["isovalue"] == j["noisiest"]["isovalue"], c
+assert all(0 < e["triangles"] <= 50000 for e in c), c
+assert os.path.getsize(sys.argv[2]) <= 8 << 20
+PY
+# --mesh-triangles bounds each mesh (clustered when the surface is larger).
+"$cli" -q report synthetic:noisy-sphere:48 -o "$work/small.html" --json "$work/small.json" --mesh-triangles 2000 >/dev/null &&
+"$py" - "$work/small.json" <<'PY' && pass || fail "--mesh-triangles 2000: meshes of at most 2000 triangles, clustered"
+import json, sys
+c = json.load(open(sys.argv[1]))["explore"]["choices"]
+assert all(e["triangles"] <= 2000 for e in c) and any(e["cell"] > 0 and e["triangles_full"] > 2000 for e in c), c
+PY
+# --static: today's page, no script; without three.js the same, with a warning and a note.
+out=$("$cli" -q report synthetic:noisy-sphere:48 -o "$work/static.html" --json "$work/static.json" --static 2>&1)
+[ $? -eq 0 ] && ! grep -qi "<script" "$work/static.html" && pass || fail "--static: $out"
+"$py" "$check_py" "$work/static.html" "$work/static.json" && pass || fail "report_check.py static"
+out=$(CLFRACTAL_THREE_DIR="$work/no-three" "$cli" -q report synthetic:noisy-sphere:48 -o "$work/nothree.html" \
+  --json "$work/nothree.json" 2>&1)
+[ $? -eq 0 ] && grep -q "warning: three.js .*libjs-three" <<<"$out" && ! grep -qi "<script" "$work/nothree.html" &&
+  grep -q "No interactive view" "$work/nothree.html" && pass || fail "without three.js: $out"
+"$py" "$check_py" "$work/nothree.html" "$work/nothree.json" && pass || fail "report_check.py nothree"
+# The structure check fails on an external reference, in a script or in an element.
+sed 's|<body>|<body><img src="https://example.org/x.png" alt="x">|' "$work/sphere.html" > "$work/bad-img.html"
+sed 's|<script id="report-script">|<script id="report-script">var u = "https://example.org/x.js";|' "$work/sphere.html" \
+  > "$work/bad-script.html"
+sed 's|<script id="report-script">|<script src="x.js"></script><script id="report-script">|' "$work/sphere.html" \
+  > "$work/bad-src.html"
+for bad in bad-img bad-script bad-src; do
+  "$py" "$check_py" "$work/$bad.html" "$work/sphere.json" >/dev/null && fail "report_check.py passes $bad" || pass
+done
+
 # Degenerate grids (no cube; one value everywhere): a page that says so, still checked.
 printf '\x00\x10' > "$work/line_2x1x1_uint8.raw"
 head -c 210 /dev/zero | tr '\0' '\003' > "$work/const_7x6x5_uint8.raw"
@@ -60,6 +97,9 @@ expect 2 "clfractal: error: .*no-such.nrrd" -- "$cli" -q report "$work/no-such.n
 [ ! -e "$work/bad.html" ] && pass || fail "bad input left $work/bad.html"
 expect 2 "clfractal: error: .*missing-dir" -- "$cli" -q report synthetic:sphere:16 -o "$work/missing-dir/r.html"
 expect 2 "clfractal: error: .*--window" -- "$cli" -q report synthetic:sphere:16 -o "$work/w.html" --window 3
+expect 2 "clfractal: error: .*--mesh-triangles" -- "$cli" -q report synthetic:sphere:16 -o "$work/w.html" --mesh-triangles 0
+expect 2 "clfractal: error: .*--mesh-triangles" -- "$cli" -q report synthetic:sphere:16 -o "$work/w.html" \
+  --mesh-triangles 300001
 [ ! -e "$work/w.html" ] && pass || fail "bad window left $work/w.html"
 
 echo "report: $passes passed, $failures failed"

@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "clfractal/advice.hpp"
@@ -21,6 +22,7 @@
 #include "cli.hpp"
 #include "output.hpp"
 #include "plots.hpp"
+#include "report_explore.hpp"
 #include "report_html.hpp"
 
 using namespace clfractal;
@@ -34,13 +36,45 @@ struct ReportArgs {
     double clean_fd = 2.2, clean_share = 0.01;
     int window = 8;
     std::size_t bins = 0;
+    std::size_t mesh_triangles = 50000;
+    bool static_page = false;
     RawArgs raw;
 };
 
 using clock_type = std::chrono::steady_clock;
 
 
-// One isovalue shown in pictures: its LD-coloured mesh and an axial slice.
+// The pictures of one isovalue: its LD field, the LD-coloured mesh, the busiest axial slice.
+struct Pictures {
+    Volume ld;
+    Mesh mesh;
+    std::size_t z = 0;
+    std::string slice_png;
+};
+
+Pictures pictures(Context& ctx, const Volume& v, double isovalue, const std::string& s, const std::string& role,
+                  int window) {
+    progress(role + " isovalue " + s + ": LD field, mesh, slice");
+    Pictures p;
+    p.ld = local_fractal_dimension(ctx, v, isovalue, window);
+    p.mesh = extract_isosurface(v, isovalue);
+    color_by_ld(p.mesh, p.ld);
+    p.z = busiest_slice(v, isovalue);
+    const SliceView sv = render_slice(v, p.z, isovalue, &p.ld);
+    ImageFigure sf;
+    sf.image = &sv.image;
+    sf.dx = v.spacing[0], sf.dy = v.spacing[1];
+    sf.axes = true;
+    sf.xlabel = "x", sf.ylabel = "y";
+    sf.title = role + ": axial slice z = " + std::to_string(p.z) + ", LD overlaid where defined";
+    sf.label = "isovalue " + s + ", z = " + std::to_string(p.z);
+    sf.lines = sv.contour;
+    sf.line_title = "contour f = " + s;
+    p.slice_png = image_figure(sf).png("report: slice at " + s);
+    return p;
+}
+
+// One isovalue shown in static pictures: its LD-coloured mesh and an axial slice.
 struct View {
     std::string role;  ///< "recommended (clean)", "noisiest well-populated"
     std::size_t index = 0;
@@ -49,45 +83,25 @@ struct View {
     json facts;
 };
 
-View make_view(Context& ctx, const Volume& v, const IsovalueSet& iso, std::size_t j, const std::string& role,
-               int window) {
+View make_view(const Pictures& p, const IsovalueSet& iso, std::size_t j, const std::string& role, int window) {
     View w;
     w.role = role;
     w.index = j;
     w.isovalue = iso.value(j);
     const std::string s = iso.text(j);
-    progress(role + " isovalue " + s + ": LD field, mesh, slice");
-    const Volume ld = local_fractal_dimension(ctx, v, w.isovalue, window);
-    const LocalSummary sum = summarize_local(ld);
-
-    Mesh mesh = extract_isosurface(v, w.isovalue);
-    color_by_ld(mesh, ld);
+    const LocalSummary sum = summarize_local(p.ld);
     RenderOptions ro;
     ro.width = 640, ro.height = 520;
-    const Image preview = render_mesh(mesh, ro);
-    mesh = Mesh();  // the pictures need only the image from here on
+    const Image preview = render_mesh(p.mesh, ro);
     ImageFigure mf;
     mf.image = &preview;
     mf.title = role + ": LD-coloured isosurface (marching cubes, window " + std::to_string(window) + ")";
     mf.label = "isovalue " + s;
     w.mesh_png = image_figure(mf).png("report: mesh preview at " + s);
-
-    const std::size_t z = busiest_slice(v, w.isovalue);
-    const SliceView sv = render_slice(v, z, w.isovalue, &ld);
-    ImageFigure sf;
-    sf.image = &sv.image;
-    sf.dx = v.spacing[0], sf.dy = v.spacing[1];
-    sf.axes = true;
-    sf.xlabel = "x", sf.ylabel = "y";
-    sf.title = role + ": axial slice z = " + std::to_string(z) + ", LD overlaid where defined";
-    sf.label = "isovalue " + s + ", z = " + std::to_string(z);
-    sf.lines = sv.contour;
-    sf.line_title = "contour f = " + s;
-    w.slice_png = image_figure(sf).png("report: slice at " + s);
-
+    w.slice_png = p.slice_png;
     w.facts = {{"role", role},
                {"isovalue", w.isovalue},
-               {"slice_z", z},
+               {"slice_z", p.z},
                {"ld_defined", sum.defined},
                {"ld_mean", fd_json(sum.defined ? sum.mean : NAN)},
                {"ld_above_red", sum.above_red}};
@@ -281,7 +295,7 @@ std::string view_section(const json& j, const View& w, std::size_t i) {
 }
 
 std::string build_html(const json& j, const std::string& fd_png, const std::string& comp_png,
-                       const std::vector<View>& views) {
+                       const std::vector<View>& views, const std::string& explore) {
     using html::escape;
     using html::number;
     std::ostringstream b;
@@ -298,7 +312,7 @@ std::string build_html(const json& j, const std::string& fd_png, const std::stri
     std::vector<std::string> s_views;
     for (std::size_t i = 0; i < views.size(); ++i) s_views.push_back(view_section(j, views[i], i));
     // The answer and the pictures first (what a screenshot shows), the tables after.
-    b << volume_section(j, name) << answer_section(j) << "<div class=\"pair\">" << fd_section(j, fd_png)
+    b << volume_section(j, name) << answer_section(j) << explore << "<div class=\"pair\">" << fd_section(j, fd_png)
       << s_components << "</div>\n";
     if (!s_views.empty()) b << s_views[0];
     b << recommended_section(j);
@@ -371,18 +385,69 @@ int run_report(const ReportArgs& a) {
         curve_plot(axis, {components_panel(an.components->components)}, title + ": isosurface components (cube)")
             .png("report: components plot");
 
-    std::vector<View> views;
+    // The isovalues shown: the best recommendation and the noisiest (static pictures too), then
+    // the other recommendations and a few across the well-populated range (interactive only).
+    std::vector<std::pair<std::size_t, std::string>> shown;
+    auto add = [&](std::size_t k, const std::string& role) {
+        for (const auto& e : shown)
+            if (e.first == k) return;
+        shown.emplace_back(k, role);
+    };
     if (!an.recommended.empty())
-        views.push_back(make_view(ctx, v, an.isovalues, an.best().index,
-                              an.clean ? "recommended (clean)" : "cleanest (" + std::string(verdict_name(an.best().verdict)) + ")",
-                              a.window));
-    if (an.noisiest && (an.recommended.empty() || an.noisiest->index != an.best().index))
-        views.push_back(make_view(ctx, v, an.isovalues, an.noisiest->index, "noisiest well-populated", a.window));
+        add(an.best().index,
+            an.clean ? "recommended (clean)" : "cleanest (" + std::string(verdict_name(an.best().verdict)) + ")");
+    if (an.noisiest) add(an.noisiest->index, "noisiest well-populated");
+    const std::size_t static_views = shown.size();
+
+    std::string why_static = a.static_page ? "--static" : "";
+    std::optional<explore::Three> three;
+    if (!a.static_page) {
+        three = explore::load_three(why_static);
+        if (!three)
+            std::cerr << "clfractal: warning: " << why_static << " (setup.sh installs libjs-three): the static page\n";
+    }
+    if (three) {
+        for (std::size_t r = 1; r < an.recommended.size() && r < 3; ++r)
+            add(an.recommended[r].index, "recommended " + std::to_string(r + 1));
+        const std::vector<std::uint64_t>& count = an.curve.counts[0];
+        const double floor_count = count.empty() ? 0.0 : a.clean_share * double(*std::max_element(count.begin(), count.end()));
+        std::vector<std::size_t> populated;
+        for (std::size_t k = 0; k < count.size(); ++k)
+            if (!std::isnan(an.curve.fd[k]) && count[k] > 0 && double(count[k]) >= floor_count) populated.push_back(k);
+        for (int q = 1; q <= 3 && !populated.empty(); ++q) add(populated[populated.size() * q / 4], "across the range");
+    }
+
+    std::vector<View> views;
+    std::vector<explore::Choice> choices;
+    for (std::size_t i = 0; i < shown.size(); ++i) {
+        const auto& [k, role] = shown[i];
+        const Pictures p = pictures(ctx, v, an.isovalues.value(k), an.isovalues.text(k), role, a.window);
+        if (i < static_views) views.push_back(make_view(p, an.isovalues, k, role, a.window));
+        if (three) {
+            explore::Choice c;
+            c.role = role, c.text = an.isovalues.text(k), c.isovalue = an.isovalues.value(k);
+            c.slice_z = p.z;
+            c.mesh = explore::web_mesh(p.mesh, a.mesh_triangles);
+            c.slice_png = p.slice_png;
+            choices.push_back(std::move(c));
+        }
+    }
     j["views"] = json::array();
     for (const View& w : views) j["views"].push_back(w.facts);
+    if (three) {
+        j["explore"] = {{"three", three->dir}, {"choices", json::array()}};
+        for (const explore::Choice& c : choices) j["explore"]["choices"].push_back(explore::facts(c));
+    } else {
+        j["explore"] = {{"static", why_static}};
+    }
     j["seconds"] = seconds_since(t0);
 
-    const std::string page = build_html(j, fd_png, comp_png, views);
+    std::string explore_html;
+    if (three && !choices.empty()) explore_html = explore::section(j, choices, *three);
+    else if (!a.static_page)
+        explore_html = "<p class=\"note\">No interactive view: " + html::escape(why_static) +
+                       " (setup.sh installs Debian's libjs-three).</p>\n";
+    const std::string page = build_html(j, fd_png, comp_png, views, explore_html);
     write_file_atomic(a.output, page);
     if (!a.json_path.empty()) write_file_atomic(a.json_path, j.dump(1) + "\n");
 
@@ -400,6 +465,9 @@ void setup_report(CLI::App* c, ReportArgs& a) {
     c->add_option("--clean-fd", a.clean_fd, "clean bands: D(s) at most this");
     c->add_option("--clean-share", a.clean_share, "clean bands: I(s) at least this share of the largest");
     add_window_option(c, a.window, "LD window k of the pictures");
+    c->add_option("--mesh-triangles", a.mesh_triangles, "most triangles of each mesh of the 3D view (clustered)")
+        ->check(CLI::Range(std::size_t(1), explore::max_triangles));
+    c->add_flag("--static", a.static_page, "the page without scripts: PNG figures only, no 3D view");
     a.raw.add(c);
 }
 

@@ -56,6 +56,14 @@ std::string page(const std::string& title, const std::string& body) {
            "img{max-width:100%;height:auto;border:1px solid #ddd}.pair{display:flex;gap:1em;flex-wrap:wrap}"
            ".pair figure,.pair>section{flex:1 1 520px;margin:0;min-width:0}figcaption{font-size:.9em;color:#555}\n"
            ".note{color:#555;font-size:.92em}.big{font-size:1.25em;font-weight:bold}\n"
+           "#view3d{width:100%;height:520px;border:1px solid #ddd}.switch button{margin:0 .4em .4em 0;padding:.3em .7em;"
+           "border:1px solid #1f5fa8;background:#fff;border-radius:3px;cursor:pointer}.switch button.on{background:#1f5fa8;"
+           "color:#fff}svg{width:100%;height:auto;border:1px solid #ddd;background:#fff}\n"
+           ".bar{display:inline-block;width:140px;height:.9em;vertical-align:middle;background:linear-gradient(to right,"
+           "rgb(0,0,255) 28.57%,rgb(255,0,0) 71.43%)}.undefined{display:inline-block;width:1.4em;height:.9em;"
+           "vertical-align:middle;background:rgb(128,128,128)}\n"
+           "#tip{position:absolute;background:#fffbe6;border:1px solid #aa8;padding:.2em .5em;font-size:.85em;"
+           "pointer-events:none;white-space:nowrap}\n"
            "</style>\n</head>\n<body>\n" +
            body + "</body>\n</html>\n";
 }

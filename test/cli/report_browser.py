@@ -1,0 +1,182 @@
+#!/usr/bin/env python3
+"""Opens `clfractal report` pages in headless Chromium over the DevTools protocol and checks
+the interactive view as a reader meets it.
+
+report_browser.py CHROMIUM REPORT_CHECK WORKDIR PAGE.html [PAGE.html ...]
+  for each page (file://, SwiftShader WebGL):
+  - it loads, and the 3D view has rendered its first isovalue;
+  - the WebGL canvas (screenshot of its rectangle) shows the LD colour map's red and blue
+    ends (report_check canvas: >= 0.5% each);
+  - there are >= 2 data-isovalue controls, and a real click on the second renders its
+    isovalue and changes >= 5% of the canvas;
+  - pointing at the D(s) plot shows the isovalue's numbers;
+  - no console error, no exception, and no request other than the page itself and data:.
+Exit 0 when all hold, 1 with one line per failure.
+"""
+import base64
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+import urllib.request
+
+import websocket
+
+failures = []
+
+
+def fail(msg):
+    failures.append(msg)
+    print("FAIL: " + msg, flush=True)
+
+
+class Tab:
+    def __init__(self, ws_url):
+        self.ws = websocket.create_connection(ws_url, timeout=30, suppress_origin=True)
+        self.next_id = 0
+        self.events = []
+
+    def call(self, method, **params):
+        self.next_id += 1
+        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
+        while True:
+            msg = json.loads(self.ws.recv())
+            if msg.get("id") == self.next_id:
+                if "error" in msg:
+                    raise RuntimeError("%s: %s" % (method, msg["error"]))
+                return msg.get("result", {})
+            self.events.append(msg)
+
+    def evaluate(self, expression):
+        r = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
+        if "exceptionDetails" in r:
+            raise RuntimeError("evaluate %s: %s" % (expression, r["exceptionDetails"].get("text")))
+        return r["result"].get("value")
+
+    def wait_for(self, expression, seconds):
+        end = time.time() + seconds
+        while time.time() < end:
+            if self.evaluate(expression):
+                return True
+            time.sleep(0.1)
+        return False
+
+    def shot(self, rect, path):
+        clip = dict(x=rect["x"], y=rect["y"], width=rect["width"], height=rect["height"], scale=1)
+        data = self.call("Page.captureScreenshot", format="png", clip=clip)["data"]
+        with open(path, "wb") as f:
+            f.write(base64.b64decode(data))
+
+    def click(self, x, y):
+        for kind in ("mouseMoved", "mousePressed", "mouseReleased"):
+            self.call("Input.dispatchMouseEvent", type=kind, x=x, y=y, button="left", clickCount=1)
+
+
+def canvas_rect(tab):
+    return tab.evaluate("(function(){var c=document.querySelector('#view3d canvas');c.scrollIntoView();"
+                        "var r=c.getBoundingClientRect();return {x:r.left+scrollX,y:r.top+scrollY,"
+                        "width:r.width,height:r.height};})()")
+
+
+def check_page(tab, check, page, work, name):
+    url = "file://" + os.path.realpath(page)
+    del tab.events[:]
+    tab.call("Page.navigate", url=url)
+    if not tab.wait_for("document.readyState === 'complete' && !!document.getElementById('view3d') && "
+                        "document.getElementById('view3d').dataset.rendered !== undefined", 20):
+        fail(name + ": the 3D view did not render")
+        return check_events(tab, name, url)
+    controls = tab.evaluate("Array.from(document.querySelectorAll('[data-isovalue]')).map(function(b){"
+                            "return b.dataset.isovalue;})")
+    first = tab.evaluate("document.getElementById('view3d').dataset.rendered")
+    if first != controls[0]:
+        fail(name + ": the view shows %r, the first control is %r" % (first, controls[0]))
+    a, b = os.path.join(work, name + "-first.png"), os.path.join(work, name + "-second.png")
+    rect = canvas_rect(tab)
+    tab.shot(rect, a)
+    if len(controls) < 2:
+        fail(name + ": %d data-isovalue controls, expected >= 2" % len(controls))
+    else:
+        box = tab.evaluate("(function(){var b=document.querySelectorAll('[data-isovalue]')[1];b.scrollIntoView();"
+                           "var r=b.getBoundingClientRect();return {x:r.left+r.width/2,y:r.top+r.height/2};})()")
+        tab.click(box["x"], box["y"])
+        if not tab.wait_for("document.getElementById('view3d').dataset.rendered === %s" % json.dumps(controls[1]), 10):
+            fail(name + ": clicking the second control did not render isovalue " + controls[1])
+        tab.shot(canvas_rect(tab), b)
+        r = subprocess.run([check, "canvas", a, b], capture_output=True, text=True)
+        print(name + ": " + r.stdout.strip(), flush=True)
+        if r.returncode != 0:
+            fail(name + ": report_check canvas")
+    # Pointing at the D(s) plot shows the numbers of an isovalue.
+    at = tab.evaluate("(function(){var s=document.getElementById('plot-fd');s.scrollIntoView();"
+                      "var r=s.getBoundingClientRect();return {x:r.left+r.width*0.5,y:r.top+r.height*0.5};})()")
+    tab.call("Input.dispatchMouseEvent", type="mouseMoved", x=at["x"], y=at["y"])
+    tip = tab.evaluate("document.getElementById('tip').hidden ? '' : document.getElementById('tip').textContent")
+    if not re.search(r"isovalue .* D = .* count I\(s\) = \d+ .*components = \d+ .*verdict: \w+ .*r\(s\) = ", tip or ""):
+        fail(name + ": pointing at the D(s) plot shows %r" % tip)
+    check_events(tab, name, url)
+
+
+def check_events(tab, name, url):
+    """No exception, console error or log error, no request but the page and data: URIs."""
+    tab.call("Runtime.evaluate", expression="0")
+    for e in tab.events:
+        method, p = e.get("method"), e.get("params", {})
+        if method == "Runtime.exceptionThrown":
+            fail(name + ": exception " + json.dumps(p.get("exceptionDetails", {}))[:300])
+        elif method == "Runtime.consoleAPICalled" and p.get("type") in ("error", "assert"):
+            fail(name + ": console error " + json.dumps(p.get("args"))[:300])
+        elif method == "Log.entryAdded" and p.get("entry", {}).get("level") == "error":
+            fail(name + ": log error " + p["entry"].get("text", "")[:300])
+        elif method == "Network.requestWillBeSent":
+            u = p.get("request", {}).get("url", "")
+            if u != url and not u.startswith("data:"):
+                fail(name + ": a request to " + u[:120])
+
+
+def main():
+    browser, check, work = sys.argv[1:4]
+    pages = sys.argv[4:]
+    os.makedirs(work, exist_ok=True)
+    env = dict(os.environ, HOME=os.path.join(work, "home"))
+    proc = subprocess.Popen([browser, "--headless", "--no-sandbox", "--use-angle=swiftshader",
+                             "--enable-unsafe-swiftshader", "--hide-scrollbars", "--no-first-run",
+                             "--window-size=1200,1400", "--remote-debugging-port=0",
+                             "--user-data-dir=" + os.path.join(work, "profile"), "about:blank"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        port = None
+        end = time.time() + 30
+        while time.time() < end and port is None:
+            line = proc.stderr.readline()
+            if not line and proc.poll() is not None:
+                break
+            m = re.search(r"DevTools listening on ws://127\.0\.0\.1:(\d+)/", line)
+            if m:
+                port = int(m.group(1))
+        if port is None:
+            fail("chromium did not open its DevTools port")
+            return 1
+        targets = json.load(urllib.request.urlopen("http://127.0.0.1:%d/json/list" % port, timeout=10))
+        page_target = [t for t in targets if t.get("type") == "page"][0]
+        tab = Tab(page_target["webSocketDebuggerUrl"])
+        for domain in ("Page", "Runtime", "Log", "Network"):
+            tab.call(domain + ".enable")
+        for page in pages:
+            t0 = time.time()
+            check_page(tab, check, page, work, os.path.splitext(os.path.basename(page))[0])
+            print("%s: checked in %.1f s" % (page, time.time() - t0), flush=True)
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+    print("browser: %d pages, %d failures" % (len(pages), len(failures)))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
