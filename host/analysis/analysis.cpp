@@ -14,6 +14,7 @@
 #include "clfractal/error.hpp"
 #include "clfractal/filter.hpp"
 #include "clfractal/small_components.hpp"
+#include "device/name_table.hpp"
 
 namespace clfractal {
 
@@ -321,15 +322,19 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
 
 }  // namespace
 
-const char* verdict_name(Verdict v) {
-    switch (v) {
-        case Verdict::clean: return "clean";
-        case Verdict::rough: return "rough";
-        case Verdict::noisy: return "noisy";
-        case Verdict::undefined: return "undefined";
-    }
-    return "undefined";
-}
+template <> struct detail::NameTable<Verdict> {
+    static constexpr const char* what = "verdict";
+    static constexpr std::pair<Verdict, const char*> names[] = {
+        {Verdict::clean, "clean"}, {Verdict::rough, "rough"}, {Verdict::noisy, "noisy"}, {Verdict::undefined, "undefined"}};
+};
+template <> struct detail::NameTable<ComponentsScope> {
+    static constexpr const char* what = "components";
+    static constexpr std::pair<ComponentsScope, const char*> names[] = {
+        {ComponentsScope::none, "none"}, {ComponentsScope::recommended, "recommended"}, {ComponentsScope::curve, "curve"}};
+};
+
+const char* verdict_name(Verdict v) { return variant_name(v); }
+ComponentsScope parse_components_scope(const std::string& name) { return parse_variant<ComponentsScope>(name); }
 
 Verdict verdict_of(double fd, const AdviceOptions& o) {
     if (std::isnan(fd)) return Verdict::undefined;

@@ -100,6 +100,9 @@ enum class ComponentsScope {
     curve         ///< the whole component curve
 };
 
+/// "none", "recommended" or "curve"; InputError naming every choice for another name.
+ComponentsScope parse_components_scope(const std::string& name);
+
 struct AnalysisOptions {
     AdviceOptions advice;
     SpanKind kind = SpanKind::cubes;  ///< the curve: box (cubes) or edge span dimension

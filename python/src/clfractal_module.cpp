@@ -414,10 +414,7 @@ std::string analyse_call(const InArray& a, const std::string& type, double clean
     o.advice.noisy_fd = noisy_fd;
     o.advice.clean_share = clean_share;
     o.bins = bins;
-    if (components == "none") o.components = ComponentsScope::none;
-    else if (components == "recommended") o.components = ComponentsScope::recommended;
-    else if (components == "curve") o.components = ComponentsScope::curve;
-    else throw InputError("components: one of none, recommended, curve, not " + components);
+    o.components = parse_components_scope(components);
     o.noise_level = o.surface_noise = noise_level;
     o.fd4 = fd4;
     o.denoise = denoise;
