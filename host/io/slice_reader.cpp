@@ -62,7 +62,9 @@ struct SliceReader::Impl {
     std::size_t slice_values() const { return dims.nx * dims.ny; }
     std::size_t slice_bytes() const { return slice_values() * value_size(type); }
 
-    Impl(const std::string& s, const RawOptions& raw) : spec(s) {
+    bool peek = false;   // the header only: nothing read whole, no file opened for reading
+
+    Impl(const std::string& s, const RawOptions& raw, bool peek_only = false) : spec(s), peek(peek_only) {
         const std::string synthetic_prefix = "synthetic:";
         if (spec.compare(0, synthetic_prefix.size(), synthetic_prefix) == 0) {
             read_whole(raw);
@@ -84,12 +86,13 @@ struct SliceReader::Impl {
         geometry.spacing = spacing;
         if (method == "memory") return;  // read whole (and converted) by read_volume
         type = raw.as.value_or(file_type);
-        open();
+        if (!peek) open();
     }
 
     ~Impl() { close(); }
 
     void read_whole(const RawOptions& raw) {
+        if (peek) return;  // method stays "memory": the shape is known only once read
         whole = read_volume(spec, raw);
         dims = whole.dims();
         type = whole.type();
@@ -288,6 +291,12 @@ struct SliceReader::Impl {
 };
 
 SliceReader::SliceReader(const std::string& spec, const RawOptions& raw) : impl_(std::make_unique<Impl>(spec, raw)) {}
+
+std::optional<VolumeShape> peek_volume(const std::string& spec, const RawOptions& raw) {
+    const SliceReader::Impl header(spec, raw, true);
+    if (header.method == "memory") return {};
+    return VolumeShape{header.dims, header.type};
+}
 SliceReader::~SliceReader() = default;
 const Dims& SliceReader::dims() const { return impl_->dims; }
 ValueType SliceReader::type() const { return impl_->type; }

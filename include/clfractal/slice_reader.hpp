@@ -7,13 +7,22 @@
 #pragma once
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "clfractal/volume.hpp"
 #include "clfractal/volume_io.hpp"
 
 namespace clfractal {
+
+/// The size and value type of a volume, as its header states them.
+struct VolumeShape {
+    Dims dims;
+    ValueType type = ValueType::uint8;
+    std::uint64_t bytes() const { return std::uint64_t(dims.vertices()) * value_size(type); }
+};
 
 class SliceReader {
 public:
@@ -45,9 +54,16 @@ public:
 
 private:
     friend class SliceWriter;
+    friend std::optional<VolumeShape> peek_volume(const std::string&, const RawOptions&);
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
+
+/// The shape of `spec` when its header states it without reading the data: raw files (named
+/// or with RawOptions), NRRD with one raw or gzip data file, DICOM series and TIFF stacks,
+/// with RawOptions::as applied. Empty for inputs that are read whole to learn it (NIfTI,
+/// MetaImage, synthetic:, NRRD with skips). Throws the header's InputErrors, as SliceReader.
+std::optional<VolumeShape> peek_volume(const std::string& spec, const RawOptions& raw = {});
 
 /// Writes a NRRD (attached header, raw encoding, native endianness) slice by slice to a
 /// temporary name beside `path`, renamed into place by close() once every slice is in; if

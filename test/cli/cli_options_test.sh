@@ -103,5 +103,30 @@ for c in info fd local mesh smooth filter components fd4 local4; do
     grep -qE -- '--spacing TEXT=1,1,1' "help_$c.txt" && pass || fail "$c --help lacks the shared raw options"
 done
 
+# ---- The memory check before work: a volume whose command would need more memory than is
+# available is one error line naming the file, the command and the sizes, exit 2, no output;
+# before reading where the header states the size (raw), once read otherwise (synthetic:).
+python3 -c "open('mem_64x64x64_uint16.raw', 'wb').write(bytes(64 * 64 * 64 * 2))" || fail "python3 could not write the raw file"
+for cmd in "fd" "components" "local --iso 1 -o mem_out.nrrd" "smooth --iso 1 --threshold 2.5 -o mem_out.nrrd" \
+           "filter --median -o mem_out.nrrd" "mesh --iso 1 -o mem_out.ply" "report -o mem_out.html" "fd4"; do
+  # shellcheck disable=SC2086
+  set -- $cmd
+  name=$1
+  shift
+  rm -f mem_out.*
+  out=$(CLFRACTAL_MEMORY_LIMIT=200M "$bin" "$name" mem_64x64x64_uint16.raw "$@" 2>&1)
+  rc=$?
+  [ $rc -eq 2 ] && [ "$(wc -l <<<"$out")" -eq 1 ] &&
+    grep -qE "^clfractal: error: mem_64x64x64_uint16.raw: clfractal $name needs about [0-9.]+ MiB of memory \([0-9.]+x the 512.0 KiB volume \+ 256 MiB\), but 200.0 MiB is available" <<<"$out" &&
+    ! ls mem_out.* >/dev/null 2>&1 && pass || fail "$name under CLFRACTAL_MEMORY_LIMIT=200M: rc $rc: $out"
+done
+expect 2 'synthetic:sphere:40: clfractal components needs about 256.2 MiB of memory \(4x the 62.5 KiB volume \+ 256 MiB\), but 1.1 MiB is available' -- \
+  env CLFRACTAL_MEMORY_LIMIT=1M "$bin" components synthetic:sphere:40
+expect 2 'fd --stream counts within 512 MiB' -- env CLFRACTAL_MEMORY_LIMIT=1M "$bin" fd mem_64x64x64_uint16.raw
+expect 0 'mem_64x64x64_uint16.raw' -- env CLFRACTAL_MEMORY_LIMIT=1M "$bin" fd --stream mem_64x64x64_uint16.raw
+expect 2 'CLFRACTAL_MEMORY_LIMIT: expected a byte count' -- env CLFRACTAL_MEMORY_LIMIT=lots "$bin" fd mem_64x64x64_uint16.raw
+expect 0 'mem_64x64x64_uint16.raw' -- env CLFRACTAL_MEMORY_LIMIT=1T "$bin" fd mem_64x64x64_uint16.raw
+expect 0 'mem_64x64x64_uint16.raw' -- env CLFRACTAL_MEMORY_LIMIT=off "$bin" fd mem_64x64x64_uint16.raw
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

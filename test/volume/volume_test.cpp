@@ -5,12 +5,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "clfractal/memory.hpp"
 #include "clfractal/volume.hpp"
 #include "test_util.hpp"
 
@@ -192,6 +195,39 @@ TEST_CASE("value stats: one pass finds the finite range and counts NaN and Inf, 
     const ValueStats none = value_stats(nullptr, ValueType::float32, 0);
     CHECK(none.min == 0);
     CHECK(none.nan == 0);
+}
+
+TEST_CASE("memory: byte counts, sizes and the check before work") {
+    CHECK(parse_byte_count("4096", "x") == 4096u);
+    CHECK(parse_byte_count("512M", "x") == 512ull << 20);
+    CHECK(parse_byte_count("512 MiB", "x") == 512ull << 20);
+    CHECK(parse_byte_count("1.5G", "x") == 3ull << 29);
+    CHECK(parse_byte_count("2t", "x") == 2ull << 40);
+    for (const char* bad : {"", "lots", "-1", "5X", "1e30", "nan", "4 4"})
+        CHECK_THROWS_WITH_AS(parse_byte_count(bad, "LIMIT"), doctest::Contains("LIMIT: expected a byte count"), InputError);
+    CHECK(byte_size_string(999) == "999 bytes");
+    CHECK(byte_size_string(512ull << 20) == "512.0 MiB");
+    CHECK(byte_size_string((3ull << 30) + (1ull << 29)) == "3.5 GiB");
+    // Linux always states MemAvailable; the machine running the tests has some.
+    unsetenv("CLFRACTAL_MEMORY_LIMIT");
+    const auto room = available_memory();
+    REQUIRE(room.has_value());
+    CHECK(*room > (std::uint64_t(16) << 20));
+    CHECK_NOTHROW(require_memory({1, 0, "v.nrrd", "clfractal fd", "", ""}));
+    setenv("CLFRACTAL_MEMORY_LIMIT", "64M", 1);
+    CHECK(available_memory() == std::optional<std::uint64_t>(64ull << 20));
+    CHECK_NOTHROW(require_memory({64ull << 20, 0, "v.nrrd", "clfractal fd", "", ""}));
+    CHECK_NOTHROW(require_memory({80ull << 20, 16ull << 20, "v.nrrd", "clfractal fd", "", ""}));
+    CHECK_THROWS_WITH_AS(require_memory({(64ull << 20) + 1, 0, "v.nrrd", "clfractal fd", "the rule", "try --stream"}),
+                         "v.nrrd: clfractal fd needs about 64.0 MiB of memory (the rule), but 64.0 MiB is available "
+                         "(try --stream)",
+                         InputError);
+    CHECK_THROWS_WITH_AS(require_memory({100ull << 20, 16ull << 20, "v\n.nrrd", "clfractal fd", "", ""}),
+                         "v?.nrrd: clfractal fd needs about 100.0 MiB of memory, but 80.0 MiB is available", InputError);
+    setenv("CLFRACTAL_MEMORY_LIMIT", "off", 1);
+    CHECK_FALSE(available_memory().has_value());
+    CHECK_NOTHROW(require_memory({~std::uint64_t(0), 0, "v.nrrd", "clfractal fd", "", ""}));
+    unsetenv("CLFRACTAL_MEMORY_LIMIT");
 }
 
 }  // TEST_SUITE("volume")

@@ -12,6 +12,8 @@
 
 #include "clfractal/error.hpp"
 #include "clfractal/local.hpp"
+#include "clfractal/memory.hpp"
+#include "clfractal/slice_reader.hpp"
 #include "device/slab_plan.hpp"
 #include "clfractal/volume.hpp"
 
@@ -210,8 +212,37 @@ void add_volume_and_iso(CLI::App* app, std::string& volume, double& iso, const s
     add_iso_option(app, iso, what)->required();
 }
 
-Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso) {
-    Volume v = read_volume(volume, raw.options());
+std::uint64_t MemoryNeed::bytes(std::uint64_t volume_bytes) const {
+    return std::uint64_t(factor * double(volume_bytes)) + (std::uint64_t(256) << 20);
+}
+
+namespace {
+
+void require_volume_memory(const std::string& volume, const MemoryNeed& need, std::uint64_t volume_bytes,
+                           std::uint64_t held) {
+    char factor[16];
+    std::snprintf(factor, sizeof factor, "%g", need.factor);
+    MemoryRequest r;
+    r.need = need.bytes(volume_bytes), r.held = held;
+    r.file = volume, r.what = need.command;
+    r.basis = std::string(factor) + "x the " + byte_size_string(volume_bytes) + " volume + 256 MiB";
+    r.hint = std::string(need.hint) + (*need.hint ? "; " : "") + "CLFRACTAL_MEMORY_LIMIT=off runs it anyway";
+    require_memory(r);
+}
+
+}  // namespace
+
+Volume read_volume_within(const std::string& volume, const RawOptions& raw, const MemoryNeed& need,
+                          FiniteCheck finite) {
+    const std::optional<VolumeShape> shape = peek_volume(volume, raw);
+    if (shape) require_volume_memory(volume, need, shape->bytes(), 0);
+    Volume v = read_volume(volume, raw, finite);
+    if (!shape) require_volume_memory(volume, need, v.size_bytes(), v.size_bytes());
+    return v;
+}
+
+Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso, const MemoryNeed& need) {
+    Volume v = read_volume_within(volume, raw.options(), need);
     iso = checked_isovalue(v, iso);
     return v;
 }

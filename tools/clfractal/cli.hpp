@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -76,7 +77,22 @@ CLI::Option* add_volume_argument(CLI::App* app, std::string& volume);
 void add_volume_and_iso(CLI::App* app, std::string& volume, double& iso, const std::string& what);
 
 /// Reads `volume` as `raw` says and resolves `iso` for it (checked_isovalue: auto, warnings).
-clfractal::Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso);
+/// The host memory a command takes at most (docs/definitions.md §36): `factor` times the
+/// volume's bytes plus 256 MiB; `hint` says what to do instead when it is not available.
+struct MemoryNeed {
+    const char* command;  ///< "clfractal components"
+    double factor = 4.0;
+    const char* hint = "";
+    std::uint64_t bytes(std::uint64_t volume_bytes) const;
+};
+/// read_volume, refused with an InputError naming the file and the size `need` asks for when
+/// the machine does not have it: before reading where the header states the shape
+/// (peek_volume), else once read and before any work.
+clfractal::Volume read_volume_within(const std::string& volume, const clfractal::RawOptions& raw, const MemoryNeed& need,
+                                     clfractal::FiniteCheck finite = clfractal::FiniteCheck::reject);
+/// read_volume_within with `need`, then the isovalue checked against the volume.
+clfractal::Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso,
+                                          const MemoryNeed& need);
 
 /// -o/--output FILE (required): the file a command writes; `what` says which formats.
 CLI::Option* add_output_option(CLI::App* app, std::string& output, const std::string& what);

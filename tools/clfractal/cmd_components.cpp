@@ -71,7 +71,7 @@ int verify_components(const Volume& v, const IsovalueSet& iso, Connectivity mode
 }
 
 int run_components(const ComponentsArgs& a) {
-    Volume v = read_volume(a.volume, a.raw.options());
+    Volume v = read_volume_within(a.volume, a.raw.options(), {"clfractal components"});
     const Connectivity mode = parse_connectivity(a.connectivity);
     if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");

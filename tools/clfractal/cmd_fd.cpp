@@ -92,7 +92,9 @@ FdRun count_fd(const FdArgs& a) {
         // The finite check and the value range in one pass (read_volume checks by itself
         // only before a --as conversion).
         const bool convert = a.raw.options().as.has_value();
-        const Volume v = read_volume(a.volume, a.raw.options(), convert ? FiniteCheck::reject : FiniteCheck::keep);
+        const Volume v = read_volume_within(a.volume, a.raw.options(),
+                                           {"clfractal fd", 1.25, "clfractal fd --stream counts within 512 MiB"},
+                                           convert ? FiniteCheck::reject : FiniteCheck::keep);
         const ValueStats stats = value_stats(v);
         if (stats.nan + stats.inf) check_finite(v, a.volume);
         r.dims = v.dims();

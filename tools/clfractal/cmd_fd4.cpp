@@ -23,7 +23,7 @@ struct Fd4Args {
 };
 
 int run_fd4(const Fd4Args& a) {
-    Volume v = read_volume(a.volume, a.raw.options());
+    Volume v = cli::read_volume_within(a.volume, a.raw.options(), {"clfractal fd4"});
     Context& ctx = Context::shared();
     cli::progress("4D fractal dimension of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " +
                   ctx.description());
@@ -55,7 +55,7 @@ int run_fd4(const Fd4Args& a) {
 }
 
 int run_local4(const Fd4Args& a) {
-    Volume v = read_volume(a.volume, a.raw.options());
+    Volume v = cli::read_volume_within(a.volume, a.raw.options(), {"clfractal local4"});
     Context& ctx = Context::shared();
     const double q = a.q ? a.q : default_bin_width(v);
     cli::progress("local 4D fractal dimension of " + dims_string(v.dims()) + " " + value_type_name(v.type()) +

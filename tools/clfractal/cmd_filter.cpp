@@ -283,7 +283,7 @@ void check_small_components_options(const FilterArgs& a, CLI::App* app) {
 int run_small_components(FilterArgs a, CLI::App* app) {
     check_small_components_options(a, app);
     const SmallComponentsConnectivity mode = parse_small_components_connectivity(a.connectivity);
-    Volume v = read_volume(a.volume, a.raw.options());
+    Volume v = cli::read_volume_within(a.volume, a.raw.options(), {"clfractal filter"});
     a.iso = cli::checked_isovalue(v, a.iso);
     Context& ctx = Context::shared();
     const cli::ReportVolume input(ctx, v);
@@ -354,7 +354,7 @@ int run_filter(FilterArgs a, CLI::App* app) {
     check_filter_options(a, spec, app);
     if (a.stream) return run_filter_stream(a, spec);
 
-    Volume v = read_volume(a.volume, a.raw.options());
+    Volume v = cli::read_volume_within(a.volume, a.raw.options(), {"clfractal filter"});
     if (!std::isnan(a.iso)) a.iso = cli::checked_isovalue(v, a.iso);
     Context& ctx = Context::shared();
     const bool at_iso = !std::isnan(a.iso);

@@ -31,7 +31,7 @@ int cmd_local(LocalArgs a) {
         if (is_auto_isovalue(a.iso)) throw InputError("--iso auto: not with --stream (it needs the whole curve first)");
         return cmd_local_stream(a.volume, a.raw.options(), a.iso, a.window, a.output);
     }
-    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso);
+    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso, {"clfractal local", 4.0, "clfractal local --stream works within 512 MiB"});
     Context& ctx = Context::shared();
     progress("local fractal dimension of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + ", window " +
              std::to_string(a.window) + ", on " + ctx.description());

@@ -30,7 +30,7 @@ struct MeshArgs {
 
 int cmd_mesh(MeshArgs a) {
     const MeshMethod method = parse_mesh_method(a.method);
-    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso);
+    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso, {"clfractal mesh"});
     using clock = std::chrono::steady_clock;
 
     auto t = clock::now();

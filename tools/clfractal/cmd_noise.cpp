@@ -91,7 +91,7 @@ NoiseInput noise_input(const NoiseArgs& a) {
     NoiseInput in;
     if (real) {
         if (!std::isfinite(a.iso) && !cli::is_auto_isovalue(a.iso)) throw InputError("--iso: must be a finite number");
-        in.clean = read_volume(a.volume, a.raw.options());
+        in.clean = cli::read_volume_within(a.volume, a.raw.options(), {"clfractal noise"});
         if (cli::is_auto_isovalue(a.iso)) throw InputError("--iso auto: not with noise --volume; give --iso S");
         cli::warn_isovalue_outside(in.clean, a.iso);
         in.gamma = a.gamma;

@@ -352,7 +352,7 @@ void print_summary(const ReportArgs& a, const Volume& v, const Analysis& an, std
 
 int run_report(const ReportArgs& a) {
     const auto t0 = clock_type::now();
-    Volume v = read_volume(a.volume, a.raw.options());
+    Volume v = read_volume_within(a.volume, a.raw.options(), {"clfractal report"});
     if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue");
     Context& ctx = Context::shared();

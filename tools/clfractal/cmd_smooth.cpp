@@ -28,7 +28,7 @@ struct SmoothArgs {
 int run_smooth(SmoothArgs a) {
     const SmoothVariant variant = parse_smooth_variant(a.variant);
     if (!std::isfinite(a.threshold)) throw InputError("--threshold: must be a finite number");
-    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso);
+    Volume v = read_volume_at_isovalue(a.volume, a.raw, a.iso, {"clfractal smooth"});
     Context& ctx = Context::shared();
     progress("smooth isosurface of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " (" +
              smooth_variant_name(variant) + "), window " + std::to_string(a.window) + ", on " + ctx.description());
