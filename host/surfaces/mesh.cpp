@@ -316,8 +316,10 @@ constexpr std::size_t max_mesh_elements = std::size_t(std::numeric_limits<std::i
 // per-slice arrays that roll with the layer, so memory is O(nx ny), not O(edges):
 // `lower`/`upper` hold the edges within slice z / z + 1 (directions x, y, x+y), `across`
 // those from slice z to z + 1 (z, x+z, y+z, x+y+z).
+// Cube layers z0 <= z < z1 only (a slab of the volume).
 template <class T>
-Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& spacing, const CaseTable& table) {
+Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& spacing, const CaseTable& table,
+             std::size_t z0, std::size_t z1) {
     Mesh mesh;
     const std::size_t nx = d.nx, ny = d.ny, plane = nx * ny;
     std::vector<std::uint8_t> sign_lower(plane), sign_upper(plane);
@@ -347,8 +349,8 @@ Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& s
         return id;
     };
 
-    fill_signs(sign_lower, 0);
-    for (std::size_t z = 0; z + 1 < d.nz; ++z) {
+    fill_signs(sign_lower, z0);
+    for (std::size_t z = z0; z + 1 < d.nz && z < z1; ++z) {
         fill_signs(sign_upper, z + 1);
         std::fill(upper.begin(), upper.end(), no_vertex);
         std::fill(across.begin(), across.end(), no_vertex);
@@ -387,13 +389,17 @@ CLFRACTAL_NAME_TABLE(MeshMethod)
 
 MeshMethod parse_mesh_method(const std::string& name) { return parse_variant<MeshMethod>(name); }
 
-Mesh extract_isosurface(const Volume& v, double s, MeshMethod method) {
+Mesh extract_isosurface_layers(const Volume& v, double s, std::size_t z0, std::size_t z1, MeshMethod method) {
     if (!std::isfinite(s)) throw InputError("isovalue must be a finite number");
     const Dims& d = v.dims();
-    if (d.nx < 2 || d.ny < 2 || d.nz < 2) return {};
+    if (d.nx < 2 || d.ny < 2 || d.nz < 2 || z0 >= z1 || z0 + 1 >= d.nz) return {};
     if (v.type() == ValueType::float32) s = double(float(s));
     const CaseTable& table = case_table(method);
-    return visit(v, [&](const auto* p) { return extract(p, d, s, v.spacing, table); });
+    return visit(v, [&](const auto* p) { return extract(p, d, s, v.spacing, table, z0, z1); });
+}
+
+Mesh extract_isosurface(const Volume& v, double s, MeshMethod method) {
+    return extract_isosurface_layers(v, s, 0, v.dims().nz, method);
 }
 
 std::vector<float> interpolate_on_vertices(const Mesh& mesh, const Volume& field) {

@@ -66,6 +66,12 @@ struct Mesh {
 /// axis of fewer than 2 vertices has no cubes: the mesh is then empty. Throws InputError when
 /// the mesh would exceed 2^31 - 1 vertices or triangles (the PLY index type).
 Mesh extract_isosurface(const Volume& v, double s, MeshMethod method = MeshMethod::marching_cubes);
+/// The part of extract_isosurface(v, s) in the cube layers z0 <= z < z1 (layer z joins slices z
+/// and z + 1): the same vertices (positions, edge points) and triangles, in the same order, as
+/// the whole mesh has there; a vertex on slice z0 or z1 shared with a neighbouring slab is in
+/// both parts. Consecutive slabs [0, a), [a, b), ... together give the whole mesh.
+Mesh extract_isosurface_layers(const Volume& v, double s, std::size_t z0, std::size_t z1,
+                               MeshMethod method = MeshMethod::marching_cubes);
 /// The same for a device volume (meshing runs on the host: the values are downloaded).
 Mesh extract_isosurface(const DeviceVolume& v, double s, MeshMethod method = MeshMethod::marching_cubes);
 

@@ -67,6 +67,28 @@ import json, sys
 c = json.load(open(sys.argv[1]))["explore"]["choices"]
 assert all(e["triangles"] <= 2000 for e in c) and any(e["cell"] > 0 and e["triangles_full"] > 2000 for e in c), c
 PY
+# A surface of more than 2^20 cubes is clustered as it is extracted (definitions §37): a
+# gyroid of period 10 on 128^3 (about 2 million triangles at mid-range isovalues).
+"$py" -c "
+import math
+n = 128
+s = [math.sin(2 * math.pi * i / 10) for i in range(n)]
+c = [math.cos(2 * math.pi * i / 10) for i in range(n)]
+out = bytearray()
+for z in range(n):
+    for y in range(n):
+        out += bytes(min(255, max(0, round(127.5 + 80 * (s[x] * c[y] + s[y] * c[z] + s[z] * c[x])))) for x in range(n))
+open('$work/gyroid_128x128x128_uint8.raw', 'wb').write(out)" &&
+"$cli" -q report "$work/gyroid_128x128x128_uint8.raw" -o "$work/gyroid.html" --json "$work/gyroid.json" \
+  --mesh-triangles 5000 >/dev/null &&
+"$py" - "$work/gyroid.json" <<'PY' && pass || fail "gyroid 128^3: large surfaces clustered within the budget"
+import json, sys
+c = json.load(open(sys.argv[1]))["explore"]["choices"]
+big = [e for e in c if e["triangles_full"] > 1500000]
+assert big and all(0 < e["triangles"] <= 5000 for e in c), c
+assert all(e["cell"] > 0 and e["vertices"] > 100 for e in big), big
+PY
+"$py" "$check_py" "$work/gyroid.html" "$work/gyroid.json" && pass || fail "report_check.py gyroid"
 # --static: today's page, no script; without three.js the same, with a warning and a note.
 out=$("$cli" -q report synthetic:noisy-sphere:48 -o "$work/static.html" --json "$work/static.json" --static 2>&1)
 [ $? -eq 0 ] && ! grep -qi "<script" "$work/static.html" && pass || fail "--static: $out"

@@ -18,6 +18,7 @@
 #include "clfractal/fd4.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/mesh.hpp"
+#include "clfractal/mesh_cluster.hpp"
 #include "clfractal/render.hpp"
 #include "cli.hpp"
 #include "output.hpp"
@@ -47,18 +48,51 @@ using clock_type = std::chrono::steady_clock;
 // The pictures of one isovalue: its LD field, the LD-coloured mesh, the busiest axial slice.
 struct Pictures {
     Volume ld;
+    /// The static preview's mesh: the whole LD-coloured surface, or its clusters (at most
+    /// preview_triangles) when the surface is large.
     Mesh mesh;
+    /// The 3D view's mesh when the surface was clustered here (within the view's budget).
+    std::optional<Mesh> web;
+    std::uint64_t triangles_full = 0;
+    double web_cell = 0;
     std::size_t z = 0;
     std::string slice_png;
 };
 
-Pictures pictures(Context& ctx, const Volume& v, double isovalue, const std::string& s, const std::string& role,
-                  int window) {
+// A surface of more cubes than this is clustered as it is extracted, never held whole (about
+// 100 bytes per cube whole).
+constexpr std::uint64_t whole_surface_cubes = std::uint64_t(1) << 20;
+constexpr std::size_t preview_triangles = 300000;
+
+// The LD-coloured surface of `cubes` intersected cubes: whole when small; else clustered slab
+// by slab with cells that leave about 16 times the view's budget (a cube holds about 1.5 units
+// of surface, a cluster about two triangles), then coarsened to the preview's and the view's
+// budgets (docs/definitions.md §37).
+void surface(const Volume& v, double isovalue, std::uint64_t cubes, std::size_t budget, Pictures& p) {
+    if (cubes <= whole_surface_cubes) {
+        p.mesh = extract_isosurface(v, isovalue);
+        color_by_ld(p.mesh, p.ld);
+        p.triangles_full = p.mesh.triangles.size();
+        return;
+    }
+    const double unit = std::cbrt(v.spacing[0] * v.spacing[1] * v.spacing[2]);
+    const double cell = unit * std::max(0.5, std::sqrt(double(cubes) / (12.0 * double(budget))));
+    const MeshClusters fine = cluster_isosurface(v, isovalue, cell, &p.ld);
+    std::uint32_t factor = 1;
+    p.mesh = bounded_mesh(fine, preview_triangles);
+    p.web = bounded_mesh(fine, budget, &factor);
+    p.triangles_full = fine.input_triangles();
+    p.web_cell = fine.cell() * factor;
+}
+
+Pictures pictures(Context& ctx, const Volume& v, const Analysis& an, std::size_t k, const std::string& role,
+                  int window, std::size_t budget) {
+    const double isovalue = an.isovalues.value(k);
+    const std::string s = an.isovalues.text(k);
     progress(role + " isovalue " + s + ": LD field, mesh, slice");
     Pictures p;
     p.ld = local_fractal_dimension(ctx, v, isovalue, window);
-    p.mesh = extract_isosurface(v, isovalue);
-    color_by_ld(p.mesh, p.ld);
+    surface(v, isovalue, an.curve.counts[0][k], budget, p);
     p.z = busiest_slice(v, isovalue);
     const SliceView sv = render_slice(v, p.z, isovalue, &p.ld);
     ImageFigure sf;
@@ -421,13 +455,14 @@ int run_report(const ReportArgs& a) {
     std::vector<explore::Choice> choices;
     for (std::size_t i = 0; i < shown.size(); ++i) {
         const auto& [k, role] = shown[i];
-        const Pictures p = pictures(ctx, v, an.isovalues.value(k), an.isovalues.text(k), role, a.window);
+        const Pictures p = pictures(ctx, v, an, k, role, a.window, a.mesh_triangles);
         if (i < static_views) views.push_back(make_view(p, an.isovalues, k, role, a.window));
         if (three) {
             explore::Choice c;
             c.role = role, c.text = an.isovalues.text(k), c.isovalue = an.isovalues.value(k);
             c.slice_z = p.z;
-            c.mesh = explore::web_mesh(p.mesh, a.mesh_triangles);
+            c.mesh = explore::web_mesh(p.web ? *p.web : p.mesh, a.mesh_triangles);
+            if (p.web) c.mesh.triangles_full = p.triangles_full, c.mesh.cell = p.web_cell;
             c.slice_png = p.slice_png;
             choices.push_back(std::move(c));
         }
