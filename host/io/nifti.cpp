@@ -191,6 +191,20 @@ NimPtr read_header(const std::string& path, const std::string& name) {
     return nim;
 }
 
+/// nifti_image_load, keeping NaN and Inf: nifticlib's nifti_read_buffer replaces every
+/// non-finite float32/float64 value with 0, so float data are loaded under the integer type
+/// of the same size (the same bytes, swapped the same way, left alone) and the type restored.
+/// The values are then the stored ones, and NaN is reported like every other reader's
+/// (check_finite).
+int load_data(nifti_image& nim) {
+    const int datatype = nim.datatype;
+    if (datatype == DT_FLOAT32) nim.datatype = DT_INT32;
+    if (datatype == DT_FLOAT64) nim.datatype = DT_INT64;
+    const int rc = nifti_image_load(&nim);
+    nim.datatype = datatype;
+    return rc;
+}
+
 Rescale scale_of(const nifti_image& nim) {
     Rescale m;
     // slope 0 means "no scaling" (NIfTI-1 standard).
@@ -221,7 +235,7 @@ Volume read_nifti(const std::string& path, bool scaled) {
     const Rescale map = scaled ? scale_of(*nim) : Rescale{};
     if (map.identity()) value_type_for(kind, path);  // unsupported types fail before the data is read
 
-    if (nifti_image_load(nim.get()) != 0 || !nim->data)
+    if (load_data(*nim) != 0 || !nim->data)
         throw InputError(path + ": NIfTI data truncated or unreadable (expected " +
                          std::to_string(dims.vertices() * stored_kind_size(kind)) + " bytes of " +
                          stored_kind_name(kind) + ")");

@@ -87,7 +87,7 @@ __all__ = [
     "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "SliceStream", "Fd4", "fd4", "local4",
     "Components", "components", "median", "gaussian", "bilateral", "Filtered", "targeted_filter",
     "ld_guided_filter", "Smoothed", "smooth", "Mesh", "mesh", "write_ply", "NoiseLevel", "noise_level",
-    "noise_dimension", "SmallComponents", "small_components", "Recommendation", "Analysis", "analyse", "VolumeFile", "read_volume", "write_volume", "VolumeInfo", "info",
+    "noise_dimension", "SmallComponents", "small_components", "Recommendation", "Analysis", "analyse", "VolumeFile", "read_volume", "Orientation", "write_volume", "VolumeInfo", "info",
     "devices", "device_description", "OPENCL_DRIVERS",
 ]
 
@@ -1093,24 +1093,47 @@ def read_volume(path, dims=None, dtype=None, endian: str = "little", spacing=Non
     return VolumeFile(_array(out), tuple(sp))
 
 
-def write_volume(path, volume, spacing=(1.0, 1.0, 1.0)) -> None:
+class Orientation(NamedTuple):
+    """Where a grid lies in the patient's LPS space (docs/definitions.md §27): NIfTI sform
+    (else qform, RAS converted), NRRD space directions, DICOM and MetaImage positions.
+
+    Attributes
+    ----------
+    origin : tuple of float
+        The LPS position ``(L, P, S)`` in mm of voxel ``[0, 0, 0]``.
+    axes : tuple of three tuples of float
+        The unit LPS direction of each array axis, rows in ``(z, y, x)`` order (a voxel step
+        along axis ``i`` moves ``spacing[i] * axes[i]``).
+    """
+    origin: tuple
+    axes: tuple
+
+
+def write_volume(path, volume, spacing=(1.0, 1.0, 1.0), orientation=None) -> None:
     """Writes a ``(z, y, x)`` array as NIfTI (``.nii``, ``.nii.gz``) or NRRD (any other name),
-    with its spacing; atomically (a temporary file renamed into place). NaN and Inf are
-    written as they are (LD fields).
+    with its spacing and orientation; atomically (a temporary file renamed into place). NaN and
+    Inf are written as they are (LD fields).
 
     Parameters
     ----------
     path : str or PathLike
     volume : (z, y, x) array of a supported type
     spacing : (dz, dy, dx), optional
+    orientation : Orientation or (origin, axes), optional
+        Written as the NIfTI sform and qform (RAS) or the NRRD space origin and directions
+        (LPS); ``axes`` are normalised. None: spacing only (NIfTI pixdim, NRRD spacings).
+        ``info(path).orientation`` reads it back.
 
     Examples
     --------
     >>> import numpy as np, clfractal, tempfile, os
     >>> path = os.path.join(tempfile.mkdtemp(), "v.nii")
-    >>> clfractal.write_volume(path, np.arange(24, dtype=np.int16).reshape(2, 3, 4), spacing=(3.0, 2.0, 0.5))
+    >>> clfractal.write_volume(path, np.arange(24, dtype=np.int16).reshape(2, 3, 4), spacing=(3.0, 2.0, 0.5),
+    ...                        orientation=((10.0, -4.0, 2.5), ((0, 0, 1), (0, -1, 0), (1, 0, 0))))
     >>> clfractal.read_volume(path).spacing
     (3.0, 2.0, 0.5)
+    >>> clfractal.info(path).orientation.origin
+    (10.0, -4.0, 2.5)
     """
     a = np.asarray(volume)
     if a.ndim != 3:
@@ -1119,7 +1142,12 @@ def write_volume(path, volume, spacing=(1.0, 1.0, 1.0)) -> None:
     if native not in VALUE_TYPES:
         raise ValueError(f"{path}: {a.dtype} is not a type the writers store ({', '.join(VALUE_TYPES.values())})")
     a = a.astype(native, copy=False)
-    _clfractal.write_volume(a, VALUE_TYPES[native], str(path), [float(x) for x in spacing])
+    origin = axes = None
+    if orientation is not None:
+        origin, axes = orientation
+        origin = [float(x) for x in np.asarray(origin, dtype=np.float64).ravel()]
+        axes = [float(x) for x in np.asarray(axes, dtype=np.float64).ravel()]
+    _clfractal.write_volume(a, VALUE_TYPES[native], str(path), [float(x) for x in spacing], origin, axes)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -1141,6 +1169,8 @@ class VolumeInfo(_Record):
         The smallest and largest finite value.
     nan, inf : int
         NaN and Inf counts.
+    orientation : Orientation or None
+        The file's LPS origin and axis directions; None when it carries none.
     """
     path: str
     header: list
@@ -1151,6 +1181,7 @@ class VolumeInfo(_Record):
     max: float
     nan: int
     inf: int
+    orientation: Optional[Orientation]
 
 
 def info(path, dims=None, dtype=None, endian: str = "little", spacing=None, series: str | None = None,
@@ -1176,6 +1207,9 @@ def info(path, dims=None, dtype=None, endian: str = "little", spacing=None, seri
     """
     r = dict(_clfractal.info(str(path), _raw_options(dims, dtype, endian, spacing, series, scaled, as_type)))
     r["header"], r["shape"], r["spacing"] = list(r["header"]), tuple(r["shape"]), tuple(r["spacing"])
+    if r["orientation"] is not None:
+        origin, axes = r["orientation"]
+        r["orientation"] = Orientation(tuple(origin), tuple(tuple(a) for a in axes))
     return VolumeInfo(**r)
 
 

@@ -182,8 +182,13 @@ _Type = npt.DTypeLike | str | None
 def read_volume(path: str | PathLike[str], dims: tuple[int, int, int] | None = None, dtype: _Type = None,
                 endian: Literal["little", "big"] = "little", spacing: tuple[float, float, float] | None = None,
                 series: str | None = None, scaled: bool = False, as_type: _Type = None) -> VolumeFile: ...
+class Orientation(NamedTuple):
+    origin: tuple[float, float, float]
+    axes: tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
+
 def write_volume(path: str | PathLike[str], volume: npt.ArrayLike,
-                 spacing: tuple[float, float, float] = (1.0, 1.0, 1.0)) -> None: ...
+                 spacing: tuple[float, float, float] = (1.0, 1.0, 1.0),
+                 orientation: Orientation | tuple[Any, Any] | None = None) -> None: ...
 
 class VolumeInfo(_Record):
     path: str
@@ -195,6 +200,7 @@ class VolumeInfo(_Record):
     max: float
     nan: int
     inf: int
+    orientation: Orientation | None
 
 def info(path: str | PathLike[str], dims: tuple[int, int, int] | None = None, dtype: _Type = None,
          endian: Literal["little", "big"] = "little", spacing: tuple[float, float, float] | None = None,

@@ -636,6 +636,34 @@ nb::tuple read_volume_call(const std::string& path, const RawOptions& raw) {
     return nb::make_tuple(volume_out(std::move(v)), spacing);
 }
 
+/// The orientation of a volume as Python holds it: the LPS origin (L, P, S) of vertex
+/// (0, 0, 0) and the LPS direction of each array axis, rows in (z, y, x) order.
+nb::object orientation_out(const Volume& v) {
+    if (!v.oriented) return nb::none();
+    return nb::make_tuple(nb::make_tuple(v.origin[0], v.origin[1], v.origin[2]),
+                          nb::make_tuple(nb::make_tuple(v.axes[2][0], v.axes[2][1], v.axes[2][2]),
+                                         nb::make_tuple(v.axes[1][0], v.axes[1][1], v.axes[1][2]),
+                                         nb::make_tuple(v.axes[0][0], v.axes[0][1], v.axes[0][2])));
+}
+
+/// Sets v's orientation from `origin` (3 values) and `axes` (9 values, rows z, y, x), each
+/// axis normalised; every value finite and no axis zero.
+void set_orientation(Volume& v, const std::vector<double>& origin, const std::vector<double>& axes_zyx) {
+    if (origin.size() != 3 || axes_zyx.size() != 9)
+        throw InputError("orientation: expected an origin of 3 values and 3 axes of 3 values");
+    for (double x : origin)
+        if (!std::isfinite(x)) throw InputError("orientation: the origin must be finite");
+    for (int r = 0; r < 3; ++r) {
+        const double* d = &axes_zyx[3 * std::size_t(r)];
+        const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (!(std::isfinite(len) && len > 0))
+            throw InputError("orientation: axis " + std::to_string(r) + " must be finite and not zero");
+        for (int c = 0; c < 3; ++c) v.axes[2 - r][c] = d[c] / len;
+    }
+    v.origin = {origin[0], origin[1], origin[2]};
+    v.oriented = true;
+}
+
 /// What `clfractal info` reports: the header facts, the grid and the value statistics.
 nb::dict info_call(const std::string& path, const RawOptions& raw) {
     std::vector<std::string> header;
@@ -656,17 +684,21 @@ nb::dict info_call(const std::string& path, const RawOptions& raw) {
                       {"min", nb::cast(stats.min)},
                       {"max", nb::cast(stats.max)},
                       {"nan", nb::cast(stats.nan)},
-                      {"inf", nb::cast(stats.inf)}});
+                      {"inf", nb::cast(stats.inf)},
+                      {"orientation", orientation_out(v)}});
 }
 
-/// Writes a (z, y, x) array as NRRD or NIfTI (by the extension) with spacing (dz, dy, dx).
+/// Writes a (z, y, x) array as NRRD or NIfTI (by the extension) with spacing (dz, dy, dx)
+/// and, when given, the orientation (set_orientation).
 void write_volume_call(const InArray& a, const std::string& type, const std::string& path,
-                       const std::vector<double>& spacing_zyx) {
+                       const std::vector<double>& spacing_zyx, const std::optional<std::vector<double>>& origin,
+                       const std::optional<std::vector<double>>& axes_zyx) {
     Volume v = to_volume(a, type, FiniteCheck::keep);
     if (spacing_zyx.size() != 3) throw InputError("spacing: expected 3 values (dz, dy, dx)");
     for (double x : spacing_zyx)
         if (!(std::isfinite(x) && x > 0)) throw InputError("spacing: values must be finite and > 0");
     v.spacing = {spacing_zyx[2], spacing_zyx[1], spacing_zyx[0]};
+    if (origin && axes_zyx) set_orientation(v, *origin, *axes_zyx);
     v.name = path;
     nb::gil_scoped_release no_gil;
     write_volume(v, path);
@@ -794,6 +826,7 @@ NB_MODULE(_clfractal, m) {
           "scaled"_a, "as_type"_a.none());
     m.def("read_volume", &read_volume_call, "path"_a, "raw"_a);
     m.def("info", &info_call, "path"_a, "raw"_a);
-    m.def("write_volume", &write_volume_call, "volume"_a, "type"_a, "path"_a, "spacing"_a);
+    m.def("write_volume", &write_volume_call, "volume"_a, "type"_a, "path"_a, "spacing"_a, "origin"_a.none(),
+          "axes"_a.none());
     m.def("write_ply", &write_ply_call, "path"_a, "vertices"_a, "faces"_a, "ld"_a.none());
 }

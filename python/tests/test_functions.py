@@ -1,6 +1,8 @@
 """Every function of the package against independent NumPy/SciPy references (references.py)
 and against the C++ results of the command-line tool on the same data."""
 import json
+import os
+import subprocess
 
 import numpy as np
 import pytest
@@ -516,6 +518,74 @@ def test_write_volume_round_trips_with_its_spacing(tmp_path, suffix):
         clfractal.write_volume(tmp_path / "v.tif", v)
     with pytest.raises(ValueError, match="spacing"):
         clfractal.write_volume(path, v, spacing=(1, 0, 1))
+
+
+def rotation_zyx(angle):
+    """Unit LPS axes of a grid turned by `angle` about S, rows in (z, y, x) order."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[0.0, 0.0, 1.0], [-s, c, 0.0], [c, s, 0.0]])
+
+
+@pytest.mark.parametrize("suffix", [".nii", ".nii.gz", ".nrrd"])
+def test_write_volume_carries_the_orientation(tmp_path, suffix):
+    v = noisy_sphere((5, 6, 7), np.uint8, seed=2)
+    spacing, origin, axes = (2.5, 0.75, 1.25), (-12.5, 30.0, 4.25), rotation_zyx(0.3)
+    path = tmp_path / f"o{suffix}"
+    clfractal.write_volume(path, v, spacing=spacing, orientation=(origin, axes * 3.0))  # axes are normalised
+    back, got_spacing = clfractal.read_volume(path)
+    np.testing.assert_array_equal(back, v)
+    np.testing.assert_allclose(got_spacing, spacing, rtol=1e-6)
+    o = clfractal.info(path).orientation
+    np.testing.assert_allclose(o.origin, origin, rtol=1e-6)
+    np.testing.assert_allclose(o.axes, axes, atol=1e-6)
+    if suffix == ".nii":  # the sform rows as stored (RAS: L and P negated), read with NumPy
+        srow = np.frombuffer(path.read_bytes()[280:328], dtype="<f4").reshape(3, 4)
+        ras = np.array([-1.0, -1.0, 1.0])[:, None]
+        np.testing.assert_allclose(srow[:, :3], ras * (axes[::-1] * np.array(spacing[::-1])[:, None]).T, atol=1e-6)
+        np.testing.assert_allclose(srow[:, 3], ras[:, 0] * origin, rtol=1e-6)
+    clfractal.write_volume(tmp_path / f"plain{suffix}", v)  # spacing only
+    assert clfractal.info(tmp_path / f"plain{suffix}").orientation is None
+    with pytest.raises(ValueError, match="orientation"):
+        clfractal.write_volume(path, v, orientation=(origin, np.zeros((3, 3))))
+
+
+def nifti1(array, datatype, bitpix):
+    """A single-file NIfTI-1 of a (z, y, x) array written with NumPy only (pixdim 1, no
+    scaling, no orientation), independent of the library's writer."""
+    header = np.zeros(348, np.uint8)
+    def put(offset, values, dtype):
+        b = np.asarray(values, dtype=dtype).tobytes()
+        header[offset:offset + len(b)] = np.frombuffer(b, np.uint8)
+    put(0, 348, "<i4")
+    put(40, [3, *array.shape[::-1], 1, 1, 1, 1], "<i2")
+    put(70, [datatype, bitpix], "<i2")
+    put(76, [1, 1, 1, 1, 1, 1, 1, 1], "<f4")
+    put(108, 352.0, "<f4")
+    header[344:348] = np.frombuffer(b"n+1\0", np.uint8)
+    return header.tobytes() + bytes(4) + np.ascontiguousarray(array).tobytes()
+
+
+@pytest.mark.parametrize("dtype,code,bits", [("<f4", 16, 32), ("<f8", 64, 64)])
+def test_nifti_keeps_nan_and_inf(tmp_path, dtype, code, bits):
+    v = np.arange(4 * 5 * 6, dtype=dtype).reshape(4, 5, 6) / 7
+    v[1, 2, 3], v[3, 0, 5], v[0, 4, 0] = np.nan, np.inf, -np.inf
+    path = tmp_path / "nan.nii"
+    path.write_bytes(nifti1(v, code, bits))
+    back, _ = clfractal.read_volume(path)
+    assert back.dtype == np.dtype(dtype).newbyteorder("=")
+    np.testing.assert_array_equal(back, v)  # NaN where v has NaN, the infinities kept
+    i = clfractal.info(path)
+    assert (i.nan, i.inf) == (1, 2)
+    # Counting refuses it as it refuses the same values in a NRRD: one line naming the counts.
+    cli_path = os.environ.get("CLFRACTAL_CLI")
+    if not cli_path:
+        pytest.skip("CLFRACTAL_CLI is not set (run through ctest)")
+    clfractal.write_volume(tmp_path / "nan.nrrd", v)
+    runs = [subprocess.run([cli_path, "-q", "fd", str(tmp_path / name)], capture_output=True, text=True)
+            for name in ("nan.nii", "nan.nrrd")]
+    assert [r.returncode for r in runs] == [2, 2]
+    assert "1 NaN" in runs[0].stderr and len(runs[0].stderr.strip().splitlines()) == 1, runs[0].stderr
+    assert runs[0].stderr.replace("nan.nii", "F") == runs[1].stderr.replace("nan.nrrd", "F")
 
 
 def test_read_volume_raw_options_and_info(tmp_path, cli):

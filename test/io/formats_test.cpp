@@ -15,6 +15,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -363,6 +364,27 @@ TEST_CASE("NIfTI by nifticlib: .nii.gz, .nii, .hdr/.img; scl_slope only under --
     for (double& x : f64) x += 1e-12;  // below float32 precision
     write_nifti_file(dir / "f64.nii", DT_FLOAT64, f64.data(), nx, ny, nz);
     check_values(read_volume(dir / "f64.nii"), f64);
+
+    // NaN and Inf are kept (nifticlib's loader alone makes them 0) and refused by counting
+    // with the one-line error every reader gives (check_finite).
+    std::vector<float> fn(nx * ny * nz, 1.5f);
+    fn[3] = NAN, fn[10] = INFINITY, fn[11] = -INFINITY;
+    std::vector<double> dn(fn.begin(), fn.end());
+    write_nifti_file(dir / "nan32.nii", DT_FLOAT32, fn.data(), nx, ny, nz);
+    write_nifti_file(dir / "nan64.nii.gz", DT_FLOAT64, dn.data(), nx, ny, nz);
+    for (const char* name : {"nan32.nii", "nan64.nii.gz"}) {
+        const Volume k = read_volume(dir / name, {}, FiniteCheck::keep);
+        const std::vector<double> got = visit_type(k.type(), [&](auto zero) {
+            const auto* d = static_cast<const decltype(zero)*>(k.data());
+            return std::vector<double>(d, d + k.vertices());
+        });
+        CHECK(std::isnan(got[3]));
+        CHECK(got[10] == INFINITY);
+        CHECK(got[11] == -INFINITY);
+        CHECK(got[0] == 1.5);
+        const std::string e = error_of([&] { read_volume(dir / name); });
+        CHECK(e.find("1 NaN and 2 infinite values") != std::string::npos);
+    }
 
     // Truncated gzip: one line naming the file.
     std::ifstream in(dir / "a.nii.gz", std::ios::binary);
