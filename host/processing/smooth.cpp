@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <deque>
 #include <limits>
 #include <type_traits>
@@ -43,6 +44,41 @@ std::vector<std::uint8_t> high_fractal_flags(const DeviceVolume& v, double iso, 
         out.read(ctx.queue(), flags.data(), flags.size());
         if (keep_ld) *keep_ld = ld.download();
     });
+    return flags;
+}
+
+// The same flags slab by slab, for CPU devices, whose buffers are host memory: output slices
+// [a, b) from the LD field of the input slices [lo, hi) (the halo rule of local.cpp's slabs,
+// extended by slice b, whose LD the z-edges of slice b - 1 read), so each slab gives exactly
+// the whole-volume flags while the buffers stay about 192 MiB.
+std::vector<std::uint8_t> high_fractal_flags_slabs(Context& ctx, const Volume& v, double iso, double h, int window) {
+    const Dims d = v.dims();
+    const std::size_t plane = d.nx * d.ny, half = std::size_t(window / 2);
+    const std::size_t vs = value_size(v.type());
+    // Tuning::slab_bytes (the values of one slab's output slices) lets tests force thin slabs.
+    const std::size_t depth = ctx.tuning.slab_bytes
+                                  ? std::max<std::size_t>(1, ctx.tuning.slab_bytes / (plane * vs))
+                                  : std::max<std::size_t>(4 * std::size_t(window), (std::size_t(192) << 20) / (32 * plane));
+    std::vector<std::uint8_t> flags(d.vertices());
+    for (std::size_t a = 0; a < d.nz; a += depth) {
+        const std::size_t b = std::min(d.nz, a + depth), e = std::min(d.nz, b + 1);
+        const std::size_t lo = a > half ? (a - half) & ~std::size_t(1) : 0, hi = std::min(d.nz, e + half);
+        Volume slab(Dims{d.nx, d.ny, hi - lo}, v.type());
+        std::memcpy(slab.data(), static_cast<const unsigned char*>(v.data()) + lo * plane * vs, slab.size_bytes());
+        const Volume ld = local_fractal_dimension(ctx, slab, iso, window);
+        Volume part(Dims{d.nx, d.ny, e - a}, v.type()), part_ld(Dims{d.nx, d.ny, e - a}, ValueType::float32);
+        std::memcpy(part.data(), static_cast<const unsigned char*>(slab.data()) + (a - lo) * plane * vs, part.size_bytes());
+        std::memcpy(part_ld.data(), ld.as<float>() + (a - lo) * plane, part_ld.size_bytes());
+        with_cl_errors([&] {
+            const DeviceVolume pv(ctx, part), pl(ctx, part_ld);
+            Buffer<cl_uchar> out(ctx, part.vertices());
+            KernelCall<cl::Buffer, cl::Buffer, int, int, int, ScalarArg, cl_float, cl::Buffer> scan(
+                ctx, "smooth", "high_fractal_edges", single_isovalue_options(v.type()));
+            scan(cl::NDRange(d.nx, d.ny, e - a), cl::NullRange, pv.buffer(), pl.buffer(), int(d.nx), int(d.ny),
+                 int(e - a), isovalue_arg(v.type(), iso), cl_float(float_threshold(h)), out.get());
+            out.read(ctx.queue(), flags.data() + a * plane, (b - a) * plane);
+        });
+    }
     return flags;
 }
 
@@ -181,18 +217,15 @@ void check_smooth_arguments(double iso, double h, int window, SmoothVariant vari
 }
 
 // Algorithms 1 (on the device, `dv`) and 2 (on the host, `v`: the same values).
-SmoothResult smooth(const DeviceVolume& dv, const Volume& v, double iso, double h, int window, SmoothVariant variant,
-                    double tau, bool keep_ld) {
-    SmoothResult r;
-    auto t = clock_type::now();
-    std::vector<std::uint8_t> flags = high_fractal_flags(dv, iso, h, window, keep_ld ? &r.ld : nullptr);
-    r.device_seconds = seconds_since(t);
+// Algorithm 2 on a copy of `v`, given the flags of Algorithm 1.
+SmoothResult smooth(std::vector<std::uint8_t> flags, const Volume& v, double iso, SmoothVariant variant, double tau,
+                    SmoothResult r) {
     for (std::uint8_t b : flags) {
         r.high_vertices += (b & hot_bit) != 0;
         r.initial_edges += (b & 1) + ((b >> 1) & 1) + ((b >> 2) & 1);
     }
 
-    t = clock_type::now();
+    const auto t = clock_type::now();
     r.volume = v;
     const bool gaussian = variant == SmoothVariant::gaussian;
     Counters c;
@@ -214,18 +247,38 @@ SmoothResult smooth(const DeviceVolume& dv, const Volume& v, double iso, double 
     return r;
 }
 
+// Algorithm 1 on the device copy `dv` of `v`, Algorithm 2 on `v`.
+SmoothResult smooth_on_device(const DeviceVolume& dv, const Volume& v, double iso, double h, int window,
+                              SmoothVariant variant, double tau, bool keep_ld) {
+    SmoothResult r;
+    const auto t = clock_type::now();
+    std::vector<std::uint8_t> flags = high_fractal_flags(dv, iso, h, window, keep_ld ? &r.ld : nullptr);
+    r.device_seconds = seconds_since(t);
+    return smooth(std::move(flags), v, iso, variant, tau, std::move(r));
+}
+
 }  // namespace
 
 SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double h, int window,
                                SmoothVariant variant, double tau, bool keep_ld) {
     check_smooth_arguments(iso, h, window, variant, tau);
-    return smooth(DeviceVolume(ctx, v), v, iso, h, window, variant, tau, keep_ld);
+    // On a CPU device, a volume above 64 MiB without the field to keep: the flags slab by
+    // slab (no whole-volume LD field or device copy beside the values).
+    const bool large = v.size_bytes() > (std::size_t(64) << 20) || ctx.tuning.slab_bytes;
+    if (ctx.is_cpu() && large && !keep_ld && v.dims().nz > 1) {
+        SmoothResult r;
+        const auto t = clock_type::now();
+        std::vector<std::uint8_t> flags = high_fractal_flags_slabs(ctx, v, iso, h, window);
+        r.device_seconds = seconds_since(t);
+        return smooth(std::move(flags), v, iso, variant, tau, std::move(r));
+    }
+    return smooth_on_device(DeviceVolume(ctx, v), v, iso, h, window, variant, tau, keep_ld);
 }
 
 SmoothResult smooth_isosurface(const DeviceVolume& v, double iso, double h, int window, SmoothVariant variant,
                                double tau, bool keep_ld) {
     check_smooth_arguments(iso, h, window, variant, tau);
-    return smooth(v, v.download(), iso, h, window, variant, tau, keep_ld);
+    return smooth_on_device(v, v.download(), iso, h, window, variant, tau, keep_ld);
 }
 
 IsoCounts intersected_counts(Context& ctx, const Volume& v, double iso) {
