@@ -2,7 +2,7 @@
 """Opens `clfractal report` pages in headless Chromium over the DevTools protocol and checks
 the interactive view as a reader meets it.
 
-report_browser.py [--load-only] [--held-out PAGE.html] CHROMIUM REPORT_CHECK WORKDIR PAGE.html [PAGE.html ...]
+report_browser.py [--load-only] [--held-out PAGE.html] [--views-png OUT.png] CHROMIUM REPORT_CHECK WORKDIR PAGE.html [PAGE.html ...]
   for each page (file://, SwiftShader WebGL):
   - it is at most 8 MB, it loads, and the first 3D view ("where the noise is") has rendered
     the first control's isovalue;
@@ -19,6 +19,8 @@ report_browser.py [--load-only] [--held-out PAGE.html] CHROMIUM REPORT_CHECK WOR
   With --load-only (every volume of a collection, whose surfaces need not show both ends of
   the colour map): the size, the load, the first view rendered, a click on the second control
   rendering its isovalue, the console and the requests; the colour shares are printed.
+  With --views-png, the switch and the two 3D views of the first page as it opens (the
+  picture of docs/guide/report.md).
 Exit 0 when all hold, 1 with one line per failure.
 """
 import argparse
@@ -72,8 +74,8 @@ class Tab:
             time.sleep(0.1)
         return False
 
-    def shot(self, rect, path):
-        clip = dict(x=rect["x"], y=rect["y"], width=rect["width"], height=rect["height"], scale=1)
+    def shot(self, rect, path, scale=1):
+        clip = dict(x=rect["x"], y=rect["y"], width=rect["width"], height=rect["height"], scale=scale)
         data = self.call("Page.captureScreenshot", format="png", clip=clip)["data"]
         with open(path, "wb") as f:
             f.write(base64.b64decode(data))
@@ -135,7 +137,17 @@ def check_linked(tab, name, work, before):
         fail(name + ": dragging the first view did not turn the second")
 
 
-def check_page(tab, check, page, work, name, load_only, held_out):
+def views_png(tab, path):
+    """The switch, the two 3D views and the colour bar under them, at 3/4 scale."""
+    rect = tab.evaluate("(function(){var s=document.querySelector('#explore .switch');s.scrollIntoView();"
+                        "var p=document.getElementById('view3d').parentNode.parentNode,a=s.getBoundingClientRect(),"
+                        "b=p.nextElementSibling.getBoundingClientRect();return {x:a.left+scrollX,y:a.top+scrollY,"
+                        "width:a.width,height:b.bottom-a.top};})()")
+    tab.shot(rect, path, 0.75)
+    print("wrote %s (%d bytes)" % (path, os.path.getsize(path)), flush=True)
+
+
+def check_page(tab, check, page, work, name, load_only, held_out, views=None):
     url = "file://" + os.path.realpath(page)
     size = os.path.getsize(page)
     print("%s: %.2f MB" % (name, size / 1e6), flush=True)
@@ -152,6 +164,8 @@ def check_page(tab, check, page, work, name, load_only, held_out):
     first = tab.evaluate("document.getElementById('view3d').dataset.rendered")
     if first != controls[0]:
         fail(name + ": the view shows %r, the first control is %r" % (first, controls[0]))
+    if views:
+        views_png(tab, views)
     a, b, ref = (os.path.join(work, name + tail) for tail in ("-first.png", "-second.png", "-ref.png"))
     tab.shot(canvas_rect(tab), a)
     second = None if load_only else second_view(tab, name)
@@ -206,11 +220,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--load-only", action="store_true")
     ap.add_argument("--held-out", action="append", default=[], help="a page held to the acceptance as written")
+    ap.add_argument("--views-png", help="write the first page's two 3D views as they open to this PNG")
     ap.add_argument("browser")
     ap.add_argument("check")
     ap.add_argument("work")
-    ap.add_argument("pages", nargs="+")
+    ap.add_argument("pages", nargs="*")
     args = ap.parse_args()
+    if not args.pages and not args.held_out:
+        ap.error("no page")
     browser, check, work, load_only = args.browser, args.check, args.work, args.load_only
     pages = args.pages + args.held_out
     held_out = {os.path.realpath(p) for p in args.held_out}
@@ -239,10 +256,10 @@ def main():
         tab = Tab(page_target["webSocketDebuggerUrl"])
         for domain in ("Page", "Runtime", "Log", "Network"):
             tab.call(domain + ".enable")
-        for page in pages:
+        for i, page in enumerate(pages):
             t0 = time.time()
             check_page(tab, check, page, work, os.path.splitext(os.path.basename(page))[0], load_only,
-                       os.path.realpath(page) in held_out)
+                       os.path.realpath(page) in held_out, args.views_png if i == 0 else None)
             print("%s: checked in %.1f s" % (page, time.time() - t0), flush=True)
     finally:
         proc.terminate()
