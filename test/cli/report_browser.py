@@ -2,17 +2,28 @@
 """Opens `clfractal report` pages in headless Chromium over the DevTools protocol and checks
 the interactive view as a reader meets it.
 
-report_browser.py CHROMIUM REPORT_CHECK WORKDIR PAGE.html [PAGE.html ...]
+report_browser.py [--load-only] [--held-out PAGE.html] [--views-png OUT.png] CHROMIUM REPORT_CHECK WORKDIR PAGE.html [PAGE.html ...]
   for each page (file://, SwiftShader WebGL):
-  - it loads, and the 3D view has rendered its first isovalue;
-  - the WebGL canvas (screenshot of its rectangle) shows the LD colour map's red and blue
-    ends (report_check canvas: >= 0.5% each);
+  - it is at most 8 MB, it loads, and the first 3D view ("where the noise is") has rendered
+    the first control's isovalue;
+  - the first WebGL canvas (screenshot of its rectangle) shows the LD colour map's red end,
+    and its blue end too on a --held-out page (the acceptance on a held-out MRI head), or
+    else the first or the second view shows it (report_check canvas: >= 0.5% each): the
+    noisiest surface of a synthetic volume may be red all over;
   - there are >= 2 data-isovalue controls, and a real click on the second renders its
-    isovalue and changes >= 5% of the canvas;
+    isovalue and changes >= 5% of the first canvas;
+  - the second 3D view, when the page has one, shows the recommended surface, and dragging
+    the first view turns it too (>= 5% of its pixels change);
   - pointing at the D(s) plot shows the isovalue's numbers;
   - no console error, no exception, and no request other than the page itself and data:.
+  With --load-only (every volume of a collection, whose surfaces need not show both ends of
+  the colour map): the size, the load, the first view rendered, a click on the second control
+  rendering its isovalue, the console and the requests; the colour shares are printed.
+  With --views-png, the switch and the two 3D views of the first page as it opens (the
+  picture of docs/guide/report.md).
 Exit 0 when all hold, 1 with one line per failure.
 """
+import argparse
 import base64
 import json
 import os
@@ -63,8 +74,8 @@ class Tab:
             time.sleep(0.1)
         return False
 
-    def shot(self, rect, path):
-        clip = dict(x=rect["x"], y=rect["y"], width=rect["width"], height=rect["height"], scale=1)
+    def shot(self, rect, path, scale=1):
+        clip = dict(x=rect["x"], y=rect["y"], width=rect["width"], height=rect["height"], scale=scale)
         data = self.call("Page.captureScreenshot", format="png", clip=clip)["data"]
         with open(path, "wb") as f:
             f.write(base64.b64decode(data))
@@ -74,18 +85,78 @@ class Tab:
             self.call("Input.dispatchMouseEvent", type=kind, x=x, y=y, button="left", clickCount=1)
 
 
-def canvas_rect(tab):
-    return tab.evaluate("(function(){var c=document.querySelector('#view3d canvas');c.scrollIntoView();"
+def canvas_rect(tab, holder="view3d"):
+    return tab.evaluate("(function(){var c=document.querySelector('#" + holder + " canvas');c.scrollIntoView();"
                         "var r=c.getBoundingClientRect();return {x:r.left+scrollX,y:r.top+scrollY,"
                         "width:r.width,height:r.height};})()")
 
 
-def check_page(tab, check, page, work, name):
+def changed_share(a, b):
+    """The share of pixels whose colours differ by more than 24 (sum over R, G, B) from a to b
+    (Pillow, which the build's venv has with matplotlib)."""
+    import numpy
+    from PIL import Image
+    pa, pb = (numpy.asarray(Image.open(p).convert("RGB"), dtype=int) for p in (a, b))
+    return float((numpy.abs(pa - pb).sum(axis=2) > 24).mean())
+
+
+def click_control(tab, name, controls, i):
+    box = tab.evaluate("(function(){var b=document.querySelectorAll('[data-isovalue]')[%d];b.scrollIntoView();"
+                       "var r=b.getBoundingClientRect();return {x:r.left+r.width/2,y:r.top+r.height/2};})()" % i)
+    tab.click(box["x"], box["y"])
+    if not tab.wait_for("document.getElementById('view3d').dataset.rendered === %s" % json.dumps(controls[i]), 10):
+        fail(name + ": clicking control %d did not render isovalue %s" % (i + 1, controls[i]))
+
+
+def second_view(tab, name):
+    """The second view's choice, None when the page has none."""
+    ref = tab.evaluate("(function(){var h=document.getElementById('view3d-ref');if(!h||h.parentNode.hidden)"
+                       "return null;var c=JSON.parse(document.getElementById('report-choices').textContent)"
+                       "[+h.dataset.choice];return {rendered:h.dataset.rendered,text:c.text,role:c.role};})()")
+    if ref is None:
+        print(name + ": no second view (the switched view opens on the recommendation)", flush=True)
+    elif ref["rendered"] != ref["text"] or not re.match(r"(recommended|cleanest)", ref["role"]):
+        fail(name + ": the second view shows %r, a %r choice %r" % (ref["rendered"], ref["role"], ref["text"]))
+    return ref
+
+
+def check_linked(tab, name, work, before):
+    """Dragging the first view turns the second (screenshot `before`) too."""
+    after = os.path.join(work, name + "-ref-turned.png")
+    r = canvas_rect(tab)
+    tab.evaluate("scrollTo(0, %f)" % r["y"])
+    x, y = r["x"] + r["width"] / 2, r["height"] / 2
+    tab.call("Input.dispatchMouseEvent", type="mousePressed", x=x, y=y, button="left", clickCount=1)
+    for step in range(1, 9):
+        tab.call("Input.dispatchMouseEvent", type="mouseMoved", x=x + 20 * step, y=y, button="left", buttons=1)
+    tab.call("Input.dispatchMouseEvent", type="mouseReleased", x=x + 160, y=y, button="left", clickCount=1)
+    tab.shot(canvas_rect(tab, "view3d-ref"), after)
+    share = changed_share(before, after)
+    print("%s: dragging the first view changed %.1f%% of the second" % (name, 100 * share), flush=True)
+    if share < 0.05:
+        fail(name + ": dragging the first view did not turn the second")
+
+
+def views_png(tab, path):
+    """The switch, the two 3D views and the colour bar under them, at 3/4 scale."""
+    rect = tab.evaluate("(function(){var s=document.querySelector('#explore .switch');s.scrollIntoView();"
+                        "var p=document.getElementById('view3d').parentNode.parentNode,a=s.getBoundingClientRect(),"
+                        "b=p.nextElementSibling.getBoundingClientRect();return {x:a.left+scrollX,y:a.top+scrollY,"
+                        "width:a.width,height:b.bottom-a.top};})()")
+    tab.shot(rect, path, 0.75)
+    print("wrote %s (%d bytes)" % (path, os.path.getsize(path)), flush=True)
+
+
+def check_page(tab, check, page, work, name, load_only, held_out, views=None):
     url = "file://" + os.path.realpath(page)
+    size = os.path.getsize(page)
+    print("%s: %.2f MB" % (name, size / 1e6), flush=True)
+    if size > 8 << 20:
+        fail(name + ": the page is %d bytes, more than 8 MB" % size)
     del tab.events[:]
     tab.call("Page.navigate", url=url)
     if not tab.wait_for("document.readyState === 'complete' && !!document.getElementById('view3d') && "
-                        "document.getElementById('view3d').dataset.rendered !== undefined", 20):
+                        "document.getElementById('view3d').dataset.rendered !== undefined", 30):
         fail(name + ": the 3D view did not render")
         return check_events(tab, name, url)
     controls = tab.evaluate("Array.from(document.querySelectorAll('[data-isovalue]')).map(function(b){"
@@ -93,30 +164,39 @@ def check_page(tab, check, page, work, name):
     first = tab.evaluate("document.getElementById('view3d').dataset.rendered")
     if first != controls[0]:
         fail(name + ": the view shows %r, the first control is %r" % (first, controls[0]))
-    a, b = os.path.join(work, name + "-first.png"), os.path.join(work, name + "-second.png")
-    rect = canvas_rect(tab)
-    tab.shot(rect, a)
+    if views:
+        views_png(tab, views)
+    a, b, ref = (os.path.join(work, name + tail) for tail in ("-first.png", "-second.png", "-ref.png"))
+    tab.shot(canvas_rect(tab), a)
+    second = None if load_only else second_view(tab, name)
+    if second:
+        tab.shot(canvas_rect(tab, "view3d-ref"), ref)
     if len(controls) < 2:
-        fail(name + ": %d data-isovalue controls, expected >= 2" % len(controls))
+        if not load_only:
+            fail(name + ": %d data-isovalue controls, expected >= 2" % len(controls))
     else:
-        box = tab.evaluate("(function(){var b=document.querySelectorAll('[data-isovalue]')[1];b.scrollIntoView();"
-                           "var r=b.getBoundingClientRect();return {x:r.left+r.width/2,y:r.top+r.height/2};})()")
-        tab.click(box["x"], box["y"])
-        if not tab.wait_for("document.getElementById('view3d').dataset.rendered === %s" % json.dumps(controls[1]), 10):
-            fail(name + ": clicking the second control did not render isovalue " + controls[1])
+        click_control(tab, name, controls, 1)
         tab.shot(canvas_rect(tab), b)
-        r = subprocess.run([check, "canvas", a, b], capture_output=True, text=True)
-        print(name + ": " + r.stdout.strip(), flush=True)
-        if r.returncode != 0:
+        r = subprocess.run([check, "canvas", a, b] + ([ref] if second and not held_out else []),
+                           capture_output=True, text=True)
+        print(name + ": " + r.stdout.strip().replace("\n", "; "), flush=True)
+        if r.returncode != 0 and not load_only:
             fail(name + ": report_check canvas")
-    # Pointing at the D(s) plot shows the numbers of an isovalue.
+    if second:
+        check_linked(tab, name, work, ref)
+    if not load_only:
+        check_hover(tab, name)
+    check_events(tab, name, url)
+
+
+def check_hover(tab, name):
+    """Pointing at the D(s) plot shows the numbers of an isovalue."""
     at = tab.evaluate("(function(){var s=document.getElementById('plot-fd');s.scrollIntoView();"
                       "var r=s.getBoundingClientRect();return {x:r.left+r.width*0.5,y:r.top+r.height*0.5};})()")
     tab.call("Input.dispatchMouseEvent", type="mouseMoved", x=at["x"], y=at["y"])
     tip = tab.evaluate("document.getElementById('tip').hidden ? '' : document.getElementById('tip').textContent")
     if not re.search(r"isovalue .* D = .* count I\(s\) = \d+ .*components = \d+ .*verdict: \w+ .*r\(s\) = ", tip or ""):
         fail(name + ": pointing at the D(s) plot shows %r" % tip)
-    check_events(tab, name, url)
 
 
 def check_events(tab, name, url):
@@ -137,8 +217,20 @@ def check_events(tab, name, url):
 
 
 def main():
-    browser, check, work = sys.argv[1:4]
-    pages = sys.argv[4:]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--load-only", action="store_true")
+    ap.add_argument("--held-out", action="append", default=[], help="a page held to the acceptance as written")
+    ap.add_argument("--views-png", help="write the first page's two 3D views as they open to this PNG")
+    ap.add_argument("browser")
+    ap.add_argument("check")
+    ap.add_argument("work")
+    ap.add_argument("pages", nargs="*")
+    args = ap.parse_args()
+    if not args.pages and not args.held_out:
+        ap.error("no page")
+    browser, check, work, load_only = args.browser, args.check, args.work, args.load_only
+    pages = args.pages + args.held_out
+    held_out = {os.path.realpath(p) for p in args.held_out}
     os.makedirs(work, exist_ok=True)
     env = dict(os.environ, HOME=os.path.join(work, "home"))
     proc = subprocess.Popen([browser, "--headless", "--no-sandbox", "--use-angle=swiftshader",
@@ -164,9 +256,10 @@ def main():
         tab = Tab(page_target["webSocketDebuggerUrl"])
         for domain in ("Page", "Runtime", "Log", "Network"):
             tab.call(domain + ".enable")
-        for page in pages:
+        for i, page in enumerate(pages):
             t0 = time.time()
-            check_page(tab, check, page, work, os.path.splitext(os.path.basename(page))[0])
+            check_page(tab, check, page, work, os.path.splitext(os.path.basename(page))[0], load_only,
+                       os.path.realpath(page) in held_out, args.views_png if i == 0 else None)
             print("%s: checked in %.1f s" % (page, time.time() - t0), flush=True)
     finally:
         proc.terminate()

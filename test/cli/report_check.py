@@ -207,7 +207,8 @@ def main():
         if len(controls) != len(choices):
             fail("HTML: %d data-isovalue controls, %d choices" % (len(controls), len(choices)))
         for a, c in zip(controls, choices):
-            if float(a["data-isovalue"]) != c["isovalue"]:
+            # The isovalue as the library names it: exact, or %.9g on float32 data.
+            if float(a["data-isovalue"]) != c["isovalue"] and a["data-isovalue"] != "%.9g" % c["isovalue"]:
                 fail("HTML: data-isovalue %r, the JSON %r" % (a["data-isovalue"], c["isovalue"]))
             if not 0 < c["triangles"] <= 300000 or c["triangles"] > c["triangles_full"]:
                 fail("JSON: a mesh of %d triangles (of %d)" % (c["triangles"], c["triangles_full"]))

@@ -419,8 +419,8 @@ int run_report(const ReportArgs& a) {
         curve_plot(axis, {components_panel(an.components->components)}, title + ": isosurface components (cube)")
             .png("report: components plot");
 
-    // The isovalues shown: the best recommendation and the noisiest (static pictures too), then
-    // the other recommendations and a few across the well-populated range (interactive only).
+    // The isovalues shown: the best recommendation and the noisiest (static pictures too; the 3D view opens on the
+    // noisiest, the best beside it), then other recommendations and a few across the populated range (3D only).
     std::vector<std::pair<std::size_t, std::string>> shown;
     auto add = [&](std::size_t k, const std::string& role) {
         for (const auto& e : shown)
@@ -464,7 +464,7 @@ int run_report(const ReportArgs& a) {
             c.mesh = explore::web_mesh(p.web ? *p.web : p.mesh, a.mesh_triangles);
             if (p.web) c.mesh.triangles_full = p.triangles_full, c.mesh.cell = p.web_cell;
             c.slice_png = p.slice_png;
-            choices.push_back(std::move(c));
+            choices.insert(i == 1 && static_views == 2 ? choices.begin() : choices.end(), std::move(c));
         }
     }
     j["views"] = json::array();

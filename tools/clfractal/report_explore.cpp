@@ -193,27 +193,38 @@ const char* const script = R"JS(
     for (var i = 0; i < s.length; ++i) a[i] = s.charCodeAt(i);
     return a;
   }
-  // The 3D view.
-  var holder = document.getElementById("view3d");
-  var renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
-  renderer.setPixelRatio(1);
-  renderer.setSize(holder.clientWidth, holder.clientHeight);
-  renderer.setClearColor(0xffffff);
-  holder.appendChild(renderer.domElement);
+  // The 3D views: "where the noise is" (the switch sets its isovalue) and, beside it, the
+  // recommended surface; one scene, one camera, so turning either turns both.
+  var holders = [document.getElementById("view3d"), document.getElementById("view3d-ref")];
+  var fixed = holders[1] ? +holders[1].dataset.choice : -1;
+  if (fixed < 0 && holders[1]) holders[1].parentNode.hidden = true;
   var scene = new THREE.Scene();
-  var camera = new THREE.PerspectiveCamera(35, holder.clientWidth / holder.clientHeight, 0.01, 1000);
+  var camera = new THREE.PerspectiveCamera(35, holders[0].clientWidth / holders[0].clientHeight, 0.01, 1000);
   camera.up.set(0, 0, 1);
   scene.add(new THREE.AmbientLight(0xffffff, 0.5));
   var light = new THREE.DirectionalLight(0xffffff, 0.6);
   camera.add(light);
   scene.add(camera);
-  var controls = new THREE.OrbitControls(camera, renderer.domElement);
-  var current = null, framed = false;
+  var views = [], meshes = [null, null], shown = [null, fixed];
+  holders.forEach(function (holder, k) {
+    if (!holder || (k === 1 && fixed < 0)) return;
+    var renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
+    renderer.setPixelRatio(1);
+    renderer.setSize(holder.clientWidth, holder.clientHeight);
+    renderer.setClearColor(0xffffff);
+    holder.appendChild(renderer.domElement);
+    var controls = new THREE.OrbitControls(camera, renderer.domElement);
+    if (views.length) controls.target = views[0].controls.target;
+    views.push({k: k, holder: holder, renderer: renderer, controls: controls});
+  });
   function render() {
-    renderer.render(scene, camera);
-    holder.dataset.rendered = current === null ? "" : choices[current].text;
+    views.forEach(function (v) {
+      meshes.forEach(function (m, j) { if (m) m.visible = j === v.k; });
+      v.renderer.render(scene, camera);
+      v.holder.dataset.rendered = shown[v.k] === null ? "" : choices[shown[v.k]].text;
+    });
   }
-  controls.addEventListener("change", render);
+  views.forEach(function (v) { v.controls.addEventListener("change", render); });
   function geometry(c) {
     var q = new Uint16Array(bytes(c.positions).buffer), n = q.length / 3, p = new Float32Array(q.length);
     for (var i = 0; i < n; ++i)
@@ -227,31 +238,38 @@ const char* const script = R"JS(
     return g;
   }
   var material = new THREE.MeshLambertMaterial({vertexColors: THREE.VertexColors, side: THREE.DoubleSide});
-  var mesh = null;
-  function frame(c) {
-    var centre = new THREE.Vector3((c.lo[0] + c.hi[0]) / 2, (c.lo[1] + c.hi[1]) / 2, (c.lo[2] + c.hi[2]) / 2);
-    var r = Math.max(1e-6, 0.5 * Math.hypot(c.hi[0] - c.lo[0], c.hi[1] - c.lo[1], c.hi[2] - c.lo[2]));
+  function frame(shown) {  // the camera on the box of the surfaces shown, once
+    var lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    shown.forEach(function (c) {
+      if (c.triangles > 0)
+        for (var k = 0; k < 3; ++k) { lo[k] = Math.min(lo[k], c.lo[k]); hi[k] = Math.max(hi[k], c.hi[k]); }
+    });
+    if (!(lo[0] <= hi[0])) return;
+    var centre = new THREE.Vector3((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2);
+    var r = Math.max(1e-6, 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
     camera.near = r / 100; camera.far = r * 100; camera.updateProjectionMatrix();
     camera.position.copy(centre).add(new THREE.Vector3(0.9, -2.6, 1.1).normalize().multiplyScalar(3.2 * r));
-    controls.target.copy(centre);
-    controls.update();
-    controls.saveState();
+    views[0].controls.target.copy(centre);
+    views.forEach(function (v) { v.controls.update(); v.controls.saveState(); });
   }
-  // The slice and the curves' marker follow the 3D view.
+  function place(k, i) {  // choice i into view k
+    var c = choices[i];
+    if (meshes[k]) { scene.remove(meshes[k]); meshes[k].geometry.dispose(); meshes[k] = null; }
+    shown[k] = i;
+    if (c.triangles > 0) {
+      meshes[k] = new THREE.Mesh(geometry(c), material);
+      scene.add(meshes[k]);
+    }
+    document.getElementById(k ? "view3d-ref-caption" : "view3d-caption").textContent = c.role + ": isovalue " +
+      c.text + ", " + c.triangles + " triangles" + (c.cell > 0 ? " (clustered from " + c.triangles_full + ")" : "");
+  }
+  // The slice and the curves' marker follow the switched view.
   var slice = document.getElementById("slice"), caption = document.getElementById("slice-caption");
   var buttons = section.querySelectorAll("[data-isovalue]");
   var markers = [];
   function show(i) {
     var c = choices[i];
-    if (mesh) { scene.remove(mesh); mesh.geometry.dispose(); mesh = null; }
-    current = i;
-    if (c.triangles > 0) {
-      mesh = new THREE.Mesh(geometry(c), material);
-      scene.add(mesh);
-      if (!framed) { frame(c); framed = true; }
-    }
-    document.getElementById("view3d-caption").textContent = c.role + ": isovalue " + c.text + ", " +
-      c.triangles + " triangles" + (c.cell > 0 ? " (clustered from " + c.triangles_full + ")" : "");
+    place(0, i);
     slice.src = "data:image/png;base64," + c.slice;
     caption.textContent = "axial slice z = " + c.slice_z + " at isovalue " + c.text +
       ", the contour in yellow, LD blended where defined";
@@ -261,10 +279,10 @@ const char* const script = R"JS(
   }
   for (var b = 0; b < buttons.length; ++b)
     buttons[b].addEventListener("click", (function (i) { return function () { show(i); }; })(b));
-  document.getElementById("reset").addEventListener("click", function () { controls.reset(); render(); });
+  document.getElementById("reset").addEventListener("click", function () { views[0].controls.reset(); render(); });
   window.addEventListener("resize", function () {
-    renderer.setSize(holder.clientWidth, holder.clientHeight);
-    camera.aspect = holder.clientWidth / holder.clientHeight; camera.updateProjectionMatrix(); render();
+    views.forEach(function (v) { v.renderer.setSize(v.holder.clientWidth, v.holder.clientHeight); });
+    camera.aspect = holders[0].clientWidth / holders[0].clientHeight; camera.updateProjectionMatrix(); render();
   });
 
   // The curves.
@@ -359,6 +377,8 @@ const char* const script = R"JS(
     plot("plot-components", function (e) { return e.components > 0 ? Math.log10(e.components) : null; },
          "components (log scale)", true);
   }
+  frame(fixed >= 0 ? [choices[0], choices[fixed]] : [choices[0]]);
+  if (fixed >= 0) place(1, fixed);
   show(0);
 })();
 )JS";
@@ -411,16 +431,27 @@ std::string section(const json& report, const std::vector<Choice>& choices, cons
     for (std::size_t i = 0; i < choices.size(); ++i)
         o << "<button type=\"button\" data-isovalue=\"" << html::escape(choices[i].text) << "\">"
           << html::escape(choices[i].role) << ": " << html::escape(choices[i].text) << "</button>";
-    o << "</div>\n<div class=\"pair\"><figure><div id=\"view3d\"></div><figcaption><span id=\"view3d-caption\">"
-         "</span><br>drag: turn, wheel: zoom, right drag: move <button type=\"button\" id=\"reset\">reset view</button>"
-         "<br><span class=\"bar\"></span> LD 2.0 &hellip; <b>2.2</b> (blue) &hellip; <b>2.5</b> (red) &hellip; 2.7, "
-         "<span class=\"undefined\"></span> undefined</figcaption></figure>"
-         "<figure><img id=\"slice\" alt=\"slice at the chosen isovalue\"><figcaption id=\"slice-caption\">"
-         "</figcaption></figure></div>\n<div class=\"pair\"><figure><svg id=\"plot-fd\" role=\"img\"></svg>"
+    // The recommended surface beside the switched view, when the switched view opens elsewhere.
+    int fixed = -1;
+    if (!report["recommended"].empty())
+        for (std::size_t i = 1; i < choices.size(); ++i)
+            if (choices[i].isovalue == report["recommended"][0]["isovalue"].get<double>()) fixed = int(i);
+    o << "</div>\n<div class=\"pair\"><figure><h3>" << (fixed > 0 ? "Where the noise is" : "The surface")
+      << "</h3><div id=\"view3d\" class=\"view3d\"></div><figcaption id=\"view3d-caption\"></figcaption></figure>"
+         "<figure><h3>The recommended surface, the same camera</h3><div id=\"view3d-ref\" class=\"view3d\" "
+         "data-choice=\""
+      << fixed
+      << "\"></div><figcaption id=\"view3d-ref-caption\"></figcaption></figure></div>\n"
+         "<p class=\"note\">Drag either view to turn both, wheel: zoom, right drag: move "
+         "<button type=\"button\" id=\"reset\">reset view</button><br>Local dimension (LD): <span class=\"bar\">"
+         "</span> 2.0 &hellip; <b>2.2</b> (blue: smooth) &hellip; <b>2.5</b> (red: rough, the noise) &hellip; 2.7, "
+         "<span class=\"undefined\"></span> undefined</p>\n"
+         "<div class=\"pair\"><figure><img id=\"slice\" alt=\"slice at the chosen isovalue\"><figcaption "
+         "id=\"slice-caption\"></figcaption></figure><figure><svg id=\"plot-fd\" role=\"img\"></svg>"
          "<figcaption>D(s): clean bands shaded green, the clean limit dashed, recommended isovalues green, the "
-         "noisiest red dashed, the one shown black; point to read a value</figcaption></figure>"
-         "<figure><svg id=\"plot-components\" role=\"img\"></svg><figcaption>isosurface components (cube "
-         "connectivity), log scale, the same marks</figcaption></figure></div>\n"
+         "noisiest red dashed, the one shown black; point to read a value</figcaption></figure></div>\n"
+         "<div class=\"pair\"><figure class=\"half\"><svg id=\"plot-components\" role=\"img\"></svg><figcaption>"
+         "isosurface components (cube connectivity), log scale, the same marks</figcaption></figure></div>\n"
          "<div id=\"tip\" hidden></div></section>\n";
     json data = json::array();
     for (const Choice& c : choices) {
