@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages clfractal needs to build, test and benchmark (chromium:
-# the headless render test of `clfractal report`; libjs-three: the report's 3D view).
+# the headless render test of `clfractal report`; libjs-three: the report's 3D view; mkdocs:
+# the documentation site).
 # Does nothing when they are already there. Run as root (or with sudo available).
 set -euo pipefail
 packages=(build-essential cmake pkg-config git
@@ -9,7 +10,7 @@ packages=(build-essential cmake pkg-config git
   chromium libjs-three
   python3 python3-numpy python3-venv python3-dev openmpi-bin libopenmpi-dev
   libgdcm-dev libnifti2-dev libtiff-dev
-  clang-14 libfuzzer-14-dev libomp-14-dev python3-clang-14 oclgrind)
+  clang-14 libfuzzer-14-dev libomp-14-dev python3-clang-14 oclgrind mkdocs)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
