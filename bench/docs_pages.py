@@ -30,12 +30,12 @@ def sections(b, py, data, tmp):
     """NAME -> (page, command, how its output becomes markdown: text | markdown | file:PATH)."""
     md = lambda name: os.path.join(tmp, name + ".md")
     return {
-        "span": ("performance.md", [f"{b}/clfractal", "-q", "bench", "--size", "128", "--repeats", "3"], "text"),
+        "span": ("performance.md", [f"{b}/clfractal", "-q", "bench", "--size", "256", "--repeats", "3"], "text"),
         "local": ("performance.md", [py, "bench/local_bench.py", "--bench", f"{b}/clfractal_local_bench",
-                                     "--size", "128", "--repeats", "3"], "text"),
-        "components": ("performance.md", [f"{b}/clfractal_components_bench", "--size", "128",
-                                          "--uint16-size", "64", "--bfs-isovalues", "4"], "text"),
-        "stream": ("performance.md", [f"{b}/clfractal_stream_bench", "--size", "256", "--repeats", "3"], "text"),
+                                     "--size", "256", "--repeats", "3"], "text"),
+        "components": ("performance.md", [f"{b}/clfractal_components_bench", "--size", "256",
+                                          "--uint16-size", "128", "--bfs-isovalues", "4"], "text"),
+        "stream": ("performance.md", [f"{b}/clfractal_stream_bench", "--size", "512", "--repeats", "3"], "text"),
         "memory": ("performance.md", [py, "bench/memory_bench.py", f"{b}/clfractal", "--markdown"], "markdown"),
         "hostile": ("reliability.md", ["/usr/bin/python3", "bench/hostile_corpus.py", "--clfractal", f"{b}/clfractal",
                                        "--data", data, "--sample", "120", "--commands", "info,fd-stream,fd",
@@ -46,7 +46,8 @@ def sections(b, py, data, tmp):
                                        "--markdown", md("survey"), "--histogram", "docs/survey_fd_histogram.png"],
                    "file:" + md("survey")),
         "noise": ("reliability.md", [py, "bench/noise_sigma_bench.py", "--clfractal", f"{b}/clfractal",
-                                     "--data", data, "--markdown", md("noise")], "file:" + md("noise")),
+                                     "--data", data, "--volumes", "seg3d_mr,mni_avg152t1,walnut,stent",
+                                     "--markdown", md("noise")], "file:" + md("noise")),
     }
 
 
