@@ -35,6 +35,8 @@ def sections(b, py, data, tmp):
                                      "--size", "256", "--repeats", "3"], "text"),
         "components": ("performance.md", [f"{b}/clfractal_components_bench", "--size", "256",
                                           "--uint16-size", "128", "--bfs-isovalues", "4"], "text"),
+        "filter": ("performance.md", [py, "bench/filter_bench.py", "--bench", f"{b}/clfractal_filter_bench",
+                                      "--size", "128", "--repeats", "3"], "text"),
         "stream": ("performance.md", [f"{b}/clfractal_stream_bench", "--size", "512", "--repeats", "3"], "text"),
         "memory": ("performance.md", [py, "bench/memory_bench.py", f"{b}/clfractal", "--markdown"], "markdown"),
         "hostile": ("reliability.md", ["/usr/bin/python3", "bench/hostile_corpus.py", "--clfractal", f"{b}/clfractal",
