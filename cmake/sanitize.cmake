@@ -1,4 +1,4 @@
-# Sanitizer and fuzzing builds (README "Reliability").
+# Sanitizer and fuzzing builds (docs/reliability.md).
 #   -DCLFRACTAL_SANITIZE=address,undefined   (or thread): every target instrumented; UBSan
 #                                             reports are fatal, so a test that hits one fails.
 #   -DCLFRACTAL_FUZZ=ON (with clang):         the libFuzzer targets in fuzz/, the library

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "clfractal/analysis.hpp"
+#include "clfractal/version.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/fd4.hpp"
 #include "clfractal/local.hpp"
@@ -123,7 +124,7 @@ IsovalueSet list_isovalues(ValueType t, const float* values, std::size_t count) 
 
 extern "C" {
 
-const char* clf_version(void) { return CLFRACTAL_VERSION; }
+const char* clf_version(void) { return clfractal::version(); }
 
 const char* clf_last_error(void) { return last_error.c_str(); }
 

@@ -31,7 +31,7 @@
  * last-error message is per thread.
  *  - Volumes are x fastest: value (x, y, z) sits at x + nx * (y + ny * z).
  *  - Definitions (intersection a < s <= b, isovalue sets, subsampling, dimensions) are
- *    those of the C++ library: see README.md and the headers in include/clfractal.
+ *    those of the C++ library: see docs/definitions.md and the headers in include/clfractal.
  */
 #ifndef CLFRACTAL_H
 #define CLFRACTAL_H
@@ -230,7 +230,7 @@ double clf_analysis_noise_sigma(const clf_analysis* analysis);
 /* The whole analysis as JSON (the schema of `clfractal fd --json`'s shared part), valid
  * while the analysis lives. */
 const char* clf_analysis_json(const clf_analysis* analysis);
-/* ---- small-components filter (Zhao & Wenger 2025; README "Small-components filter") ---- */
+/* ---- small-components filter (Zhao & Wenger 2025; docs/guide/denoise.md) ---- */
 
 /* Connectivity of the small-components filter: CLF_SMALL_CUBE {f >= s} 26-connected and
  * {f < s} 6-connected (marching cubes); CLF_SMALL_SIX both 6-connected (the paper's). */

@@ -138,7 +138,7 @@ Volume add_noise_host(const Volume& v, const NoiseOptions& opt);
 /// radius N/4 (isosurfaces are tori). Built on make_synthetic's "points" and "torus".
 Volume noise_experiment_volume(const std::string& shape, std::size_t n, int points, std::uint64_t seed);
 
-/// Default isovalues of the experiment for a synthetic shape of size N (see the README).
+/// Default isovalues of the experiment for a synthetic shape of size N (docs/guide/theorem.md).
 std::vector<float> default_noise_isovalues(const std::string& shape, std::size_t n);
 
 /// gamma estimated from the edge spans near isovalue `iso`. The model assumes that the

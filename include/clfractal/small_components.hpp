@@ -21,8 +21,7 @@
 // The labelling is one raster-order union-find pass per set on the host (union by size, path
 // halving; 4 bytes per vertex, 8 above 2^31 vertices), four passes in all (the last two count
 // the components of the input's negative set and of the result's positive set). It reads
-// each vertex once per pass and is bound by memory latency (README "Small-components filter"
-// has the timings against the device filters).
+// each vertex once per pass and is bound by memory latency.
 #pragma once
 #include <cstddef>
 #include <string>

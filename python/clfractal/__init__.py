@@ -81,7 +81,8 @@ OPENCL_DRIVERS = _choose_opencl_drivers()
 
 from . import _clfractal  # noqa: E402  (after the drivers are chosen: the loader reads them once)
 
-__version__ = "0.1.0"
+#: The library's version (the one of ``clfractal --version`` and ``clf_version()``).
+__version__ = _clfractal.__version__
 
 __all__ = [
     "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "SliceStream", "Fd4", "fd4", "local4",

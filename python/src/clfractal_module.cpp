@@ -42,6 +42,7 @@
 #include "clfractal/smooth.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
+#include "clfractal/version.hpp"
 #include "clfractal/volume_io.hpp"
 
 namespace nb = nanobind;
@@ -752,6 +753,7 @@ nb::list devices_call() {
 
 NB_MODULE(_clfractal, m) {
     m.doc() = "clfractal's C++ library; use the clfractal package, which documents every call.";
+    m.attr("__version__") = clfractal::version();
     // CLBlast's cached programs are released at interpreter exit, while the OpenCL runtime
     // is still whole (its own exit handlers run after the interpreter has finalised).
     nb::module_::import_("atexit").attr("register")(nb::cpp_function([] { release_blas_caches(); }));

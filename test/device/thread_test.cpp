@@ -1,7 +1,7 @@
 // Several threads calling the library at once through the C ABI, each with its own context
 // and all on one shared context: every curve equals the reference counts, and each thread's
-// last-error message is its own. Run under TSan in the sanitizer stage (README
-// "Reliability"), with PoCL's own reports suppressed by name (sanitizer/tsan.supp).
+// last-error message is its own. Run under TSan in the sanitizer stage
+// (docs/reliability.md), with PoCL's own reports suppressed by name (sanitizer/tsan.supp).
 #include <doctest/doctest.h>
 
 #include <atomic>

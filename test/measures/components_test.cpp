@@ -334,7 +334,7 @@ TEST_CASE("components: sweep equals the labelling identity at every isovalue on 
     const std::string dir = testutil::shared_data_or_skip("real-volume component checks");
     if (dir.empty()) return;
     // The small volumes, fully (BFS per isovalue is the expensive side); the large ones
-    // are checked by `clfractal components --verify` (README).
+    // are checked by `clfractal components --verify` (docs/guide/components.md).
     for (const char* name : {"bucky_32x32x32_uint8.raw", "m4_totaldensity_31x22x25_float32.raw",
                              "nucleon_41x41x41_uint8.raw", "fuel_cropped_64x33x32_uint8.raw",
                              "hydrogen_3d_orbital_64x64x64_float32.raw", "neghip_slc_66x66x66_uint8.raw"}) {

@@ -300,7 +300,7 @@ TEST_CASE("gamma estimated from the edge spans of the distance field is about 1"
 
 TEST_CASE("The thesis' experiment at N = 64 matches Theorem 1 within 0.05") {
     // Distance to 10 random points, uniform noise mu = 0, 0.5, ..., 4 (Fig. 3.5 at half the
-    // size). At N = 128 the default run is within 0.016 (README); at N = 64 the isosurfaces
+    // size). At N = 128 the default run is within 0.016 (docs/guide/theorem.md); at N = 64 the isosurfaces
     // are smaller and more of them touch the border, and the measured values are within 0.033.
     const Volume clean = noise_experiment_volume("points", 64, 10, 1);
     std::vector<double> mu;

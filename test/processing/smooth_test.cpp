@@ -334,7 +334,7 @@ TEST_CASE("real volumes: the guarantees at a few isovalues and thresholds") {
     CHECK(volumes >= 16);
 }
 
-// The figures of the README: intersected cubes and components (BFS) before and after, on two
+// The figures of docs/guide/smooth.md: intersected cubes and components (BFS) before and after, on two
 // noisy real volumes.
 TEST_CASE("real volumes: intersected cubes and components before and after") {
     const std::string dir = testutil::shared_data_or_skip("real-volume smooth figures");

@@ -7,10 +7,12 @@
 #include <cstdlib>
 #include <iostream>
 #include <new>
+#include <string>
 #include <vector>
 
 #include "clfractal/device.hpp"
 #include "clfractal/error.hpp"
+#include "clfractal/version.hpp"
 #include "io/output_file.hpp"
 #include "cli.hpp"
 #include "output.hpp"
@@ -39,7 +41,7 @@ void add_shared_options(CLI::App& app) {
     app.fallthrough();
     app.option_defaults()->always_capture_default();
     app.add_flag("-q,--quiet", cli::quiet, "no progress on stderr (before or after the subcommand)");
-    app.set_version_flag("--version", "clfractal 0.1.0");
+    app.set_version_flag("--version", std::string("clfractal ") + clfractal::version());
 }
 
 // A default is shown where it is a value the option takes: not for required options, nor

@@ -17,11 +17,13 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <string>
 
 #include "cli.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "clfractal/span.hpp"
+#include "clfractal/version.hpp"
 #include "clfractal/volume_io.hpp"
 #include "output.hpp"
 
@@ -178,7 +180,7 @@ int main(int argc, char** argv) {
     app.add_option("--csv", a.csv, "write isovalue,count,count_sub,fd (as clfractal fd --csv)");
     app.add_option("--json", a.json_path, "write the summary as JSON");
     a.raw.add(&app);
-    app.set_version_flag("--version", "clfractal-mpi 0.1.0");
+    app.set_version_flag("--version", std::string("clfractal-mpi ") + clfractal::version());
 
     int code = 0;
     try {
