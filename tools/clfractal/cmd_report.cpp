@@ -384,12 +384,7 @@ void print_summary(const ReportArgs& a, const Volume& v, const Analysis& an, std
               << "time        " << seconds << " s\n";
 }
 
-int run_report(const ReportArgs& a) {
-    const auto t0 = clock_type::now();
-    Volume v = read_volume_within(a.volume, a.raw.options(), {"clfractal report"});
-    if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
-        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue");
-    Context& ctx = Context::shared();
+AnalysisOptions report_options(const ReportArgs& a, const Volume& v) {
     AnalysisOptions o;
     o.advice.clean_fd = a.clean_fd;
     o.advice.clean_share = a.clean_share;
@@ -399,9 +394,58 @@ int run_report(const ReportArgs& a) {
     o.window = a.window;
     // The denoising ladder within the report's bound of 4x the volume + 256 MiB.
     o.memory_budget = (std::size_t(256) << 20) + 3 * v.size_bytes();
+    return o;
+}
+
+using Shown = std::vector<std::pair<std::size_t, std::string>>;
+
+// The isovalues shown: the best recommendation and the noisiest (static pictures too, the
+// first `static_views`; the 3D view opens on the noisiest, the best beside it), then, with the
+// interactive view, other recommendations and a few across the populated range.
+Shown shown_isovalues(const Analysis& an, double clean_share, bool interactive, std::size_t& static_views) {
+    Shown shown;
+    auto add = [&](std::size_t k, const std::string& role) {
+        for (const auto& e : shown)
+            if (e.first == k) return;
+        shown.emplace_back(k, role);
+    };
+    if (!an.recommended.empty())
+        add(an.best().index,
+            an.clean ? "recommended (clean)" : "cleanest (" + std::string(verdict_name(an.best().verdict)) + ")");
+    if (an.noisiest) add(an.noisiest->index, "noisiest well-populated");
+    static_views = shown.size();
+    if (!interactive) return shown;
+    for (std::size_t r = 1; r < an.recommended.size() && r < 3; ++r)
+        add(an.recommended[r].index, "recommended " + std::to_string(r + 1));
+    const std::vector<std::uint64_t>& count = an.curve.counts[0];
+    const double floor_count = count.empty() ? 0.0 : clean_share * double(*std::max_element(count.begin(), count.end()));
+    std::vector<std::size_t> populated;
+    for (std::size_t k = 0; k < count.size(); ++k)
+        if (!std::isnan(an.curve.fd[k]) && count[k] > 0 && double(count[k]) >= floor_count) populated.push_back(k);
+    for (int q = 1; q <= 3 && !populated.empty(); ++q) add(populated[populated.size() * q / 4], "across the range");
+    return shown;
+}
+
+explore::Choice make_choice(const Pictures& p, const Analysis& an, std::size_t k, const std::string& role,
+                            std::size_t budget) {
+    explore::Choice c;
+    c.role = role, c.text = an.isovalues.text(k), c.isovalue = an.isovalues.value(k);
+    c.slice_z = p.z;
+    c.mesh = explore::web_mesh(p.web ? *p.web : p.mesh, budget);
+    if (p.web) c.mesh.triangles_full = p.triangles_full, c.mesh.cell = p.web_cell;
+    c.slice_png = p.slice_png;
+    return c;
+}
+
+int run_report(const ReportArgs& a) {
+    const auto t0 = clock_type::now();
+    Volume v = read_volume_within(a.volume, a.raw.options(), {"clfractal report"});
+    if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue");
+    Context& ctx = Context::shared();
     progress("report on " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description() +
              ": curve, components, noise, 4D dimension");
-    const Analysis an = analyse(ctx, v, o);
+    const Analysis an = analyse(ctx, v, report_options(a, v));
     json j = json::parse(to_json(an));
     j["volume"]["file"] = a.volume;
     j["volume"]["format"] = describe_volume_file(a.volume, a.raw.options());
@@ -419,20 +463,6 @@ int run_report(const ReportArgs& a) {
         curve_plot(axis, {components_panel(an.components->components)}, title + ": isosurface components (cube)")
             .png("report: components plot");
 
-    // The isovalues shown: the best recommendation and the noisiest (static pictures too; the 3D view opens on the
-    // noisiest, the best beside it), then other recommendations and a few across the populated range (3D only).
-    std::vector<std::pair<std::size_t, std::string>> shown;
-    auto add = [&](std::size_t k, const std::string& role) {
-        for (const auto& e : shown)
-            if (e.first == k) return;
-        shown.emplace_back(k, role);
-    };
-    if (!an.recommended.empty())
-        add(an.best().index,
-            an.clean ? "recommended (clean)" : "cleanest (" + std::string(verdict_name(an.best().verdict)) + ")");
-    if (an.noisiest) add(an.noisiest->index, "noisiest well-populated");
-    const std::size_t static_views = shown.size();
-
     std::string why_static = a.static_page ? "--static" : "";
     std::optional<explore::Three> three;
     if (!a.static_page) {
@@ -440,32 +470,17 @@ int run_report(const ReportArgs& a) {
         if (!three)
             std::cerr << "clfractal: warning: " << why_static << " (setup.sh installs libjs-three): the static page\n";
     }
-    if (three) {
-        for (std::size_t r = 1; r < an.recommended.size() && r < 3; ++r)
-            add(an.recommended[r].index, "recommended " + std::to_string(r + 1));
-        const std::vector<std::uint64_t>& count = an.curve.counts[0];
-        const double floor_count = count.empty() ? 0.0 : a.clean_share * double(*std::max_element(count.begin(), count.end()));
-        std::vector<std::size_t> populated;
-        for (std::size_t k = 0; k < count.size(); ++k)
-            if (!std::isnan(an.curve.fd[k]) && count[k] > 0 && double(count[k]) >= floor_count) populated.push_back(k);
-        for (int q = 1; q <= 3 && !populated.empty(); ++q) add(populated[populated.size() * q / 4], "across the range");
-    }
-
+    std::size_t static_views = 0;
+    const Shown shown = shown_isovalues(an, a.clean_share, three.has_value(), static_views);
     std::vector<View> views;
     std::vector<explore::Choice> choices;
     for (std::size_t i = 0; i < shown.size(); ++i) {
         const auto& [k, role] = shown[i];
         const Pictures p = pictures(ctx, v, an, k, role, a.window, a.mesh_triangles);
         if (i < static_views) views.push_back(make_view(p, an.isovalues, k, role, a.window));
-        if (three) {
-            explore::Choice c;
-            c.role = role, c.text = an.isovalues.text(k), c.isovalue = an.isovalues.value(k);
-            c.slice_z = p.z;
-            c.mesh = explore::web_mesh(p.web ? *p.web : p.mesh, a.mesh_triangles);
-            if (p.web) c.mesh.triangles_full = p.triangles_full, c.mesh.cell = p.web_cell;
-            c.slice_png = p.slice_png;
-            choices.insert(i == 1 && static_views == 2 ? choices.begin() : choices.end(), std::move(c));
-        }
+        if (three)
+            choices.insert(i == 1 && static_views == 2 ? choices.begin() : choices.end(),
+                           make_choice(p, an, k, role, a.mesh_triangles));
     }
     j["views"] = json::array();
     for (const View& w : views) j["views"].push_back(w.facts);

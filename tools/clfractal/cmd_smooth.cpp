@@ -33,20 +33,30 @@ int run_smooth(SmoothArgs a) {
     progress("smooth isosurface of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " (" +
              smooth_variant_name(variant) + "), window " + std::to_string(a.window) + ", on " + ctx.description());
     const bool want_mesh = !a.mesh.empty() || !a.preview.empty();
-    // The input on the device once (the smoothing and the reports before read it), the
-    // result once (the reports after).
-    const ReportVolume input(ctx, v);
-    const SmoothResult r = input.device()
-                               ? smooth_isosurface(*input.device(), a.iso, a.threshold, a.window, variant, a.tau, want_mesh)
-                               : smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
-    const ReportVolume output(ctx, r.volume);
-    const IsoCounts before = input.counts_at(a.iso), after = output.counts_at(a.iso);
+    // The input on the device once (its counts and the smoothing read it), the result once (its
+    // counts). The input's counts come first and its values go once the result is written, so
+    // that the component labelling never shares memory with both volumes.
+    IsoCounts before;
+    std::int64_t components_before = 0;
+    SmoothResult r;
+    {
+        const ReportVolume input(ctx, v);
+        before = input.counts_at(a.iso);
+        components_before = input.components_at(a.iso);
+        r = input.device() ? smooth_isosurface(*input.device(), a.iso, a.threshold, a.window, variant, a.tau, want_mesh)
+                           : smooth_isosurface(ctx, v, a.iso, a.threshold, a.window, variant, a.tau, want_mesh);
+    }
     write_volume(r.volume, a.output, &v);
+    const Dims dims = v.dims();
+    const ValueType type = v.type();
+    v = Volume();
+    const ReportVolume output(ctx, r.volume);
+    const IsoCounts after = output.counts_at(a.iso);
 
-    const double n = double(std::max<std::size_t>(1, v.vertices()));
-    std::cout << "volume      " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
+    const double n = double(std::max<std::size_t>(1, dims.vertices()));
+    std::cout << "volume      " << a.volume << "  " << dims_string(dims) << " " << value_type_name(type) << "\n"
               << "device      " << ctx.description() << "\n"
-              << "isovalue    " << a.iso << compared_as(v.type()) << ", threshold "
+              << "isovalue    " << a.iso << compared_as(type) << ", threshold "
               << a.threshold << ", window " << a.window << ", variant " << smooth_variant_name(variant);
     if (variant == SmoothVariant::gaussian) std::cout << " (tau " << a.tau << ")";
     std::cout << "\n"
@@ -57,7 +67,7 @@ int run_smooth(SmoothArgs a) {
               << 100.0 * double(r.vertices_changed) / n << "%)\n"
               << std::defaultfloat << "cubes       " << before.cubes << " -> " << after.cubes << " intersected\n"
               << "grid edges  " << before.edges << " -> " << after.edges << " intersected\n";
-    std::cout << "components  " << input.components_at(a.iso) << " -> " << output.components_at(a.iso)
+    std::cout << "components  " << components_before << " -> " << output.components_at(a.iso)
               << " (cube connectivity: 6 below, 26 above)\n";
     std::cout << std::setprecision(4) << "time        " << r.device_seconds << " s device (LD field, edge scan), "
               << r.queue_seconds << " s queue, kernels compiled in " << ctx.compile_seconds() << " s\n"
