@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <chrono>
 #include <cstring>
 #include <cmath>
@@ -348,20 +349,47 @@ std::vector<std::uint64_t> isovalue_histogram(const Volume& v, const IsovalueSet
     const int threads = omp_get_max_threads();
     std::vector<std::vector<std::uint64_t>> part(std::size_t(threads), std::vector<std::uint64_t>(n, 0));
     visit(v, [&](const auto* data) {
+        using T = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
         const std::size_t m = v.vertices();
+        // Integer data with every integer isovalue: a plain count per value.
+        const bool by_value = std::is_integral_v<T> && iso.integer();
+        const long long first = iso.integer() ? iso.first() : 0;
+        const std::vector<double>& s = iso.list();
 #pragma omp parallel num_threads(threads)
         {
-            std::vector<std::uint64_t>& h = part[std::size_t(omp_get_thread_num())];
+            std::uint64_t* __restrict h = part[std::size_t(omp_get_thread_num())].data();
+            if (by_value) {
+                // Four interleaved counts break the chains of increments of one bin (runs of
+                // equal values), summed at the end.
+                std::vector<std::uint64_t> more(3 * n, 0);
+                std::uint64_t* __restrict h1 = more.data();
+                std::uint64_t* __restrict h2 = h1 + n;
+                std::uint64_t* __restrict h3 = h2 + n;
+                const auto bin = [&](std::size_t i) { return (unsigned long long)((long long)data[i] - first); };
 #pragma omp for schedule(static)
-            for (std::size_t i = 0; i < m; ++i) {
-                const double x = double(data[i]);
-                if (iso.integer()) {
-                    const double k = x - double(iso.first());
-                    if (k >= 0 && k < double(n)) ++h[std::size_t(k)];
-                } else {
-                    const std::vector<double>& s = iso.list();
-                    const std::size_t k = std::size_t(std::upper_bound(s.begin(), s.end(), x) - s.begin());
-                    if (k > 0) ++h[k - 1];
+                for (std::size_t q = 0; q < m / 4; ++q) {
+                    const std::size_t i = 4 * q;
+                    const unsigned long long a = bin(i), b = bin(i + 1), c = bin(i + 2), d = bin(i + 3);
+                    if (a < n) ++h[a];
+                    if (b < n) ++h1[b];
+                    if (c < n) ++h2[c];
+                    if (d < n) ++h3[d];
+                }
+#pragma omp single
+                for (std::size_t i = m / 4 * 4; i < m; ++i)
+                    if (bin(i) < n) ++h[bin(i)];
+                for (std::size_t k = 0; k < n; ++k) h[k] += h1[k] + h2[k] + h3[k];
+            } else {
+#pragma omp for schedule(static)
+                for (std::size_t i = 0; i < m; ++i) {
+                    const double x = double(data[i]);
+                    if (iso.integer()) {
+                        const double k = x - double(first);
+                        if (k >= 0 && k < double(n)) ++h[std::size_t(k)];
+                    } else {
+                        const std::size_t k = std::size_t(std::upper_bound(s.begin(), s.end(), x) - s.begin());
+                        if (k > 0) ++h[k - 1];
+                    }
                 }
             }
         }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -178,13 +179,18 @@ TEST_CASE("recommend: nothing clean gives the cleanest quarter, lowest mean D fi
 }
 
 TEST_CASE("isovalue histogram: vertices per isovalue bin, against a plain count") {
-    const Volume v = testutil::random_volume(Dims{13, 7, 5}, ValueType::int16, -20, 40, 7);
-    const IsovalueSet ints = IsovalueSet::integers(-5, 30);
-    const std::vector<std::uint64_t> h = isovalue_histogram(v, ints);
-    for (std::size_t k = 0; k < ints.size(); ++k) {
-        std::uint64_t want = 0;
-        for (std::size_t i = 0; i < v.vertices(); ++i) want += v.value(i) == ints.value(k);
-        CHECK(h[k] == want);
+    for (const auto& [type, lo, hi, first, last] :
+         {std::tuple{ValueType::int16, -20, 40, -5, 30}, std::tuple{ValueType::uint8, 0, 255, 3, 200},
+          std::tuple{ValueType::uint16, 100, 900, 0, 500}}) {
+        CAPTURE(value_type_name(type));
+        const Volume v = testutil::random_volume(Dims{13, 7, 5}, type, lo, hi, 7);
+        const IsovalueSet ints = IsovalueSet::integers(first, last);
+        const std::vector<std::uint64_t> h = isovalue_histogram(v, ints);
+        for (std::size_t k = 0; k < ints.size(); ++k) {
+            std::uint64_t want = 0;
+            for (std::size_t i = 0; i < v.vertices(); ++i) want += v.value(i) == ints.value(k);
+            CHECK(h[k] == want);
+        }
     }
     const Volume f = testutil::random_volume(Dims{11, 6, 4}, ValueType::float32, -10, 10, 8);
     const IsovalueSet list = IsovalueSet::floats({-3.f, -0.5f, 0.f, 2.5f, 4.f});
