@@ -58,4 +58,13 @@ void check_int_axes(const Dims& d) {
     if (!int_axes(d)) throw InputError("volume: axes longer than 2^31 - 1 vertices are not supported");
 }
 
+bool copy_doubles_host_memory(const Context& ctx, std::size_t bytes) {
+    return ctx.is_cpu() && bytes > (std::size_t(64) << 20);
+}
+
+SliceRange ld_input_slices(std::size_t a, std::size_t b, std::size_t nz, int window) {
+    const std::size_t half = std::size_t(window / 2);
+    return {a > half ? (a - half) & ~std::size_t(1) : 0, std::min(nz, b + half)};
+}
+
 }  // namespace clfractal

@@ -47,6 +47,21 @@ bool int_axes(const Dims& d);
 /// int_axes(d).
 void check_int_axes(const Dims& d);
 
+/// Whether a whole-volume device copy of `bytes` would cost host memory worth avoiding: on a
+/// CPU device (whose buffers are host memory) a copy above 64 MiB doubles the volume for as
+/// long as it is held, so slabbed or per-call uploads are taken instead.
+bool copy_doubles_host_memory(const Context& ctx, std::size_t bytes);
+
+/// The input slices [lo, hi) whose LD field (window `window`) gives exactly the whole-volume
+/// values on output slices [a, b) of a volume of `nz` slices: lo = a - window/2 rounded down
+/// to even (so the slab's level-1 slices are the volume's), hi = b + window/2 (both clamped).
+/// Every window of the output slices then lies inside the slab or meets the volume's ends
+/// where the slab ends too.
+struct SliceRange {
+    std::size_t lo, hi;
+};
+SliceRange ld_input_slices(std::size_t a, std::size_t b, std::size_t nz, int window);
+
 /// Returns attempt(depth); when the device runs out of memory, attempt again with half the
 /// depth (rounded up), down to one slice, then rethrows. The one retry rule of slabbed work.
 template <class F>

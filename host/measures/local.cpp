@@ -314,12 +314,12 @@ Volume local_in_core(Context& ctx, const Volume& v, double iso, int window);
 // is rounded down to even.
 Volume local_in_slabs(Context& ctx, const Volume& v, double iso, int window, std::size_t depth) {
     const Dims d = v.dims();
-    const std::size_t half = std::size_t(window / 2), plane = d.nx * d.ny, slice_bytes = plane * value_size(v.type());
+    const std::size_t plane = d.nx * d.ny, slice_bytes = plane * value_size(v.type());
     Volume out(d, ValueType::float32, v.name);
     out.spacing = v.spacing;
     for (std::size_t a = 0; a < d.nz; a += depth) {
         const std::size_t b = std::min(d.nz, a + depth);
-        const std::size_t lo = a > half ? (a - half) & ~std::size_t(1) : 0, hi = std::min(d.nz, b + half);
+        const auto [lo, hi] = ld_input_slices(a, b, d.nz, window);
         Volume slab(Dims{d.nx, d.ny, hi - lo}, v.type());
         std::memcpy(slab.data(), static_cast<const unsigned char*>(v.data()) + lo * slice_bytes, slab.size_bytes());
         const Volume f = local_in_core(ctx, slab, iso, window);

@@ -15,6 +15,7 @@
 #include "device/type_options.hpp"
 #include "device/kernel_call.hpp"
 #include "device/name_table.hpp"
+#include "device/slab_plan.hpp"
 
 namespace clfractal {
 
@@ -48,12 +49,12 @@ std::vector<std::uint8_t> high_fractal_flags(const DeviceVolume& v, double iso, 
 }
 
 // The same flags slab by slab, for CPU devices, whose buffers are host memory: output slices
-// [a, b) from the LD field of the input slices [lo, hi) (the halo rule of local.cpp's slabs,
-// extended by slice b, whose LD the z-edges of slice b - 1 read), so each slab gives exactly
-// the whole-volume flags while the buffers stay about 192 MiB.
+// [a, b) from the LD field of ld_input_slices(a, b + 1) (slice b too: the z-edges of slice
+// b - 1 read its LD), so each slab gives exactly the whole-volume flags while the buffers stay
+// about 192 MiB.
 std::vector<std::uint8_t> high_fractal_flags_slabs(Context& ctx, const Volume& v, double iso, double h, int window) {
     const Dims d = v.dims();
-    const std::size_t plane = d.nx * d.ny, half = std::size_t(window / 2);
+    const std::size_t plane = d.nx * d.ny;
     const std::size_t vs = value_size(v.type());
     // Tuning::slab_bytes (the values of one slab's output slices) lets tests force thin slabs.
     const std::size_t depth = ctx.tuning.slab_bytes
@@ -62,7 +63,7 @@ std::vector<std::uint8_t> high_fractal_flags_slabs(Context& ctx, const Volume& v
     std::vector<std::uint8_t> flags(d.vertices());
     for (std::size_t a = 0; a < d.nz; a += depth) {
         const std::size_t b = std::min(d.nz, a + depth), e = std::min(d.nz, b + 1);
-        const std::size_t lo = a > half ? (a - half) & ~std::size_t(1) : 0, hi = std::min(d.nz, e + half);
+        const auto [lo, hi] = ld_input_slices(a, e, d.nz, window);
         Volume slab(Dims{d.nx, d.ny, hi - lo}, v.type());
         std::memcpy(slab.data(), static_cast<const unsigned char*>(v.data()) + lo * plane * vs, slab.size_bytes());
         const Volume ld = local_fractal_dimension(ctx, slab, iso, window);
@@ -264,8 +265,8 @@ SmoothResult smooth_isosurface(Context& ctx, const Volume& v, double iso, double
     check_smooth_arguments(iso, h, window, variant, tau);
     // On a CPU device, a volume above 64 MiB without the field to keep: the flags slab by
     // slab (no whole-volume LD field or device copy beside the values).
-    const bool large = v.size_bytes() > (std::size_t(64) << 20) || ctx.tuning.slab_bytes;
-    if (ctx.is_cpu() && large && !keep_ld && v.dims().nz > 1) {
+    const bool slabs = copy_doubles_host_memory(ctx, v.size_bytes()) || (ctx.is_cpu() && ctx.tuning.slab_bytes);
+    if (slabs && !keep_ld && v.dims().nz > 1) {
         SmoothResult r;
         const auto t = clock_type::now();
         std::vector<std::uint8_t> flags = high_fractal_flags_slabs(ctx, v, iso, h, window);

@@ -357,10 +357,8 @@ ReportVolume::ReportVolume(Context& ctx, const Volume& v) : ctx_(ctx), host_(v) 
     need.nz = v.dims().nz;
     need.input_slice_bytes = v.dims().nx * v.dims().ny * value_size(v.type());
     need.memory_divisor = 2;
-    // A CPU device's buffers are host memory: there a copy of a volume above 64 MiB would
-    // double it for the whole command, and each count uploads what it reads instead.
-    const bool host_memory = ctx.is_cpu() && v.size_bytes() > (std::size_t(64) << 20);
-    if (!host_memory && v.vertices() > 0 && int_axes(v.dims()) && slab_fit(ctx, need) >= need.nz) device_.emplace(ctx, v);
+    // Where the copy would double the volume in host memory, each count uploads what it reads.
+    if (!copy_doubles_host_memory(ctx, v.size_bytes()) && v.vertices() > 0 && int_axes(v.dims()) && slab_fit(ctx, need) >= need.nz) device_.emplace(ctx, v);
 }
 
 ReportVolume::ReportVolume(const Volume& v, DeviceVolume&& on_device)

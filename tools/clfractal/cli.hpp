@@ -76,7 +76,6 @@ CLI::Option* add_volume_argument(CLI::App* app, std::string& volume);
 /// that work on one isosurface of one volume (local, mesh, smooth).
 void add_volume_and_iso(CLI::App* app, std::string& volume, double& iso, const std::string& what);
 
-/// Reads `volume` as `raw` says and resolves `iso` for it (checked_isovalue: auto, warnings).
 /// The host memory a command takes at most (docs/definitions.md §36): `factor` times the
 /// volume's bytes plus 256 MiB; `hint` says what to do instead when it is not available.
 struct MemoryNeed {
@@ -90,7 +89,8 @@ struct MemoryNeed {
 /// (peek_volume), else once read and before any work.
 clfractal::Volume read_volume_within(const std::string& volume, const clfractal::RawOptions& raw, const MemoryNeed& need,
                                      clfractal::FiniteCheck finite = clfractal::FiniteCheck::reject);
-/// read_volume_within with `need`, then the isovalue checked against the volume.
+/// Reads `volume` as `raw` says, within `need` (read_volume_within), and resolves `iso` for it
+/// (checked_isovalue: auto, warnings).
 clfractal::Volume read_volume_at_isovalue(const std::string& volume, const RawArgs& raw, double& iso,
                                           const MemoryNeed& need);
 

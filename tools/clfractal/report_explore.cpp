@@ -8,10 +8,9 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_map>
-#include <unordered_set>
 
 #include "clfractal/local.hpp"
+#include "clfractal/mesh_cluster.hpp"
 #include "report_html.hpp"
 
 using json = nlohmann::json;
@@ -22,51 +21,6 @@ namespace {
 template <class T>
 void put(std::string& out, T x) {
     for (std::size_t i = 0; i < sizeof(T); ++i) out += char((std::uint64_t(x) >> (8 * i)) & 0xff);
-}
-
-// Vertex clustering with cell edge `cell`: the clusters' mean positions and LD, and the
-// triangles whose corners fall in three distinct cells (each cell triple once).
-struct Clustered {
-    std::vector<std::array<float, 3>> positions;
-    std::vector<float> ld;
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-};
-
-Clustered cluster(const clfractal::Mesh& m, const std::array<double, 3>& lo, double cell) {
-    Clustered c;
-    std::unordered_map<std::uint64_t, std::uint32_t> id;
-    id.reserve(m.positions.size() / 4);
-    std::vector<std::uint32_t> of(m.positions.size());
-    std::vector<std::array<double, 3>> sum;
-    std::vector<double> ld_sum;
-    std::vector<std::uint32_t> n, ld_n;
-    for (std::size_t i = 0; i < m.positions.size(); ++i) {
-        std::uint64_t key = 0;
-        for (int k = 0; k < 3; ++k)
-            key = key << 21 | std::min<std::uint64_t>((1u << 21) - 1, std::uint64_t((m.positions[i][k] - lo[k]) / cell));
-        const auto [it, added] = id.emplace(key, std::uint32_t(sum.size()));
-        if (added) sum.push_back({0, 0, 0}), ld_sum.push_back(0), n.push_back(0), ld_n.push_back(0);
-        const std::uint32_t j = it->second;
-        of[i] = j;
-        for (int k = 0; k < 3; ++k) sum[j][k] += m.positions[i][k];
-        ++n[j];
-        if (!m.ld.empty() && !std::isnan(m.ld[i])) ld_sum[j] += m.ld[i], ++ld_n[j];
-    }
-    c.positions.resize(sum.size());
-    c.ld.resize(sum.size());
-    for (std::size_t j = 0; j < sum.size(); ++j) {
-        for (int k = 0; k < 3; ++k) c.positions[j][k] = float(sum[j][k] / n[j]);
-        c.ld[j] = ld_n[j] ? float(ld_sum[j] / ld_n[j]) : NAN;
-    }
-    std::unordered_set<std::uint64_t> seen;
-    for (const auto& t : m.triangles) {
-        const std::array<std::uint32_t, 3> u{of[t[0]], of[t[1]], of[t[2]]};
-        if (u[0] == u[1] || u[1] == u[2] || u[0] == u[2]) continue;
-        std::array<std::uint64_t, 3> s{u[0], u[1], u[2]};
-        std::sort(s.begin(), s.end());
-        if (seen.insert(s[0] << 42 | s[1] << 21 | s[2]).second) c.triangles.push_back(u);
-    }
-    return c;
 }
 
 WebMesh encode(const std::vector<std::array<float, 3>>& positions, const std::vector<float>& ld,
@@ -138,8 +92,10 @@ WebMesh web_mesh(const clfractal::Mesh& mesh, std::size_t triangles) {
     edge /= double(mesh.triangles.size());
     double cell = std::max(extent / double(1u << 20), edge * std::sqrt(double(mesh.triangles.size()) / double(triangles)));
     for (;;) {
-        Clustered c = cluster(mesh, lo, cell);
-        if (c.triangles.size() <= triangles) {
+        clfractal::MeshClusters clusters(cell);
+        clusters.add(mesh);
+        if (clusters.triangles() <= triangles) {
+            const clfractal::Mesh c = clusters.mesh();
             WebMesh w = encode(c.positions, c.ld, c.triangles, lo, hi);
             w.triangles_full = mesh.triangles.size();
             w.cell = cell;
