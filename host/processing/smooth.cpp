@@ -30,19 +30,26 @@ constexpr std::uint8_t hot_bit = 8;
 
 // ---------------------------------------------------------------- Algorithm 1, device
 
+// The flags of the vertices of `values` (on the device, with their LD field `ld`): kernels/
+// smooth.cl high_fractal_edges(vol, ld, nx, ny, nz, s, h, flags); the first `count` read into
+// `dst`.
+void scan_flags(const DeviceVolume& values, const DeviceVolume& ld, double iso, double h, std::uint8_t* dst,
+                std::size_t count) {
+    Context& ctx = values.context();
+    const Dims d = values.dims();
+    Buffer<cl_uchar> out(ctx, d.vertices());
+    KernelCall<cl::Buffer, cl::Buffer, int, int, int, ScalarArg, cl_float, cl::Buffer> scan(
+        ctx, "smooth", "high_fractal_edges", single_isovalue_options(values.type()));
+    scan(cl::NDRange(d.nx, d.ny, d.nz), cl::NullRange, values.buffer(), ld.buffer(), int(d.nx), int(d.ny), int(d.nz),
+         isovalue_arg(values.type(), iso), cl_float(float_threshold(h)), out.get());
+    out.read(ctx.queue(), dst, count);
+}
+
 std::vector<std::uint8_t> high_fractal_flags(const DeviceVolume& v, double iso, double h, int window, Volume* keep_ld) {
-    Context& ctx = v.context();
-    const Dims d = v.dims();
-    std::vector<std::uint8_t> flags(d.vertices());
+    std::vector<std::uint8_t> flags(v.dims().vertices());
     with_cl_errors([&] {
         const DeviceVolume ld = local_fractal_dimension(v, iso, window);
-        Buffer<cl_uchar> out(ctx, d.vertices());
-        // kernels/smooth.cl high_fractal_edges(vol, ld, nx, ny, nz, s, h, flags).
-        KernelCall<cl::Buffer, cl::Buffer, int, int, int, ScalarArg, cl_float, cl::Buffer> scan(
-            ctx, "smooth", "high_fractal_edges", single_isovalue_options(v.type()));
-        scan(cl::NDRange(d.nx, d.ny, d.nz), cl::NullRange, v.buffer(), ld.buffer(), int(d.nx), int(d.ny), int(d.nz),
-             isovalue_arg(v.type(), iso), cl_float(float_threshold(h)), out.get());
-        out.read(ctx.queue(), flags.data(), flags.size());
+        scan_flags(v, ld, iso, h, flags.data(), flags.size());
         if (keep_ld) *keep_ld = ld.download();
     });
     return flags;
@@ -67,17 +74,11 @@ std::vector<std::uint8_t> high_fractal_flags_slabs(Context& ctx, const Volume& v
         Volume slab(Dims{d.nx, d.ny, hi - lo}, v.type());
         std::memcpy(slab.data(), static_cast<const unsigned char*>(v.data()) + lo * plane * vs, slab.size_bytes());
         const Volume ld = local_fractal_dimension(ctx, slab, iso, window);
-        Volume part(Dims{d.nx, d.ny, e - a}, v.type()), part_ld(Dims{d.nx, d.ny, e - a}, ValueType::float32);
-        std::memcpy(part.data(), static_cast<const unsigned char*>(slab.data()) + (a - lo) * plane * vs, part.size_bytes());
-        std::memcpy(part_ld.data(), ld.as<float>() + (a - lo) * plane, part_ld.size_bytes());
+        const Dims part{d.nx, d.ny, e - a};  // slices [a, e) of the slab and of its field
         with_cl_errors([&] {
-            const DeviceVolume pv(ctx, part), pl(ctx, part_ld);
-            Buffer<cl_uchar> out(ctx, part.vertices());
-            KernelCall<cl::Buffer, cl::Buffer, int, int, int, ScalarArg, cl_float, cl::Buffer> scan(
-                ctx, "smooth", "high_fractal_edges", single_isovalue_options(v.type()));
-            scan(cl::NDRange(d.nx, d.ny, e - a), cl::NullRange, pv.buffer(), pl.buffer(), int(d.nx), int(d.ny),
-                 int(e - a), isovalue_arg(v.type(), iso), cl_float(float_threshold(h)), out.get());
-            out.read(ctx.queue(), flags.data() + a * plane, (b - a) * plane);
+            const DeviceVolume pv(ctx, static_cast<const unsigned char*>(slab.data()) + (a - lo) * plane * vs, part, v.type());
+            const DeviceVolume pl(ctx, ld.as<float>() + (a - lo) * plane, part, ValueType::float32);
+            scan_flags(pv, pl, iso, h, flags.data() + a * plane, (b - a) * plane);
         });
     }
     return flags;
