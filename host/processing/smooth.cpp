@@ -75,9 +75,10 @@ std::vector<std::uint8_t> high_fractal_flags_slabs(Context& ctx, const Volume& v
         std::memcpy(slab.data(), static_cast<const unsigned char*>(v.data()) + lo * plane * vs, slab.size_bytes());
         const Volume ld = local_fractal_dimension(ctx, slab, iso, window);
         const Dims part{d.nx, d.ny, e - a};  // slices [a, e) of the slab and of its field
+        const std::size_t skip = (a - lo) * plane;  // a structured binding is not captured in C++17
         with_cl_errors([&] {
-            const DeviceVolume pv(ctx, static_cast<const unsigned char*>(slab.data()) + (a - lo) * plane * vs, part, v.type());
-            const DeviceVolume pl(ctx, ld.as<float>() + (a - lo) * plane, part, ValueType::float32);
+            const DeviceVolume pv(ctx, static_cast<const unsigned char*>(slab.data()) + skip * vs, part, v.type());
+            const DeviceVolume pl(ctx, ld.as<float>() + skip, part, ValueType::float32);
             scan_flags(pv, pl, iso, h, flags.data() + a * plane, (b - a) * plane);
         });
     }
