@@ -179,7 +179,10 @@ def check_page(tab, check, page, work, name, load_only, held_out, views=None):
         tab.shot(canvas_rect(tab), b)
         r = subprocess.run([check, "canvas", a, b] + ([ref] if second and not held_out else []),
                            capture_output=True, text=True)
-        print(name + ": " + r.stdout.strip().replace("\n", "; "), flush=True)
+        said = r.stdout.strip().replace("\n", "; ")
+        if load_only:  # the pixel rules are not checked on these pages: say so, not "FAIL"
+            said = "not checked on this page: " + said.replace("FAIL: ", "")
+        print(name + ": " + said, flush=True)
         if r.returncode != 0 and not load_only:
             fail(name + ": report_check canvas")
     if second:
