@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the command-line reference (docs/reference/cli.md) from the tool's own help:
 `clfractal --help` and `clfractal SUB --help` for every subcommand it lists, and
-`clfractal-mpi --help` when given.
+`clfractal-mpi --help` (and its subcommands') when given.
 
     docs/gen/cli_reference.py BUILD/clfractal [--mpi BUILD/clfractal-mpi] > docs/reference/cli.md
     docs/gen/cli_reference.py BUILD/clfractal [--mpi ...] --check docs/reference/cli.md
@@ -68,7 +68,10 @@ def main():
     for sub in subs:
         text += section(f"clfractal {sub}", help_text(a.binary, sub))
     if a.mpi:
-        text += section("clfractal-mpi", help_text(a.mpi))
+        mpi_top = help_text(a.mpi)
+        text += section("clfractal-mpi", mpi_top)
+        for sub in subcommands(mpi_top):
+            text += section(f"clfractal-mpi {sub}", help_text(a.mpi, sub))
     return page.emit(text, a.check, "docs/gen/cli_reference.py BUILD/clfractal --mpi BUILD/clfractal-mpi"
                      " > docs/reference/cli.md")
 

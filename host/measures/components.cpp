@@ -11,6 +11,7 @@
 #include <parallel/algorithm>
 #include <type_traits>
 
+#include "components_slab.hpp"
 #include "device/slab_plan.hpp"
 #include "device/type_options.hpp"
 #include "device/kernel_call.hpp"
@@ -232,8 +233,10 @@ std::vector<std::uint32_t> neighbour_masks(const Volume& v, const DeviceVolume* 
 // then v joins them all: v becomes a leaf of the first one met, whose root also takes the
 // roots of the others; paths are halved on every find. Swept neighbours that are adjacent
 // to each other are already in one component, so only one of each such group is looked up
-// (with 26-connectivity usually one or two finds instead of ~13). The loop is bound by
-// memory latency: parents of vertices a few steps ahead are prefetched.
+// (with 26-connectivity usually one or two finds instead of ~13). `joined(v, child, root)`
+// hears of every union at the sweep of v (first v itself joining a root, then the roots that
+// join v's). The loop is bound by memory latency: parents of vertices a few steps ahead are
+// prefetched.
 template <class I> class Sweeper {
 public:
     Sweeper(const Dims& d, const std::vector<Offset>& nbrs, std::vector<I>& parent)
@@ -251,8 +254,8 @@ public:
     std::uint32_t bits() const { return m_ == 32 ? ~0u : ((std::uint32_t(1) << m_) - 1); }
 
     // Sweeps `count` vertices: at(k) the k-th, swept(k) its swept-neighbour bits.
-    template <class At, class Swept, class P, class F>
-    void run(std::size_t count, At&& at, Swept&& swept_bits, P&& prefetch_value, F&& met) {
+    template <class At, class Swept, class P, class F, class U>
+    void run(std::size_t count, At&& at, Swept&& swept_bits, P&& prefetch_value, F&& met, U&& joined) {
         constexpr std::size_t far = 24, near = 8;
         std::vector<I>& parent = parent_;
         for (std::size_t k = 0; k < count; ++k) {
@@ -286,9 +289,11 @@ public:
                     // v joins the first component as a leaf: old trees do not grow deeper.
                     parent[v] = root = r;
                     ++found;
+                    joined(v, v, r);
                 } else if (r != root) {
                     parent[r] = root;
                     ++found;
+                    joined(v, r, root);
                 }
             }
             met(v, found);
@@ -312,14 +317,14 @@ private:
 
 // One sweep over the whole `order`; the swept neighbours of v are the bits
 // [shift, shift + |nbrs|) of mask[v] (neighbour_masks).
-template <bool forward, class I, class P, class F>
+template <bool forward, class I, class P, class F, class U>
 void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::uint32_t>& mask, int shift,
-           const std::vector<Offset>& nbrs, std::vector<I>& parent, P&& prefetch_value, F&& met) {
+           const std::vector<Offset>& nbrs, std::vector<I>& parent, P&& prefetch_value, F&& met, U&& joined) {
     const std::size_t n = order.size();
     Sweeper<I> s(d, nbrs, parent);
     const std::uint32_t bits = s.bits();
     auto at = [&](std::size_t k) { return order[forward ? k : n - 1 - k]; };
-    s.run(n, at, [&](std::size_t k) { return (mask[at(k)] >> shift) & bits; }, prefetch_value, met);
+    s.run(n, at, [&](std::size_t k) { return (mask[at(k)] >> shift) & bits; }, prefetch_value, met, joined);
 }
 
 // The swept-neighbour bits of vertex v = (x, y, z): bit q set when nbrs[q] is inside the grid
@@ -467,11 +472,46 @@ private:
     std::vector<Window> windows_;
 };
 
+// The links of one sweep between the boundary vertices of a slab (components_slab.hpp): the
+// representative boundary vertex of every root that holds one (none: `none`), and a link
+// whenever a union joins two roots that both hold one. Inactive without an output.
+template <class I> class BoundaryLinks {
+public:
+    BoundaryLinks(const Dims& d, bool first, bool last, std::vector<BoundaryLink>* out)
+        : out_(out), nxy_(d.nx * d.ny), last_(last ? d.vertices() - nxy_ : std::numeric_limits<std::size_t>::max()) {
+        if (!out) return;
+        rep_.assign(d.vertices(), none);
+        if (first)
+            for (std::size_t i = 0; i < nxy_; ++i) rep_[i] = I(i);
+        for (std::size_t i = last_; i < d.vertices(); ++i) rep_[i] = I(i);
+    }
+    explicit operator bool() const { return out_ != nullptr; }
+    // At the sweep of a vertex of bin `bin`, the root `child` joins the root `root`.
+    void operator()(I child, I root, std::size_t bin) {
+        const I a = rep_[child];
+        if (a == none) return;
+        I& b = rep_[root];
+        if (b == none) b = a;
+        else out_->push_back({node(a), node(b), std::uint32_t(bin)});
+    }
+
+private:
+    std::uint32_t node(I v) const {
+        return std::uint32_t(std::size_t(v) >= last_ ? nxy_ + (std::size_t(v) - last_) : std::size_t(v));
+    }
+    static constexpr I none = std::numeric_limits<I>::max();
+    std::vector<BoundaryLink>* out_;
+    std::size_t nxy_, last_;
+    std::vector<I> rep_;
+};
+
 // Both sweeps over a windowed order, one after the other with one union-find forest: memory
-// 4 or 8 bytes per vertex plus two window buffers.
-template <class T, class I, class Bin>
+// 4 or 8 bytes per vertex plus two window buffers. `join_links` / `split_links` hear of the
+// unions of each (Sweeper::run's `joined`).
+template <class T, class I, class Bin, class J, class S>
 void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, const std::vector<Offset>& a_nbrs,
-                     const std::vector<Offset>& c_nbrs, Bin&& bin, std::vector<std::int64_t>& delta) {
+                     const std::vector<Offset>& c_nbrs, Bin&& bin, std::vector<std::int64_t>& delta, J&& join_links,
+                     S&& split_links) {
     const T* f = v.as<T>();
     const Dims d = v.dims();
     const WindowedOrder<T> order(f, v.vertices(), vmin, vmax, window);
@@ -479,7 +519,7 @@ void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, 
     std::vector<std::uint32_t> swept(order.largest());
     std::vector<I> parent(v.vertices());
     auto prefetch_value = [f](I i) { __builtin_prefetch(&f[i]); };
-    auto pass = [&](bool forward, const std::vector<Offset>& nbrs, int sign) {
+    auto pass = [&](bool forward, const std::vector<Offset>& nbrs, int sign, auto&& joined) {
         Sweeper<I> s(d, nbrs, parent);
         const SweptNeighbours bits(d, nbrs, forward);
         const auto& ws = order.windows();
@@ -489,14 +529,68 @@ void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, 
             const std::size_t m = w.count;
             auto at = [&](std::size_t k) { return buffer[forward ? k : m - 1 - k]; };
             s.run(m, at, [&](std::size_t k) { return swept[forward ? k : m - 1 - k]; }, prefetch_value,
-                  [&](I i, int found) { delta[bin(i)] += sign * found; });
+                  [&](I i, int found) { delta[bin(i)] += sign * found; }, joined);
         }
     };
     // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign. Split sweep:
     // C = {f >= s} grows as s falls; up(v) enters with a plus sign.
-    pass(true, a_nbrs, -1);
-    pass(false, c_nbrs, +1);
+    pass(true, a_nbrs, -1, join_links);
+    pass(false, c_nbrs, +1, split_links);
 }
+
+// Runs a() and b() on two threads and rethrows the first failure.
+template <class A, class B> void on_two_threads(A&& a, B&& b) {
+    std::exception_ptr failed[2];
+#pragma omp parallel sections num_threads(2)
+    {
+#pragma omp section
+        try {
+            a();
+        } catch (...) {
+            failed[0] = std::current_exception();
+        }
+#pragma omp section
+        try {
+            b();
+        } catch (...) {
+            failed[1] = std::current_exception();
+        }
+    }
+    for (const auto& e : failed)
+        if (e) std::rethrow_exception(e);
+}
+
+// Both sweeps over the whole (value, index) order and the neighbour masks. The two sweeps
+// are independent: each runs on its own core with its own union-find forest and its own
+// differences (4 bytes per vertex more than one after the other).
+template <class T, class I, class Bin, class J, class S>
+void whole_order_sweeps(const Volume& v, const DeviceVolume* dv, Connectivity mode, Bin&& bin,
+                        std::vector<std::int64_t>& delta, std::vector<std::int64_t>& delta_split, J&& join_links,
+                        S&& split_links) {
+    const T* f = v.as<T>();
+    const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
+    const std::vector<Offset> a_nbrs = neighbourhood(a_adj), c_nbrs = neighbourhood(c_adj);
+    const std::vector<I> order = sorted_vertices<T, I>(v, dv);
+    const std::vector<std::uint32_t> mask = neighbour_masks<T>(v, dv, a_adj, c_adj);
+    auto prefetch_value = [f, &mask](I i) {
+        __builtin_prefetch(&f[i]);
+        __builtin_prefetch(&mask[i]);
+    };
+    // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign.
+    auto join = [&] {
+        std::vector<I> parent(v.vertices());
+        sweep<true, I>(v.dims(), order, mask, 0, a_nbrs, parent, prefetch_value,
+                       [&](I i, int down) { delta[bin(i)] -= down; }, join_links);
+    };
+    // Split sweep: C = {f >= s} grows as s falls; up(v) enters with a plus sign.
+    auto split = [&] {
+        std::vector<I> parent(v.vertices());
+        sweep<false, I>(v.dims(), order, mask, int(a_nbrs.size()), c_nbrs, parent, prefetch_value,
+                        [&](I i, int up) { delta_split[bin(i)] += up; }, split_links);
+    };
+    on_two_threads(join, split);
+}
+
 
 // Whether the windowed sweeps take integer data of range [vmin, vmax]: when forced
 // (Tuning::component_window), or when the whole order, the masks and two forests (16 bytes a
@@ -510,9 +604,15 @@ template <class T> std::size_t sweep_window(const Context& ctx, const Volume& v,
     return std::clamp<std::size_t>(v.vertices() / 8, std::size_t(1) << 20, std::size_t(1) << 24);
 }
 
+// Where a slab's links and last bins go (count_slab_components); none for a whole volume.
+struct SlabOutput {
+    SlabComponents* out = nullptr;
+    bool first = false, last = false;
+};
+
 template <class T, class I>
 std::vector<std::int64_t> component_counts(const Context& ctx, const Volume& v, const DeviceVolume* dv,
-                                           const IsovalueSet& iso, Connectivity mode) {
+                                           const IsovalueSet& iso, Connectivity mode, const SlabOutput& slab) {
     const T* f = v.as<T>();
     const std::size_t K = iso.size();
     // Bin of a vertex: the first isovalue index j with f(v) < s_j (K when none).
@@ -525,58 +625,33 @@ std::vector<std::int64_t> component_counts(const Context& ctx, const Volume& v, 
         const auto& s = iso.list();
         return std::size_t(std::upper_bound(s.begin(), s.end(), double(f[i])) - s.begin());
     };
-    std::vector<std::int64_t> delta(K + 1, 0);
-    const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
-    const std::vector<Offset> a_nbrs = neighbourhood(a_adj), c_nbrs = neighbourhood(c_adj);
-    std::vector<std::int64_t> delta_split(K + 1, 0);
+    std::vector<std::int64_t> delta(K + 1, 0), delta_split(K + 1, 0);
+    // A slab's links (none for a whole volume: the test is all the sweeps pay then).
+    SlabComponents* out = slab.out;
+    BoundaryLinks<I> join_links(v.dims(), slab.first, slab.last, out ? &out->links.join : nullptr);
+    BoundaryLinks<I> split_links(v.dims(), slab.first, slab.last, out ? &out->links.split : nullptr);
+    auto hook = [&bin](BoundaryLinks<I>& links) {
+        return [&links, &bin](I at, I child, I root) {
+            if (links) links(child, root, bin(at));
+        };
+    };
     const ValueRange range = value_range(v);
     if (const std::size_t window = sweep_window<T>(ctx, v, range)) {
-        windowed_sweeps<T, I>(v, long(range.min), long(range.max), window, a_nbrs, c_nbrs, bin, delta);
+        const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
+        windowed_sweeps<T, I>(v, long(range.min), long(range.max), window, neighbourhood(a_adj), neighbourhood(c_adj),
+                              bin, delta, hook(join_links), hook(split_links));
     } else {
-        const std::vector<I> order = sorted_vertices<T, I>(v, dv);
-        const std::vector<std::uint32_t> mask = neighbour_masks<T>(v, dv, a_adj, c_adj);
-        // The two sweeps are independent: each runs on its own core with its own union-find
-        // forest and its own differences (4 bytes per vertex more than one after the other).
-        auto prefetch_value = [f, &mask](I i) {
-            __builtin_prefetch(&f[i]);
-            __builtin_prefetch(&mask[i]);
-        };
-        // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign.
-        auto join = [&] {
-            std::vector<I> parent(v.vertices());
-            sweep<true, I>(v.dims(), order, mask, 0, a_nbrs, parent, prefetch_value,
-                           [&](I i, int down) { delta[bin(i)] -= down; });
-        };
-        // Split sweep: C = {f >= s} grows as s falls; up(v) enters with a plus sign.
-        auto split = [&] {
-            std::vector<I> parent(v.vertices());
-            sweep<false, I>(v.dims(), order, mask, int(a_nbrs.size()), c_nbrs, parent, prefetch_value,
-                            [&](I i, int up) { delta_split[bin(i)] += up; });
-        };
-        std::exception_ptr failed[2];
-#pragma omp parallel sections num_threads(2)
-        {
-#pragma omp section
-            try {
-                join();
-            } catch (...) {
-                failed[0] = std::current_exception();
-            }
-#pragma omp section
-            try {
-                split();
-            } catch (...) {
-                failed[1] = std::current_exception();
-            }
-        }
-        for (const auto& e : failed)
-            if (e) std::rethrow_exception(e);
+        whole_order_sweeps<T, I>(v, dv, mode, bin, delta, delta_split, hook(join_links), hook(split_links));
     }
+    if (out && slab.last)
+        for (std::size_t i = v.vertices() - v.dims().nx * v.dims().ny; i < v.vertices(); ++i)
+            out->links.last_bins.push_back(std::uint32_t(bin(I(i))));
     std::vector<std::int64_t> c(K);
     std::int64_t sum = 0;
     for (std::size_t j = 0; j < K; ++j) c[j] = sum += delta[j] + delta_split[j];
     return c;
 }
+
 
 // Whether component_counts would take the windowed sweeps (no device steps then).
 bool windowed(const Context& ctx, const Volume& v) {
@@ -592,17 +667,19 @@ namespace {
 
 // The curve of `v`, with the device steps on `dv` (the same values) when it is given.
 ComponentCurve components_of(Context& ctx, const Volume& v, const DeviceVolume* dv, const IsovalueSet& iso,
-                             Connectivity mode) {
+                             Connectivity mode, const SlabOutput& slab = {}) {
     const ComputeTimer timer(ctx);
     ComponentCurve c;
     c.isovalues = iso;
     if (!iso.matches(v.type()))
         throw InputError("count_components: the isovalue set does not match the data type");
+    if (slab.out) *slab.out = SlabComponents{};
     if (iso.size() > 0 && v.vertices() > 0) {
         c.components = visit(v, [&](const auto* p) {
             using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-            return v.vertices() < std::size_t(0xffffffffu) ? component_counts<T, std::uint32_t>(ctx, v, dv, iso, mode)
-                                                            : component_counts<T, std::uint64_t>(ctx, v, dv, iso, mode);
+            return v.vertices() < std::size_t(0xffffffffu)
+                       ? component_counts<T, std::uint32_t>(ctx, v, dv, iso, mode, slab)
+                       : component_counts<T, std::uint64_t>(ctx, v, dv, iso, mode, slab);
         });
     }
     c.components.resize(iso.size(), 0);
@@ -610,9 +687,9 @@ ComponentCurve components_of(Context& ctx, const Volume& v, const DeviceVolume* 
     return c;
 }
 
-}  // namespace
-
-ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode) {
+// count_components, and a slab's links into `slab` when it has an output.
+ComponentCurve counted(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode,
+                       const SlabOutput& slab) {
     // The device takes the volume in one piece when it fits one allocation (and
     // Tuning::slab_bytes, when set: tests lower it to force the host path).
     const Dims d = v.dims();
@@ -621,15 +698,110 @@ ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet
     need.input_slice_bytes = d.nx * d.ny * value_size(v.type());
     need.memory_divisor = 1;
     const bool fits = v.vertices() > 0 && int_axes(d) && slab_fit(ctx, need) >= d.nz;
-    if (!fits || iso.size() == 0 || windowed(ctx, v)) return components_of(ctx, v, nullptr, iso, mode);
+    if (!fits || iso.size() == 0 || windowed(ctx, v)) return components_of(ctx, v, nullptr, iso, mode, slab);
     try {
         const DeviceVolume dv(ctx, v);
-        return components_of(ctx, v, &dv, iso, mode);
+        return components_of(ctx, v, &dv, iso, mode, slab);
     } catch (const DeviceError& e) {
         // Out of device memory: the host steps, as for a volume larger than the device.
         if (!e.out_of_memory()) throw;
-        return components_of(ctx, v, nullptr, iso, mode);
+        return components_of(ctx, v, nullptr, iso, mode, slab);
     }
+}
+
+// Union-find over the boundary copies of the joined slabs.
+class CopyForest {
+public:
+    explicit CopyForest(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::uint64_t(0)); }
+    // Whether a and b were apart (they are together now).
+    bool unite(std::uint64_t a, std::uint64_t b) {
+        a = find(a), b = find(b);
+        if (a == b) return false;
+        parent_[std::max(a, b)] = std::min(a, b);
+        return true;
+    }
+
+private:
+    std::uint64_t find(std::uint64_t x) {
+        while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+        return x;
+    }
+    std::vector<std::uint64_t> parent_;
+};
+
+// A link of the joined slabs between boundary copies: `own` when a slab's sweep made it (its
+// curve already counts the union), else the identity of the two copies of a shared vertex.
+struct CopyLink {
+    std::uint64_t a, b;
+    std::uint32_t bin;
+    bool own;
+};
+
+// The links of the join (or split) sweeps of every slab and the identities of the shared
+// slices, in copy ids: seam r (the last slice of slab r) has copies 2r nxy + xy in slab r
+// and (2r + 1) nxy + xy in slab r + 1.
+std::vector<CopyLink> copy_links(const std::vector<SlabLinks>& slabs, std::size_t nxy, bool join) {
+    std::vector<CopyLink> links;
+    for (std::size_t r = 0; r < slabs.size(); ++r) {
+        auto copy = [&](std::uint32_t n) {
+            return n < nxy ? (2 * r - 1) * nxy + n : 2 * r * nxy + (n - nxy);
+        };
+        for (const BoundaryLink& l : join ? slabs[r].join : slabs[r].split)
+            links.push_back({copy(l.a), copy(l.b), l.bin, true});
+        if (r + 1 == slabs.size()) continue;
+        if (slabs[r].last_bins.size() != nxy) throw std::logic_error("join_slab_components: a slab without last bins");
+        for (std::size_t xy = 0; xy < nxy; ++xy)
+            links.push_back({2 * r * nxy + xy, (2 * r + 1) * nxy + xy, slabs[r].last_bins[xy], false});
+    }
+    return links;
+}
+
+// Per bin, (own links) - (links that unite) over the links taken in bin order (increasing for
+// A = {f < s}, decreasing for C = {f >= s}): the number of unions a set of links makes does not
+// depend on their order within a bin.
+std::vector<std::int64_t> link_differences(std::vector<CopyLink> links, std::size_t copies, std::size_t bins,
+                                           bool increasing) {
+    std::sort(links.begin(), links.end(), [increasing](const CopyLink& x, const CopyLink& y) {
+        return increasing ? x.bin < y.bin : x.bin > y.bin;
+    });
+    CopyForest forest(copies);
+    std::vector<std::int64_t> d(bins, 0);
+    for (const CopyLink& l : links) d[l.bin] += std::int64_t(l.own) - std::int64_t(forest.unite(l.a, l.b));
+    return d;
+}
+
+}  // namespace
+
+ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode) {
+    return counted(ctx, v, iso, mode, {});
+}
+
+SlabComponents count_slab_components(Context& ctx, const Volume& slab, const IsovalueSet& iso, Connectivity mode,
+                                     bool first, bool last) {
+    const Dims d = slab.dims();
+    if (first && last && d.nz < 2) throw std::logic_error("count_slab_components: one slice cannot be shared twice");
+    if (2 * d.nx * d.ny >= (std::size_t(1) << 32) || iso.size() >= (std::size_t(1) << 32) - 1)
+        throw InputError("components of slabs: at most 2^31 vertices a slice and 2^32 - 2 isovalues");
+    SlabComponents s;
+    const ComponentCurve c = counted(ctx, slab, iso, mode, SlabOutput{&s, first, last});
+    s.components = c.components;
+    s.seconds = c.seconds;
+    return s;
+}
+
+std::vector<std::int64_t> join_slab_components(std::vector<std::int64_t> c, const std::vector<SlabLinks>& slabs,
+                                               std::size_t nxy) {
+    if (slabs.empty()) throw std::logic_error("join_slab_components: no slabs");
+    const std::size_t K = c.size(), R = slabs.size(), copies = 2 * (R - 1) * nxy;
+    for (std::int64_t& x : c) x += std::int64_t(R) - 1;
+    // b0(A) = sum of the slabs' b0(A ∩ S_r) + (own links in A) - (unions of all links in A);
+    // likewise C, whose links at bin b lie in C_j for j < b.
+    const auto a = link_differences(copy_links(slabs, nxy, true), copies, K + 1, true);
+    const auto s = link_differences(copy_links(slabs, nxy, false), copies, K + 1, false);
+    std::int64_t below = 0, above = 0;
+    for (std::size_t j = 0; j < K; ++j) c[j] += below += a[j];
+    for (std::size_t j = K; j-- > 0;) c[j] += above += s[j + 1];
+    return c;
 }
 
 ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, Connectivity mode) {

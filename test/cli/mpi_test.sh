@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# clfractal-mpi with 2 and 3 ranks gives exactly the single-process `clfractal fd` CSV.
+# clfractal-mpi with 2 and 3 ranks gives exactly the single-process `clfractal fd` CSV, and
+# `clfractal-mpi components` exactly the `clfractal components` CSV.
 # Usage: mpi_test.sh MPIEXEC CLFRACTAL_MPI CLFRACTAL WORKDIR [SHARED_DATA]
 set -u
 mpiexec=$1
@@ -23,6 +24,20 @@ check() {  # check NP ARGS...: the CSVs of NP ranks and of one process are ident
     echo "ok: -np $np $*"
   fi
 }
+check_components() {  # check_components NP ARGS...: as check, for the component curve
+  local np=$1
+  shift
+  if ! "$mpiexec" --allow-run-as-root --oversubscribe -np "$np" "$mpi" components "$@" --csv mpi.csv >mpi.out 2>&1; then
+    echo "FAIL: mpirun -np $np components $*: $(cat mpi.out)"; failures=$((failures + 1)); return
+  fi
+  "$bin" -q components "$@" --csv one.csv >/dev/null
+  if ! cmp -s mpi.csv one.csv; then
+    echo "FAIL: -np $np components $* differs from one process"; diff mpi.csv one.csv | head -5
+    failures=$((failures + 1))
+  else
+    echo "ok: -np $np components $*"
+  fi
+}
 check 2 synthetic:noisy-sphere:48
 check 3 synthetic:noisy-sphere:37 --edge --levels 3
 check 2 synthetic:marschner-lobb:41 --levels 3
@@ -38,10 +53,19 @@ head = head.replace(b"encoding: raw", b"encoding: gzip")
 open("ml_gz.nrrd", "wb").write(head + b"\n\n" + gzip.compress(data))
 PY
 check 2 ml_gz.nrrd --edge
+check_components 2 synthetic:noisy-sphere:30
+check_components 3 synthetic:noisy-sphere:30 --connectivity freudenthal
+check_components 3 ml.nrrd
+# More ranks than a 3-slice volume has parts (two): the others count nothing.
+check_components 3 synthetic:torus:3
 if [ -n "$data" ] && [ -f "$data/MANIFEST.tsv" ]; then
   check 2 "$data/fuel_cropped_64x33x32_uint8.raw" --edge
   check 2 "$data/hydrogen_3d_orbital_64x64x64_float32.raw" --levels 3
   check 3 "$(ls "$data"/*_uint16.raw | head -1)" --levels 3
+  check_components 2 "$data/fuel_cropped_64x33x32_uint8.raw"
+  check_components 3 "$data/fuel_cropped_64x33x32_uint8.raw" --connectivity freudenthal
+  check_components 3 "$data/hydrogen_3d_orbital_64x64x64_float32.raw" --bins 100
+  check_components 2 "$(ls "$data"/*_uint16.raw | head -1)"
 else
   echo "no shared data: real volumes skipped"
 fi

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "clfractal/mesh.hpp"
 #include "clfractal/volume_io.hpp"
 #include "components_labelling.hpp"
+#include "measures/components_slab.hpp"
 #include "reference/mesh_reference.hpp"
 #include "test_util.hpp"
 
@@ -278,6 +280,54 @@ TEST_CASE("windowed sweeps (the order built a window at a time): the whole-order
             }
             CHECK(check_curve(*v, m, iso) == 0);
         }
+}
+
+// The slabs [b_r, b_{r+1}] of v (consecutive slabs share slice b_{r+1}), counted and joined.
+std::vector<std::int64_t> joined_slabs(const Volume& v, const std::vector<std::size_t>& starts, const IsovalueSet& iso,
+                                       Connectivity mode) {
+    const Dims d = v.dims();
+    const std::size_t slice = d.nx * d.ny * value_size(v.type());
+    std::vector<SlabLinks> links;
+    std::vector<std::int64_t> sum(iso.size(), 0);
+    for (std::size_t r = 0; r < starts.size(); ++r) {
+        const std::size_t z0 = starts[r], z1 = r + 1 < starts.size() ? starts[r + 1] + 1 : d.nz;
+        Volume slab(Dims{d.nx, d.ny, z1 - z0}, v.type());
+        std::memcpy(slab.data(), static_cast<const char*>(v.data()) + z0 * slice, (z1 - z0) * slice);
+        SlabComponents s = count_slab_components(testutil::ctx(), slab, iso, mode, r > 0, r + 1 < starts.size());
+        for (std::size_t j = 0; j < iso.size(); ++j) sum[j] += s.components[j];
+        links.push_back(std::move(s.links));
+    }
+    return join_slab_components(sum, links, d.nx * d.ny);
+}
+
+TEST_CASE("slabs sharing a slice, joined: the whole-volume curve (cuts anywhere, both modes, windowed or not)") {
+    testutil::TuningGuard guard;
+    Volume narrow = testutil::random_volume({9, 7, 12}, ValueType::uint8, 0, 4, 41);
+    Volume wide = testutil::random_volume({6, 11, 10}, ValueType::uint16, 0, 60000, 42);
+    Volume floats = testutil::random_volume({8, 5, 9}, ValueType::float32, -20, 20, 43);
+    Volume plateau = testutil::random_volume({10, 10, 8}, ValueType::int16, -2, 2, 44);
+    for (Volume* v : {&narrow, &wide, &floats, &plateau})
+        for (Connectivity m : modes)
+            for (std::size_t window : {std::size_t(0), std::size_t(37)}) {
+                CAPTURE(value_type_name(v->type()));
+                CAPTURE(connectivity_name(m));
+                CAPTURE(window);
+                testutil::ctx().tuning.component_window = window;
+                const IsovalueSet iso = IsovalueSet::for_volume(*v, 50);
+                const std::vector<std::int64_t> whole = count_components(testutil::ctx(), *v, iso, m).components;
+                const std::size_t nz = v->dims().nz;
+                CHECK(joined_slabs(*v, {0}, iso, m) == whole);
+                // Single cuts, slabs of two slices, and uneven cuts.
+                for (std::size_t b : {std::size_t(1), nz / 2, nz - 2}) CHECK(joined_slabs(*v, {0, b}, iso, m) == whole);
+                std::vector<std::size_t> pairs;
+                for (std::size_t b = 0; b + 1 < nz; ++b) pairs.push_back(b);
+                CHECK(joined_slabs(*v, pairs, iso, m) == whole);
+                CHECK(joined_slabs(*v, {0, 1, nz / 2, nz - 2}, iso, m) == whole);
+            }
+    // Isovalues outside the data (every vertex in A, or in C) and a single isovalue.
+    const IsovalueSet outside = IsovalueSet::integers(-3, 8);
+    CHECK(joined_slabs(narrow, {0, 3, 7}, outside, Connectivity::cube) ==
+          count_components(testutil::ctx(), narrow, outside, Connectivity::cube).components);
 }
 
 TEST_CASE("parse_connectivity") {

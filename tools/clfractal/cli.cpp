@@ -334,6 +334,28 @@ std::string fd_string(double d) {
 
 nlohmann::json fd_json(double d) { return std::isnan(d) ? nlohmann::json(nullptr) : nlohmann::json(d); }
 
+std::string components_csv(const IsovalueSet& iso, const std::vector<std::int64_t>& components) {
+    std::ostringstream out;
+    out << "isovalue,components\n";
+    for (std::size_t j = 0; j < iso.size(); ++j) out << iso_string(iso, j) << "," << components[j] << "\n";
+    return out.str();
+}
+
+void print_components(std::ostream& out, const std::string& volume, const Dims& dims, ValueType type,
+                      Connectivity mode, const IsovalueSet& iso, const std::vector<std::int64_t>& components) {
+    std::size_t peak = 0;
+    for (std::size_t j = 0; j < iso.size(); ++j)
+        if (components[j] > components[peak]) peak = j;
+    out << "volume        " << volume << "  " << dims_string(dims) << " " << value_type_name(type) << "\n"
+        << "connectivity  " << connectivity_name(mode)
+        << (mode == Connectivity::cube ? " ({f < s} 6-connected, {f >= s} 26-connected; marching cubes)"
+                                       : " (both 14-connected; Freudenthal triangulation, marching tetrahedra)")
+        << "\n"
+        << "isovalues     " << iso.size() << " (" << iso_string(iso, 0) << " .. " << iso_string(iso, iso.size() - 1)
+        << ")\n"
+        << "most          " << components[peak] << " components at isovalue " << iso_string(iso, peak) << "\n";
+}
+
 std::string fd_csv(const FdCurve& f, const std::vector<std::int64_t>* components) {
     const int levels = f.levels();
     std::ostringstream out;

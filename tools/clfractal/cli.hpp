@@ -139,6 +139,15 @@ nlohmann::json fd_json(double d);
 /// [,components].
 std::string fd_csv(const clfractal::FdCurve& f, const std::vector<std::int64_t>* components = nullptr);
 
+/// The curve as `components --csv` writes it: isovalue,components.
+std::string components_csv(const clfractal::IsovalueSet& iso, const std::vector<std::int64_t>& components);
+
+/// The `components` report's lines volume, connectivity, isovalues and most (the largest
+/// count and its first isovalue).
+void print_components(std::ostream& out, const std::string& volume, const clfractal::Dims& dims,
+                      clfractal::ValueType type, clfractal::Connectivity mode, const clfractal::IsovalueSet& iso,
+                      const std::vector<std::int64_t>& components);
+
 /// A subcommand, the one way to register one: its name, its one-line help, and `attach`,
 /// which adds its options to its CLI11 app and returns what runs when it is chosen.
 struct Command {

@@ -82,26 +82,11 @@ int run_components(const ComponentsArgs& a) {
              std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity");
     ComponentCurve c = count_components(ctx, v, iso, mode);
 
-    std::size_t peak = 0;
-    for (std::size_t j = 0; j < iso.size(); ++j)
-        if (c.components[j] > c.components[peak]) peak = j;
-    std::cout << "volume        " << a.volume << "  " << dims_string(v.dims()) << " " << value_type_name(v.type()) << "\n"
-              << "connectivity  " << connectivity_name(mode)
-              << (mode == Connectivity::cube ? " ({f < s} 6-connected, {f >= s} 26-connected; marching cubes)"
-                                             : " (both 14-connected; Freudenthal triangulation, marching tetrahedra)")
-              << "\n"
-              << "isovalues     " << iso.size() << " (" << iso_string(iso, 0) << " .. " << iso_string(iso, iso.size() - 1)
-              << ")\n"
-              << "most          " << c.components[peak] << " components at isovalue " << iso_string(iso, peak) << "\n"
-              << std::setprecision(4) << "time          " << c.seconds << " s ("
+    print_components(std::cout, a.volume, v.dims(), v.type(), mode, iso, c.components);
+    std::cout << std::setprecision(4) << "time          " << c.seconds << " s ("
               << double(v.vertices()) / c.seconds / 1e6 << " Mvoxel/s)\n";
     const int bad = a.verify ? verify_components(v, iso, mode, c) : 0;
-    if (!a.csv.empty()) {
-        std::ostringstream out;
-        out << "isovalue,components\n";
-        for (std::size_t j = 0; j < iso.size(); ++j) out << iso_string(iso, j) << "," << c.components[j] << "\n";
-        write_file_atomic(a.csv, out.str());
-    }
+    if (!a.csv.empty()) write_file_atomic(a.csv, components_csv(iso, c.components));
     if (!a.plot.empty()) {
         // The annotations come from the box-dimension curve: the cube count underlay, the
         // greyed few-cube isovalues and the clean bands (two levels, cheap beside the sweep).

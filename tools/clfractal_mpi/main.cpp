@@ -1,10 +1,11 @@
 // clfractal-mpi: the fractal dimension curve of one volume counted by several MPI ranks
-// (docs/definitions.md §28). Each rank owns a z-part of the volume (starting at a multiple of
+// (docs/definitions.md §28), and with `components` its component curve (components.cpp). Each rank owns a z-part of the volume (starting at a multiple of
 // 2^(levels-1), sharing its last slice with the next part), counts it on its own device,
 // and the int64 histograms are summed on rank 0 with MPI_Reduce: the curve equals the
 // single-process `clfractal fd` exactly.
 //
 //   mpirun -np P clfractal-mpi VOLUME [--edge] [--levels L] [--isovalues A:B:S|A,B,... | --bins K] [--csv F] [--json F]
+//   mpirun -np P clfractal-mpi components VOLUME [--connectivity cube|freudenthal] [--isovalues ... | --bins K] [--csv F]
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
@@ -25,6 +26,7 @@
 #include "clfractal/span.hpp"
 #include "clfractal/version.hpp"
 #include "clfractal/volume_io.hpp"
+#include "mpi_tool.hpp"
 #include "output.hpp"
 
 using namespace clfractal;
@@ -41,7 +43,7 @@ struct Args {
 
 // The isovalue set needs the global value range: each rank takes its part's (one pass
 // over its slices, a batch at a time), reduced with MPI_Allreduce.
-IsovalueSet global_isovalues(const Args& a, SliceReader& reader, std::size_t z_begin, std::size_t z_end) {
+IsovalueSet part_isovalues(const Args& a, SliceReader& reader, std::size_t z_begin, std::size_t z_end) {
     const Dims dims = reader.dims();
     const ValueType type = reader.type();
     double lo = INFINITY, hi = -INFINITY;
@@ -58,10 +60,7 @@ IsovalueSet global_isovalues(const Args& a, SliceReader& reader, std::size_t z_b
             z += n;
         }
     }
-    double local[2] = {-lo, hi}, global[2];
-    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-    if (!a.isovalues.empty()) return cli::parse_isovalues(a.isovalues, type);
-    return IsovalueSet::for_range(type, -global[0], global[1], a.bins ? a.bins : 256);
+    return mpi_tool::global_isovalues(a.isovalues, a.bins, type, lo, hi);
 }
 
 // Counts this rank's z-part into `counts` (level-major); returns the counting seconds.
@@ -147,7 +146,7 @@ int run(const Args& a, int rank, int size) {
     const auto parts = split_slices(dims.nz, a.levels, std::size_t(size));
     const bool has_part = std::size_t(rank) < parts.size();
     const std::size_t z_begin = has_part ? parts[rank].first : 0, z_end = has_part ? parts[rank].second : 0;
-    const IsovalueSet iso = global_isovalues(a, reader, z_begin, z_end);
+    const IsovalueSet iso = part_isovalues(a, reader, z_begin, z_end);
 
     const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
     std::vector<std::uint64_t> counts(std::size_t(a.levels) * iso.size(), 0);
@@ -169,10 +168,17 @@ int main(int argc, char** argv) {
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     cli::quiet = true;
 
-    CLI::App app{"clfractal-mpi: the fractal dimension curve of a volume, z-parts counted by MPI ranks"};
+    CLI::App app{"clfractal-mpi: the fractal dimension curve (or with `components` the component curve) of a "
+                 "volume, z-parts counted by MPI ranks"};
     Args a;
     app.option_defaults()->always_capture_default();
-    cli::add_volume_argument(&app, a.volume);
+    // VOLUME is required unless the subcommand takes it (checked after parsing).
+    CLI::Option* volume = cli::add_volume_argument(&app, a.volume)->required(false);
+    mpi_tool::ComponentsArgs ca;
+    CLI::App* components = app.add_subcommand(
+        "components", "the number of isosurface components for every isovalue (as clfractal components)");
+    mpi_tool::setup_components(components, ca);
+    app.require_subcommand(0, 1);
     app.add_flag("--edge", a.edge, "edge span dimension (eq. 3.1) instead of box (eq. 2.5)");
     app.add_option("--levels", a.levels, "pyramid levels (2 = eq. 2.5)");
     cli::add_isovalues_option(&app, a.isovalues);
@@ -185,7 +191,9 @@ int main(int argc, char** argv) {
     int code = 0;
     try {
         app.parse(argc, argv);
-        code = run(a, rank, size);
+        if (components->parsed()) code = mpi_tool::run_components(ca, rank, size);
+        else if (volume->count() == 0) throw CLI::RequiredError(volume->get_name());
+        else code = run(a, rank, size);
     } catch (const CLI::CallForHelp& e) {
         if (rank == 0) app.exit(e);
     } catch (const CLI::CallForVersion& e) {

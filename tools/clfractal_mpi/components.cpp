@@ -1,0 +1,141 @@
+// clfractal-mpi components: the component curve of one volume (docs/definitions.md §19, §28)
+// counted by MPI ranks. Rank r reads and counts its z-part [b_r, b_{r+1}] alone (sharing its
+// last slice with the next part: split_slices with one level), with the links its sweeps make
+// between the vertices of its first and last slices; rank 0 sums the parts' curves
+// (MPI_Reduce), gathers the links (MPI_Gatherv) and joins them (join_slab_components): the
+// curve equals the single-process `clfractal components` exactly.
+#include <mpi.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <stdexcept>
+
+#include "clfractal/components.hpp"
+#include "clfractal/slice_reader.hpp"
+#include "measures/components_slab.hpp"
+#include "mpi_tool.hpp"
+#include "output.hpp"
+
+using namespace clfractal;
+
+namespace mpi_tool {
+
+IsovalueSet global_isovalues(const std::string& spec, std::size_t bins, ValueType type, double lo, double hi) {
+    double local[2] = {-lo, hi}, global[2];
+    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    if (!spec.empty()) return cli::parse_isovalues(spec, type);
+    return IsovalueSet::for_range(type, -global[0], global[1], bins ? bins : 256);
+}
+
+namespace {
+
+// Rank 0 gets every rank's `mine`, one vector a rank; the others get nothing.
+std::vector<std::vector<std::uint32_t>> gather(const std::vector<std::uint32_t>& mine, int rank, int size) {
+    constexpr std::size_t most = std::size_t(std::numeric_limits<int>::max());
+    if (mine.size() > most) throw std::runtime_error("components: more than 2^31 link words on one rank");
+    const int n = int(mine.size());
+    std::vector<int> counts(std::size_t(size), 0), offsets(std::size_t(size), 0);
+    MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    std::size_t total = 0;
+    for (int r = 0; r < size; ++r) offsets[std::size_t(r)] = int(std::min(total, most)), total += counts[std::size_t(r)];
+    if (rank == 0 && total > most) throw std::runtime_error("components: more than 2^31 link words in all");
+    std::vector<std::uint32_t> all(rank == 0 ? total : 0);
+    MPI_Gatherv(mine.data(), n, MPI_UINT32_T, all.data(), counts.data(), offsets.data(), MPI_UINT32_T, 0,
+                MPI_COMM_WORLD);
+    std::vector<std::vector<std::uint32_t>> out;
+    if (rank == 0)
+        for (int r = 0; r < size; ++r) {
+            const auto begin = all.begin() + offsets[std::size_t(r)];
+            out.emplace_back(begin, begin + counts[std::size_t(r)]);
+        }
+    return out;
+}
+
+static_assert(sizeof(BoundaryLink) == 3 * sizeof(std::uint32_t), "BoundaryLink: three words, no padding");
+
+std::vector<std::uint32_t> words(const std::vector<BoundaryLink>& links) {
+    std::vector<std::uint32_t> w(3 * links.size());
+    if (!links.empty()) std::memcpy(w.data(), links.data(), w.size() * sizeof(std::uint32_t));
+    return w;
+}
+
+std::vector<BoundaryLink> links_of(const std::vector<std::uint32_t>& w) {
+    std::vector<BoundaryLink> links(w.size() / 3);
+    if (!links.empty()) std::memcpy(links.data(), w.data(), links.size() * sizeof(BoundaryLink));
+    return links;
+}
+
+// Slices [z0, z1) of the file.
+Volume read_part(SliceReader& reader, std::size_t z0, std::size_t z1) {
+    const Dims d = reader.dims();
+    Volume v(Dims{d.nx, d.ny, z1 - z0}, reader.type());
+    reader.seek(z0);
+    reader.read(v.data(), z1 - z0);
+    return v;
+}
+
+// This rank's part counted (an empty curve of K zeros for a rank without one).
+SlabComponents count_part(const ComponentsArgs& a, SliceReader& reader, Connectivity mode, int rank,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& parts, IsovalueSet& iso) {
+    const bool has_part = std::size_t(rank) < parts.size();
+    Volume part = has_part ? read_part(reader, parts[std::size_t(rank)].first, parts[std::size_t(rank)].second)
+                           : Volume();
+    const ValueRange r = has_part ? value_range(part) : ValueRange{INFINITY, -INFINITY};
+    iso = global_isovalues(a.isovalues, a.bins, reader.type(), r.min, r.max);
+    SlabComponents s;
+    if (has_part)
+        s = count_slab_components(Context::shared(), part, iso, mode, rank > 0, std::size_t(rank) + 1 < parts.size());
+    s.components.resize(iso.size(), 0);
+    return s;
+}
+
+}  // namespace
+
+int run_components(const ComponentsArgs& a, int rank, int size) {
+    // Each rank opens the file and reads only the slices of its own z-part.
+    SliceReader reader(a.volume, a.raw.options());
+    const Dims dims = reader.dims();
+    const ValueType type = reader.type();
+    const Connectivity mode = parse_connectivity(a.connectivity);
+    if (a.bins && is_integer(type) && !is_wide(type))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    const auto parts = split_slices(dims.nz, 1, std::size_t(size));
+    IsovalueSet iso;
+    SlabComponents s = count_part(a, reader, mode, rank, parts, iso);
+    std::vector<std::int64_t> sum(iso.size(), 0);
+    MPI_Reduce(s.components.data(), sum.data(), int(iso.size()), MPI_INT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    double slowest = 0;
+    MPI_Reduce(&s.seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    const auto join = gather(words(s.links.join), rank, size), split = gather(words(s.links.split), rank, size);
+    const auto last = gather(s.links.last_bins, rank, size);
+    if (rank != 0) return 0;
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<SlabLinks> links(parts.size());
+    for (std::size_t r = 0; r < parts.size(); ++r) links[r] = {links_of(join[r]), links_of(split[r]), last[r]};
+    const std::vector<std::int64_t> curve = join_slab_components(std::move(sum), links, dims.nx * dims.ny);
+    const double joining = seconds_since(start);
+
+    cli::print_components(std::cout, a.volume, dims, type, mode, iso, curve);
+    std::cout << "ranks         " << size << " (" << parts.size()
+              << " with a z-part), device of rank 0: " << Context::shared().description() << "\n"
+              << std::setprecision(4) << "time          " << slowest << " s counting (slowest rank) + " << joining
+              << " s joining on rank 0 (" << double(dims.vertices()) / (slowest + joining) / 1e6 << " Mvoxel/s)\n";
+    if (!a.csv.empty()) write_file_atomic(a.csv, cli::components_csv(iso, curve));
+    return 0;
+}
+
+void setup_components(CLI::App* c, ComponentsArgs& a) {
+    cli::add_volume_argument(c, a.volume);
+    c->add_option("--connectivity", a.connectivity,
+                  "cube: {f<s} 6- and {f>=s} 26-connected (marching cubes); freudenthal: both 14-connected");
+    cli::add_isovalues_option(c, a.isovalues);
+    cli::add_bins_option(c, a.bins);
+    c->add_option("--csv", a.csv, "write isovalue,components (as clfractal components --csv)");
+    a.raw.add(c);
+}
+
+}  // namespace mpi_tool
