@@ -20,11 +20,15 @@ cl::Buffer device_buffer(Context& ctx, std::size_t bytes, cl_mem_flags flags) {
 
 }  // namespace
 
+bool DeviceVolume::in_place(const Context& ctx, const void* data) {
+    return ctx.tuning.zero_copy && aligned(ctx, data);
+}
+
 DeviceVolume::DeviceVolume(Context& ctx, const void* data, const Dims& dims, ValueType type)
     : ctx_(&ctx), dims_(dims), type_(type) {
     const std::size_t n = bytes();
     with_cl_errors([&] {
-        if (ctx.tuning.zero_copy && n && aligned(ctx, data)) {
+        if (n && in_place(ctx, data)) {
             host_ = const_cast<void*>(data);
             buffer_ = create_buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, n, host_);
         } else {
@@ -54,7 +58,7 @@ DeviceVolume DeviceVolume::output(Context& ctx, void* data, const Dims& dims, Va
     d.ctx_ = &ctx;
     d.dims_ = dims;
     d.type_ = type;
-    if (!ctx.tuning.zero_copy || d.bytes() == 0 || !aligned(ctx, data)) return allocate(ctx, dims, type);
+    if (d.bytes() == 0 || !in_place(ctx, data)) return allocate(ctx, dims, type);
     d.host_ = data;
     with_cl_errors([&] { d.buffer_ = create_buffer(ctx, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, d.bytes(), data); });
     return d;

@@ -175,8 +175,9 @@ struct SpanCounter::Impl {
         else if (iso.float64()) put(iso.list());
         else put(std::vector<float>(iso.list().begin(), iso.list().end()));
         iso_buf = Buffer<unsigned char>(ctx, isov);
-        // Level 0 is the caller's slab (a DeviceVolume); its buffer here only takes
-        // slabs copied out of a larger device volume (count_spans of a DeviceVolume).
+        // Level 0 is the caller's slab where the device reads it in place; its buffer here
+        // (slab_buffer(), made at the first use) takes the other host slabs and slabs copied
+        // out of a larger device volume (count_spans of a DeviceVolume).
         level_buf.emplace_back();
         for (int l = 1; l < opt.levels; ++l) {
             Dims ld = level_dims(Dims{dims.nx, dims.ny, max_slices}, l);
@@ -227,16 +228,35 @@ struct SpanCounter::Impl {
                   int(from.ny), dst, int(to.nx), int(to.ny));
     }
 
+    // Host slabs are read in place where the device can (zero-copy, aligned), else written
+    // into one device buffer kept for every slab: a device buffer made and freed per slab
+    // left the host heap fragmented on PoCL (glibc kept the freed blocks of a slab each),
+    // peak memory growing with the number of slabs.
     void add_slab(const void* data, std::size_t z0, std::size_t nzs) {
         check_slab(z0, nzs);
         ComputeTimer timer(ctx);
-        {
+        const Dims slab_dims{dims.nx, dims.ny, nzs};
+        if (DeviceVolume::in_place(ctx, data)) {
             // Also on an exception, no kernel may still read `data` when we return: the slab's
-            // destructor waits for the queue when it reads host memory in place (timed too).
-            const DeviceVolume slab(ctx, data, Dims{dims.nx, dims.ny, nzs}, type);
+            // destructor waits for the queue (timed too).
+            const DeviceVolume slab(ctx, data, slab_dims, type);
             with_cl_errors([&] { count_slab(slab.buffer(), z0, nzs); });
+        } else {
+            // A blocking write: `data` is free again when it returns.
+            with_cl_errors([&] {
+                ctx.queue().enqueueWriteBuffer(slab_buffer(), CL_TRUE, 0, slab_dims.vertices() * value_size(type), data);
+                ctx.count_upload();
+                count_slab(slab_buffer(), z0, nzs);
+            });
         }
         seconds += timer.seconds();
+    }
+
+    // The device buffer of level-0 slabs that are not read in place, made at the first use.
+    const cl::Buffer& slab_buffer() {
+        const std::size_t bytes = max_slices * dims.nx * dims.ny * value_size(type);
+        if (level_buf[0].size() < bytes) level_buf[0] = Buffer<unsigned char>(ctx, bytes);
+        return level_buf[0].get();
     }
 
     // Slices [z0, z0 + nzs) of a device volume of the counter's dims: the buffer itself
@@ -247,10 +267,8 @@ struct SpanCounter::Impl {
         with_cl_errors([&] {
             if (nzs == dims.nz) return count_slab(volume, z0, nzs);
             const std::size_t slice_bytes = dims.nx * dims.ny * value_size(type);
-            if (level_buf[0].size() < max_slices * slice_bytes)
-                level_buf[0] = Buffer<unsigned char>(ctx, max_slices * slice_bytes);
-            ctx.queue().enqueueCopyBuffer(volume, level_buf[0].get(), z0 * slice_bytes, 0, nzs * slice_bytes);
-            count_slab(level_buf[0].get(), z0, nzs);
+            ctx.queue().enqueueCopyBuffer(volume, slab_buffer(), z0 * slice_bytes, 0, nzs * slice_bytes);
+            count_slab(slab_buffer(), z0, nzs);
         });
         seconds += timer.seconds();
     }

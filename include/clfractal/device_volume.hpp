@@ -52,6 +52,10 @@ public:
     const cl::Buffer& buffer() const { return buffer_; }
     /// True when buffer() is host memory read in place (zero-copy).
     bool in_host_memory() const { return host_ != nullptr; }
+    /// Whether a volume of (at least one byte of) host memory at `data` would use that memory
+    /// in place, as input or output() target: Tuning::zero_copy and `data` aligned to
+    /// CL_DEVICE_MEM_BASE_ADDR_ALIGN.
+    static bool in_place(const Context& ctx, const void* data);
 
     /// The values as a new host Volume with this volume's dims, type, spacing and name.
     Volume download() const;
