@@ -10,6 +10,7 @@
 #include <numeric>
 #include <parallel/algorithm>
 #include <type_traits>
+#include <unordered_map>
 
 #include "components_slab.hpp"
 #include "device/slab_plan.hpp"
@@ -473,36 +474,47 @@ private:
 };
 
 // The links of one sweep between the boundary vertices of a slab (components_slab.hpp): the
-// representative boundary vertex of every root that holds one (none: `none`), and a link
-// whenever a union joins two roots that both hold one. Inactive without an output.
+// roots that hold a boundary vertex (one bit a vertex), the representative boundary vertex of
+// each (a map: at most one entry per boundary vertex), and a link whenever a union joins two
+// roots that both hold one. Inactive without an output.
 template <class I> class BoundaryLinks {
 public:
     BoundaryLinks(const Dims& d, bool first, bool last, std::vector<BoundaryLink>* out)
         : out_(out), nxy_(d.nx * d.ny), last_(last ? d.vertices() - nxy_ : std::numeric_limits<std::size_t>::max()) {
         if (!out) return;
-        rep_.assign(d.vertices(), none);
+        held_.assign((d.vertices() + 63) / 64, 0);
+        rep_.reserve(2 * nxy_);
+        auto hold = [&](std::size_t i) {
+            held_[i / 64] |= std::uint64_t(1) << (i % 64);
+            rep_[I(i)] = I(i);
+        };
         if (first)
-            for (std::size_t i = 0; i < nxy_; ++i) rep_[i] = I(i);
-        for (std::size_t i = last_; i < d.vertices(); ++i) rep_[i] = I(i);
+            for (std::size_t i = 0; i < nxy_; ++i) hold(i);
+        for (std::size_t i = last_; i < d.vertices(); ++i) hold(i);
     }
     explicit operator bool() const { return out_ != nullptr; }
     // At the sweep of a vertex of bin `bin`, the root `child` joins the root `root`.
     void operator()(I child, I root, std::size_t bin) {
-        const I a = rep_[child];
-        if (a == none) return;
-        I& b = rep_[root];
-        if (b == none) b = a;
-        else out_->push_back({node(a), node(b), std::uint32_t(bin)});
+        if (!held(child)) return;
+        const I a = rep_.at(child);
+        if (!held(root)) {
+            held_[std::size_t(root) / 64] |= std::uint64_t(1) << (std::size_t(root) % 64);
+            rep_[root] = a;
+        } else {
+            out_->push_back({node(a), node(rep_.at(root)), std::uint32_t(bin)});
+        }
+        rep_.erase(child);  // never a root again
     }
 
 private:
+    bool held(I v) const { return (held_[std::size_t(v) / 64] >> (std::size_t(v) % 64)) & 1; }
     std::uint32_t node(I v) const {
         return std::uint32_t(std::size_t(v) >= last_ ? nxy_ + (std::size_t(v) - last_) : std::size_t(v));
     }
-    static constexpr I none = std::numeric_limits<I>::max();
     std::vector<BoundaryLink>* out_;
     std::size_t nxy_, last_;
-    std::vector<I> rep_;
+    std::vector<std::uint64_t> held_;
+    std::unordered_map<I, I> rep_;
 };
 
 // Both sweeps over a windowed order, one after the other with one union-find forest: memory
