@@ -222,11 +222,9 @@ json noise_json(const NoiseLevel* l, const NoiseEstimate* e) {
     return j;
 }
 
-// Host memory beyond the volume: the component labelling (a vertex order and a forest, 8 bytes
-// a vertex, bounded above) and the denoising ladder (the filtered copy, its LD field in float32
-// and the labelling of its recommendations).
-std::size_t components_bytes(const Volume& v) { return 8 * v.vertices(); }
-std::size_t ladder_bytes(const Volume& v) { return v.size_bytes() + 4 * v.vertices() + components_bytes(v); }
+// Host memory beyond the volume of the denoising ladder: the filtered copy and its LD field in
+// float32 (the components at its recommendations are labelled in O(slice)).
+std::size_t ladder_bytes(const Volume& v) { return v.size_bytes() + 4 * v.vertices(); }
 bool within(const AnalysisOptions& o, std::size_t bytes) { return o.memory_budget == 0 || bytes <= o.memory_budget; }
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
@@ -241,16 +239,16 @@ double changed_share(const Volume& a, const Volume& b) {
     return a.vertices() ? double(changed) / double(a.vertices()) : 0.0;
 }
 
-// Components at the entries' isovalues: one sort and two sweeps give every isovalue at once
-// (count_components), cheaper than one labelling per entry from the second entry on.
-void fill_components(Context& ctx, const Volume& v, const IsovalueSet& iso, std::vector<Recommendation*> entries) {
-    if (entries.empty()) return;
-    if (entries.size() == 1) {
-        entries[0]->components = count_components_at(ctx, v, entries[0]->isovalue);
-        return;
-    }
-    const ComponentCurve c = count_components(ctx, v, iso, Connectivity::cube);
-    for (Recommendation* e : entries) e->components = c.components[e->index];
+// Components at the entries' isovalues, each labelled directly (count_components_at): one
+// pass over the volume an isovalue, memory O(slice).
+void fill_components(const Volume& v, std::vector<Recommendation*> entries) {
+    std::vector<double> at;
+    for (const Recommendation* e : entries) at.push_back(e->isovalue);
+    std::sort(at.begin(), at.end());
+    at.erase(std::unique(at.begin(), at.end()), at.end());
+    const std::vector<std::int64_t> c = count_components_at(v, at, Connectivity::cube);
+    for (Recommendation* e : entries)
+        e->components = c[std::size_t(std::lower_bound(at.begin(), at.end(), e->isovalue) - at.begin())];
 }
 
 // The curve, bands, recommendations and noisiest isovalue of `v` at `iso`.
@@ -312,7 +310,7 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         if (o.components != ComponentsScope::none && !d.recommended.empty()) {
             std::vector<Recommendation*> es;
             for (Recommendation& e : d.recommended) es.push_back(&e);
-            fill_components(ctx, out, iso, es);
+            fill_components(out, es);
         }
         d.seconds = seconds_since(t0);
         tried.push_back(std::move(d));
@@ -537,15 +535,11 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o) {
         a.components = count_components(ctx, v, a.isovalues, Connectivity::cube);
         for (Recommendation& e : a.recommended) e.components = a.components->components[e.index];
         if (a.noisiest) a.noisiest->components = a.components->components[a.noisiest->index];
-    } else if (o.components == ComponentsScope::recommended && !within(o, components_bytes(v))) {
-        a.skipped.push_back("components: the labelling needs " + mib(components_bytes(v)) +
-                            " beyond the volume, above the memory budget of " + mib(o.memory_budget) +
-                            " (fd --components computes them)");
     } else if (o.components == ComponentsScope::recommended) {
         std::vector<Recommendation*> es;
         for (Recommendation& e : a.recommended) es.push_back(&e);
         if (a.noisiest) es.push_back(&*a.noisiest);
-        fill_components(ctx, v, a.isovalues, es);
+        fill_components(v, es);
     }
     if (o.noise_level) a.noise_level = estimate_noise_level(ctx, v);
     if (o.surface_noise) a.surface_noise = estimate_noise(ctx, v, a.isovalues, o.advice.clean_share);

@@ -117,9 +117,9 @@ struct AnalysisOptions {
     bool fd4 = false;                 ///< the 4D dimension
     bool denoise = true;              ///< when nothing is clean: try the denoising ladder
     int window = 8;                   ///< LD window of the targeted filter
-    /// Host memory in bytes the analysis may use beyond the volume for the components at the
-    /// recommendations (8 bytes a vertex) and the denoising ladder (the volume's bytes + 12 a
-    /// vertex); a step above it is skipped and said in `skipped`. 0: no limit.
+    /// Host memory in bytes the analysis may use beyond the volume for the denoising ladder
+    /// (the volume's bytes + 4 a vertex); above it the ladder is skipped and said in
+    /// `skipped`. 0: no limit.
     std::size_t memory_budget = 0;
 };
 

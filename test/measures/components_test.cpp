@@ -4,6 +4,7 @@
 // marching-cubes / marching-tetrahedra mesh at generic isovalues; known shapes; and the
 // correlation against a plain two-pass Pearson.
 #include <doctest/doctest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -223,6 +224,86 @@ TEST_CASE("the labelling baseline and count_components_at agree with the curve")
         }
 }
 
+// Direct labelling at the given isovalues against the curve; the number of mismatches.
+int check_direct(const Volume& v, Connectivity mode, const IsovalueSet& iso) {
+    const ComponentCurve c = count_components(testutil::ctx(), v, iso, mode);
+    std::vector<double> at;
+    for (std::size_t j = 0; j < iso.size(); ++j) at.push_back(iso.value(j));
+    const std::vector<std::int64_t> direct = count_components_at(v, at, mode);
+    REQUIRE(direct.size() == at.size());
+    int bad = 0;
+    for (std::size_t j = 0; j < at.size(); ++j)
+        if (direct[j] != c.components[j]) {
+            if (bad++ < 5)
+                MESSAGE(dims_string(v.dims()) << " " << value_type_name(v.type()) << " " << connectivity_name(mode)
+                                              << " s=" << at[j] << ": direct " << direct[j] << ", curve "
+                                              << c.components[j]);
+        }
+    return bad;
+}
+
+TEST_CASE("direct labelling at a few isovalues: the curve and BFS, every type, both modes, any number of z-chunks") {
+    const int threads = omp_get_max_threads();
+    const Dims dims[] = {{1, 1, 1}, {1, 1, 9}, {9, 1, 1}, {1, 8, 1}, {2, 3, 7}, {7, 6, 5}, {13, 7, 11}, {5, 4, 23}};
+    std::uint32_t seed = 500;
+    // 1 .. 7 threads: 2 chunks a thread, so seams fall between every pair of planes somewhere.
+    for (int t : {1, 2, 3, 7}) {
+        omp_set_num_threads(t);
+        for (const Dims& d : dims)
+            for (ValueType type : types)
+                for (Connectivity m : modes) {
+                    CAPTURE(t);
+                    CAPTURE(dims_string(d));
+                    CAPTURE(value_type_name(type));
+                    CAPTURE(connectivity_name(m));
+                    const long lo = type == ValueType::int8 || type == ValueType::int16 ? -5 : 0;
+                    Volume v = testutil::random_volume(d, type, lo, lo + (seed % 2 ? 3 : 30), seed);
+                    ++seed;
+                    CHECK(check_direct(v, m, IsovalueSet::for_volume(v, 24)) == 0);
+                }
+    }
+    omp_set_num_threads(threads);
+    // Against breadth-first search directly, and isovalues outside the data (one set empty: 0).
+    Volume v = testutil::random_volume({17, 12, 19}, ValueType::uint8, 0, 9, 601);
+    for (Connectivity m : modes) {
+        const std::vector<double> at = {-3, 0, 0.5, 1, 4.2, 9, 10, 300};
+        const std::vector<std::int64_t> direct = count_components_at(v, at, m);
+        for (std::size_t j = 0; j < at.size(); ++j) CHECK(direct[j] == identity(v, at[j], m));
+        CHECK(direct.front() == 0);
+        CHECK(direct.back() == 0);
+    }
+    // Float data at float32 isovalues between stored values.
+    Volume f = testutil::random_volume({9, 8, 10}, ValueType::float32, -20, 20, 602);
+    for (Connectivity m : modes) CHECK(check_direct(f, m, IsovalueSet::floats({-7.25f, -0.5f, 0.f, 3.75f})) == 0);
+    CHECK_THROWS_AS(count_components_at(v, {1.0, INFINITY}), InputError);
+}
+
+TEST_CASE("direct labelling on structured shapes: nested shells, a torus, a checkerboard") {
+    // Shells alternate in and out around the centre (each a component of A or of C); the
+    // checkerboard makes every vertex its own 6-component of A while C is one 26-component.
+    Volume shells({30, 27, 33}, ValueType::uint8), checker({16, 15, 14}, ValueType::uint8);
+    for (std::size_t z = 0; z < 33; ++z)
+        for (std::size_t y = 0; y < 27; ++y)
+            for (std::size_t x = 0; x < 30; ++x) {
+                const double r = std::sqrt(std::pow(x - 14.5, 2) + std::pow(y - 13.0, 2) + std::pow(z - 16.0, 2));
+                shells.as<std::uint8_t>()[shells.index(x, y, z)] = std::uint8_t(int(r / 3) % 2 ? 200 : 10);
+            }
+    for (std::size_t i = 0; i < checker.vertices(); ++i) {
+        const std::size_t x = i % 16, y = i / 16 % 15, z = i / (16 * 15);
+        checker.as<std::uint8_t>()[i] = (x + y + z) % 2 ? 1 : 0;
+    }
+    const Volume torus = binary({40, 32, 12}, [](double x, double y, double z) {
+        const double q = std::hypot(x - 20, y - 16) - 10;
+        return q * q + (z - 6) * (z - 6) <= 9;
+    });
+    for (const Volume* v : std::initializer_list<const Volume*>{&shells, &checker, &torus})
+        for (Connectivity m : modes) {
+            const std::vector<std::int64_t> direct = count_components_at(*v, {0.5, 1, 100}, m);
+            for (std::size_t j = 0; j < 3; ++j) CHECK(direct[j] == identity(*v, std::vector<double>{0.5, 1, 100}[j], m));
+        }
+    CHECK(count_components_at(checker, {1}, Connectivity::cube)[0] == std::int64_t(checker.vertices() / 2));
+}
+
 TEST_CASE("the device histogram: local and global variants give the same curve") {
     Volume a = testutil::random_volume({17, 13, 11}, ValueType::uint8, 0, 255, 11);
     Volume b = testutil::random_volume({17, 13, 11}, ValueType::uint16, 0, 60000, 12);
@@ -398,6 +479,27 @@ TEST_CASE("components: sweep equals the labelling identity at every isovalue on 
             for (std::size_t j = 0; j < iso.size(); ++j)
                 bad += c.components[j] != count_components_by_labelling(v, iso.value(j), m);
             CHECK(bad == 0);
+        }
+    }
+}
+
+}  // TEST_SUITE("realdata")
+
+TEST_SUITE("realdata") {
+
+TEST_CASE("direct labelling equals the curve at eight isovalues of every real volume, both modes") {
+    const auto volumes = testutil::real_volumes("direct labelling on real volumes");
+    for (const testutil::RealVolume& real : volumes) {
+        const Volume v = read_volume(real.path);
+        const IsovalueSet iso = IsovalueSet::for_volume(v);
+        std::vector<double> at;
+        for (std::size_t q = 1; q <= 8; ++q) at.push_back(iso.value(q * (iso.size() - 1) / 9));
+        for (Connectivity m : modes) {
+            CAPTURE(real.file());
+            CAPTURE(connectivity_name(m));
+            const ComponentCurve c = count_components(testutil::ctx(), v, iso, m);
+            const std::vector<std::int64_t> direct = count_components_at(v, at, m);
+            for (std::size_t q = 1; q <= 8; ++q) CHECK(direct[q - 1] == c.components[q * (iso.size() - 1) / 9]);
         }
     }
 }
