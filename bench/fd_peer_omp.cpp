@@ -6,10 +6,12 @@
 // bench/baselines/span_openmp.cpp, the benchmarks' OpenMP baseline), level 1 gathered into its
 // own grid.
 //
-//   fd_peer_omp FILE.nrrd|NAME_XxYxZ_uint8.raw [--csv F]
+//   fd_peer_omp FILE.nrrd|NAME_XxYxZ_uint8.raw|FILE.raw --dims XxYxZ --type uint8 [--csv F]
 //
 // NRRD: an attached header with `type: uchar`-like names, `encoding: raw`, three sizes; raw:
-// the NAME_XxYxZ_uint8.raw naming. Prints the time and, with --csv, writes
+// the sizes from --dims (the whole file, no header; --type must be uint8), or else from the
+// NAME_XxYxZ_uint8.raw naming (the sizes after the last underscore but one, so that
+// "boston_teapot_256x256x178_uint8.raw" reads too). Prints the time and, with --csv, writes
 // isovalue,count,count_sub for the isovalues min+1..max (clfractal's integer set: every
 // integer of the value range) so that bench/fd_bench.sh checks both programs agree.
 #include <omp.h>
@@ -38,7 +40,17 @@ struct Layout {
     long offset = 0;
 };
 
-Layout parse(const std::string& path) {
+// "XxYxZ" into the layout's sizes; false when it is not three positive integers.
+bool parse_dims(const std::string& text, Layout& l) {
+    char x1 = 0, x2 = 0;
+    std::istringstream in(text);
+    in >> l.nx >> x1 >> l.ny >> x2 >> l.nz;
+    return in && in.peek() == EOF && x1 == 'x' && x2 == 'x' && l.nx && l.ny && l.nz;
+}
+
+// The layout of `path`: its NRRD header, else `dims` (a raw file, data from byte 0), else
+// its NAME_XxYxZ_uint8.raw name.
+Layout parse(const std::string& path, const std::string& dims) {
     Layout l;
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path + ": cannot open");
@@ -58,9 +70,22 @@ Layout parse(const std::string& path) {
         l.offset = long(in.tellg());
         return l;
     }
+    if (!dims.empty()) {
+        if (!parse_dims(dims, l)) fail("--dims " + dims + ": expected XxYxZ");
+        in.clear();
+        in.seekg(0, std::ios::end);
+        if (std::size_t(in.tellg()) != l.nx * l.ny * l.nz)
+            fail(path + ": " + std::to_string(in.tellg()) + " bytes, not the " + std::to_string(l.nx * l.ny * l.nz) +
+                 " of --dims " + dims + " uint8");
+        return l;
+    }
     const std::string name = path.substr(path.find_last_of('/') + 1);
-    if (std::sscanf(name.c_str(), "%*[^_]_%zux%zux%zu_uint8.raw", &l.nx, &l.ny, &l.nz) != 3)
-        fail(path + ": not a NRRD file or a NAME_XxYxZ_uint8.raw file");
+    const std::string suffix = "_uint8.raw";
+    const std::size_t end = name.size() >= suffix.size() ? name.size() - suffix.size() : 0;
+    const std::size_t start = name.rfind('_', end ? end - 1 : 0);
+    if (!end || name.compare(end, suffix.size(), suffix) != 0 || start == std::string::npos ||
+        !parse_dims(name.substr(start + 1, end - start - 1), l))
+        fail(path + ": not a NRRD file or a NAME_XxYxZ_uint8.raw file (or give --dims XxYxZ --type uint8)");
     return l;
 }
 
@@ -108,13 +133,24 @@ void count_cubes(const std::uint8_t* v, std::size_t nx, std::size_t ny, std::siz
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 2 && !(argc == 4 && std::string(argv[2]) == "--csv")) {
-        std::cerr << "usage: fd_peer_omp FILE.nrrd|NAME_XxYxZ_uint8.raw [--csv F]\n";
+    std::string path, dims, type = "uint8", csv_path;
+    bool usage = argc < 2;
+    for (int i = 1; i < argc && !usage; ++i) {
+        const std::string arg = argv[i];
+        const bool value = i + 1 < argc;
+        if (arg == "--csv" && value) csv_path = argv[++i];
+        else if (arg == "--dims" && value) dims = argv[++i];
+        else if (arg == "--type" && value) type = argv[++i];
+        else if (path.empty() && arg.rfind("--", 0) != 0) path = arg;
+        else usage = true;
+    }
+    if (usage || path.empty()) {
+        std::cerr << "usage: fd_peer_omp FILE.nrrd|NAME_XxYxZ_uint8.raw|FILE.raw --dims XxYxZ --type uint8 [--csv F]\n";
         return 2;
     }
+    if (type != "uint8") fail("--type " + type + ": only uint8 is counted");
     const auto t0 = std::chrono::steady_clock::now();
-    const std::string path = argv[1];
-    const Layout l = parse(path);
+    const Layout l = parse(path, dims);
     const std::size_t n = l.nx * l.ny * l.nz;
     std::unique_ptr<std::uint8_t[]> v(new std::uint8_t[n]);
     std::FILE* f = std::fopen(path.c_str(), "rb");
@@ -155,7 +191,7 @@ int main(int argc, char** argv) {
         }
     }
     const auto t3 = std::chrono::steady_clock::now();
-    if (argc == 4) std::ofstream(argv[3]) << csv.str();
+    if (!csv_path.empty()) std::ofstream(csv_path) << csv.str();
     auto sec = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
     std::cout << "read " << sec(t0, t1) << " s, count " << sec(t1, t2) << " s, range " << sec(t2, t3)
               << " s, threads " << omp_get_max_threads() << ", sum of I(s) " << total0 << "\n";
