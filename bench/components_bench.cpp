@@ -10,6 +10,8 @@
 // offsets 0..199, so that the curve has ~51,000 isovalues. Labelling costs O(N) per
 // isovalue, so it is timed on M isovalues spread over the range (default 8) and
 // extrapolated to all of them; those M counts must equal the curve's (exit 1 otherwise).
+// The same M isovalues are also counted by count_components_at (runs joined plane by plane,
+// on every core: what the recommendations use), timed as one call, and must equal too.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -62,7 +64,7 @@ int main(int argc, char** argv) {
     std::cout << "device          " << ctx.description() << "\n"
               << "connectivity    " << connectivity_name(mode) << "\n"
               << "  volume                    isovalues   sweep s  Mvoxel/s   labelling s/iso  labelling all (est.)"
-                 "  sweep/labelling  counts\n";
+                 "  sweep/labelling  runs s/iso  BFS/runs  counts\n";
     nlohmann::json rows = nlohmann::json::array();
     bool all_equal = true;
     std::vector<std::pair<Volume, std::string>> cases;
@@ -94,13 +96,23 @@ int main(int argc, char** argv) {
             bfs += seconds_since(t);
             equal = equal && b == c.components[j];
         }
+        std::vector<double> at;
+        for (std::size_t k = 0; k < m; ++k) at.push_back(iso.value((2 * k + 1) * iso.size() / (2 * m)));
+        double runs = 1e300;
+        for (int r = 0; r < std::max(1, repeats); ++r) {
+            const auto t = std::chrono::steady_clock::now();
+            const std::vector<std::int64_t> d = count_components_at(v, at, mode);
+            runs = std::min(runs, seconds_since(t) / double(m));
+            for (std::size_t k = 0; k < m; ++k) equal = equal && d[k] == c.components[(2 * k + 1) * iso.size() / (2 * m)];
+        }
         const double per_iso = bfs / double(m), all = per_iso * double(iso.size());
         const double mvox = double(v.vertices()) / sweep / 1e6;
         all_equal = all_equal && equal;
         std::cout << "  " << std::left << std::setw(26) << label << std::right << std::setw(9) << iso.size()
                   << std::fixed << std::setprecision(3) << std::setw(10) << sweep << std::setprecision(1)
                   << std::setw(10) << mvox << std::setprecision(4) << std::setw(18) << per_iso << std::setprecision(1)
-                  << std::setw(20) << all << " s" << std::setw(16) << all / sweep << "x  "
+                  << std::setw(20) << all << " s" << std::setw(16) << all / sweep << "x" << std::setprecision(4)
+                  << std::setw(13) << runs << std::setprecision(1) << std::setw(9) << per_iso / runs << "x  "
                   << (equal ? "equal" : "DIFFER") << std::defaultfloat << "\n";
         rows.push_back({{"volume", label},
                         {"vertices", v.vertices()},
@@ -111,11 +123,14 @@ int main(int argc, char** argv) {
                         {"labelling_seconds_per_isovalue", per_iso},
                         {"labelling_seconds_all_estimated", all},
                         {"ratio_labelling_over_sweep", all / sweep},
+                        {"runs_seconds_per_isovalue", runs},
+                        {"ratio_bfs_over_runs", per_iso / runs},
                         {"counts_equal", equal}});
     }
     std::cout << "(sweep: sort + both union-find sweeps + prefix sum, every isovalue; labelling: BFS of {f < s} and\n"
                  " {f >= s} per isovalue, timed on "
-              << samples << " isovalues and extrapolated to all of them; ratio > 1: the sweep is faster)\n";
+              << samples << " isovalues and extrapolated to all of them; ratio > 1: the sweep is faster;\n"
+                 " runs: count_components_at on the same isovalues, runs along x joined plane by plane on every core)\n";
     if (!json_path.empty()) {
         nlohmann::json j = bench_header(ctx, repeats);
         j.update({{"connectivity", connectivity_name(mode)}, {"cases", rows}});

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <type_traits>
 
@@ -155,16 +156,31 @@ struct SetChunk {
     }
 };
 
-// The runs of one row into A (less) and C.
+// The runs of one row into A (less) and C. Blocks of 32 vertices all on the side of the
+// current run are passed over with one count (vectorised); the others vertex by vertex.
 template <class T, class Less>
 void row_runs(const T* row, std::size_t nx, Less less, SetChunk& a, SetChunk& c) {
-    std::size_t x = 0;
+    constexpr std::size_t block = 32;
+    bool in = less(row[0]);
+    std::size_t s = 0, x = 1;
     while (x < nx) {
-        const bool in = less(row[x]);
-        const std::size_t s = x++;
-        while (x < nx && less(row[x]) == in) ++x;
-        (in ? a : c).add_run(std::uint32_t(s), std::uint32_t(x - 1));
+        if (x + block <= nx) {
+            unsigned n = 0;
+            for (std::size_t i = 0; i < block; ++i) n += less(row[x + i]);
+            if (n == (in ? block : 0)) {
+                x += block;
+                continue;
+            }
+        }
+        for (const std::size_t end = std::min(nx, x + block); x < end; ++x) {
+            const bool b = less(row[x]);
+            if (b == in) continue;
+            (in ? a : c).add_run(std::uint32_t(s), std::uint32_t(x - 1));
+            s = x;
+            in = b;
+        }
     }
+    (in ? a : c).add_run(std::uint32_t(s), std::uint32_t(nx - 1));
 }
 
 struct ChunkResult {
@@ -231,15 +247,25 @@ template <class T, class Less> std::int64_t components_with(const Volume& v, Les
     return a > 0 && c > 0 ? a + c - 1 : 0;
 }
 
-// A = {f < s} compared as count_components compares (IsovalueSet::single(type, s)).
+// A = {f < s} compared as count_components compares (IsovalueSet::single(type, s)): integer
+// data f < ceil(s), float data f < s in the data's type (the set holds s in that type), each
+// as one comparison in the data's own type.
 template <class T> std::int64_t components_at(const Volume& v, double isovalue, Connectivity mode) {
     const IsovalueSet iso = IsovalueSet::single(v.type(), isovalue);
-    if (iso.integer()) {
+    if constexpr (std::is_integral_v<T>) {
         const std::int64_t c = iso.first();
+        if (sizeof(T) < 8 || std::is_signed_v<T>) {
+            // Every value, or none, below c: A or C is the whole grid.
+            if (c > std::int64_t(std::numeric_limits<T>::max()) || c <= std::int64_t(std::numeric_limits<T>::min()))
+                return 0;
+            const T t = T(c);
+            return components_with<T>(v, [t](T x) { return x < t; }, mode);
+        }
         return components_with<T>(v, [c](T x) { return std::int64_t(x) < c; }, mode);
+    } else {
+        const T t = T(iso.list().front());
+        return components_with<T>(v, [t](T x) { return x < t; }, mode);
     }
-    const double s = iso.list().front();
-    return components_with<T>(v, [s](T x) { return double(x) < s; }, mode);
 }
 
 }  // namespace

@@ -244,7 +244,9 @@ int check_direct(const Volume& v, Connectivity mode, const IsovalueSet& iso) {
 
 TEST_CASE("direct labelling at a few isovalues: the curve and BFS, every type, both modes, any number of z-chunks") {
     const int threads = omp_get_max_threads();
-    const Dims dims[] = {{1, 1, 1}, {1, 1, 9}, {9, 1, 1}, {1, 8, 1}, {2, 3, 7}, {7, 6, 5}, {13, 7, 11}, {5, 4, 23}};
+    // Rows of 70 and 97: the blocks of 32 that row_runs passes over, and their tails.
+    const Dims dims[] = {{1, 1, 1}, {1, 1, 9}, {9, 1, 1}, {1, 8, 1}, {2, 3, 7}, {7, 6, 5}, {13, 7, 11}, {5, 4, 23},
+                         {70, 3, 5}, {97, 2, 3}};
     std::uint32_t seed = 500;
     // 1 .. 7 threads: 2 chunks a thread, so seams fall between every pair of planes somewhere.
     for (int t : {1, 2, 3, 7}) {
@@ -296,7 +298,9 @@ TEST_CASE("direct labelling on structured shapes: nested shells, a torus, a chec
         const double q = std::hypot(x - 20, y - 16) - 10;
         return q * q + (z - 6) * (z - 6) <= 9;
     });
-    for (const Volume* v : std::initializer_list<const Volume*>{&shells, &checker, &torus})
+    // Long runs: a slab of ones whose edges fall inside and at the ends of 32-vertex blocks.
+    const Volume slab = binary({100, 5, 4}, [](double x, double y, double) { return x >= 31 + y && x < 64 + 2 * y; });
+    for (const Volume* v : std::initializer_list<const Volume*>{&shells, &checker, &torus, &slab})
         for (Connectivity m : modes) {
             const std::vector<std::int64_t> direct = count_components_at(*v, {0.5, 1, 100}, m);
             for (std::size_t j = 0; j < 3; ++j) CHECK(direct[j] == identity(*v, std::vector<double>{0.5, 1, 100}[j], m));
