@@ -75,4 +75,16 @@ rc=$?
 if [ "$rc" -ne 2 ] || [ "$(grep -c 'clfractal-mpi: error: /nonexistent.nrrd' err.out)" -ne 1 ]; then
   echo "FAIL: bad input: exit $rc: $(cat err.out)"; failures=$((failures + 1))
 fi
+# Components of a volume larger than the nodes have room for: one error line naming the file
+# and the size, exit 2, before any read, no CSV written.
+rm -f big.csv
+CLFRACTAL_MEMORY_LIMIT=300M "$mpiexec" --allow-run-as-root --oversubscribe -np 3 -x CLFRACTAL_MEMORY_LIMIT \
+  "$mpi" components ml.nrrd --csv big.csv >err.out 2>&1
+rc=$?
+if [ "$rc" -ne 2 ] || [ "$(grep -c 'clfractal-mpi: error: ml.nrrd: clfractal-mpi components needs about' err.out)" -ne 1 ] ||
+   [ -e big.csv ]; then
+  echo "FAIL: memory check: exit $rc: $(cat err.out)"; failures=$((failures + 1))
+else
+  echo "ok: components beyond the memory limit refused before work (exit 2)"
+fi
 [ "$failures" -eq 0 ]

@@ -7,6 +7,7 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <iomanip>
@@ -15,6 +16,8 @@
 #include <stdexcept>
 
 #include "clfractal/components.hpp"
+#include "clfractal/error.hpp"
+#include "clfractal/memory.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "measures/components_slab.hpp"
 #include "mpi_tool.hpp"
@@ -93,6 +96,51 @@ SlabComponents count_part(const ComponentsArgs& a, SliceReader& reader, Connecti
     return s;
 }
 
+// The text of the first failing rank's check (empty when none failed), on every rank.
+std::string first_failure(const std::string& mine, int me) {
+    int failing = mine.empty() ? INT_MAX : me, first = INT_MAX;
+    MPI_Allreduce(&failing, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == INT_MAX) return {};
+    int length = int(mine.size());
+    MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+    std::string text = me == first ? mine : std::string(std::size_t(length), ' ');
+    MPI_Bcast(text.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+    return text;
+}
+
+// Before any read: the ranks of each node together need what `clfractal components` needs for
+// their z-parts (4x each part + 256 MiB), against what the node has. Every rank gets the same
+// verdict (an InputError naming the file), so no rank is left waiting in a collective.
+void require_part_memory(const std::string& volume, std::uint64_t part_bytes, int rank) {
+    MPI_Comm node;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
+    int node_rank = 0, node_size = 1;
+    MPI_Comm_rank(node, &node_rank);
+    MPI_Comm_size(node, &node_size);
+    const cli::MemoryNeed need{"clfractal-mpi components"};
+    std::uint64_t mine = part_bytes ? need.bytes(part_bytes) : 0, together = 0, largest = 0;
+    MPI_Allreduce(&mine, &together, 1, MPI_UINT64_T, MPI_SUM, node);
+    MPI_Allreduce(&part_bytes, &largest, 1, MPI_UINT64_T, MPI_MAX, node);
+    MPI_Comm_free(&node);
+    std::string error;
+    if (node_rank == 0) {
+        MemoryRequest r;
+        r.need = together;
+        r.file = volume;
+        r.what = need.command;
+        r.basis = std::to_string(node_size) + " rank(s) on this node, each 4x its z-part (up to " +
+                  byte_size_string(largest) + ") + 256 MiB";
+        r.hint = "more nodes, or more ranks on nodes with room; CLFRACTAL_MEMORY_LIMIT=off runs it anyway";
+        try {
+            require_memory(r);
+        } catch (const InputError& e) {
+            error = e.what();
+        }
+    }
+    const std::string first = first_failure(error, rank);
+    if (!first.empty()) throw InputError(first);
+}
+
 }  // namespace
 
 int run_components(const ComponentsArgs& a, int rank, int size) {
@@ -104,6 +152,9 @@ int run_components(const ComponentsArgs& a, int rank, int size) {
     if (a.bins && is_integer(type) && !is_wide(type))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     const auto parts = split_slices(dims.nz, 1, std::size_t(size));
+    const std::uint64_t part_slices =
+        std::size_t(rank) < parts.size() ? parts[std::size_t(rank)].second - parts[std::size_t(rank)].first : 0;
+    require_part_memory(a.volume, part_slices * dims.nx * dims.ny * value_size(type), rank);
     IsovalueSet iso;
     SlabComponents s = count_part(a, reader, mode, rank, parts, iso);
     std::vector<std::int64_t> sum(iso.size(), 0);
