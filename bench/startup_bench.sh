@@ -8,6 +8,8 @@
 #   clfractal fd FILE --csv C --json J        wall and peak RSS; J's seconds_compute (counting),
 #                                             seconds_compile and seconds_analysis
 #   fd_peer_omp FILE --csv P                  wall and peak RSS
+# and once, R times, bench/cl_start (a bare C program that creates an OpenCL context and queue
+# on the first device: what any OpenCL program pays before its first byte of work).
 # Walls from bash's EPOCHREALTIME around /usr/bin/time (which gives the peak RSS); medians of
 # the runs. The rest of fd (read, context, value range, output, exit) is fd's wall less the
 # devices wall and the analysis. The counts of fd and the peer must be equal (exit 1 otherwise).
@@ -146,6 +148,10 @@ measure() {
 : > "$work/summary.txt"
 echo "clfractal  $("$clf" --version), $(sed -n 's/^\* //p' < <("$clf" devices))"
 echo "peer       bench/fd_peer_omp, OMP_NUM_THREADS ${OMP_NUM_THREADS:-unset} ($(nproc) CPUs)"
+declare -a bare=()
+for ((i = 0; i < runs; i++)); do timed "$build/cl_start"; bare+=("$wall"); done
+echo "floor      bench/cl_start (OpenCL platform, device, context, queue; process start to exit):" \
+  "median $(median "${bare[@]}") s of ${bare[*]} s"
 for ((k = 0; k < ${#files[@]}; k++)); do measure "${files[k]}" "${dims[k]}" "${types[k]}"; done
 echo
 printf '%-36s %10s %10s %10s\n' "volume (medians)" "fd wall s" "peer wall s" "peer / fd"
