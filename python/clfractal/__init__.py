@@ -467,7 +467,9 @@ def components(volume, connectivity: str = "cube", isovalues=None, bins: int = 2
     either set is empty), ``b0`` counting connected pieces. ``connectivity="cube"`` (marching
     cubes): A 6-connected, C 26-connected. ``"freudenthal"`` (marching tetrahedra, the
     piecewise-linear function): both 14-connected (offsets ±x, ±y, ±z, ±(x+y), ±(y+z),
-    ±(x+z), ±(x+y+z)). Isovalues as in ``fd_curve``.
+    ±(x+z), ±(x+y+z)). Isovalues as in ``fd_curve``. Up to 32 given isovalues are labelled
+    one by one (one pass over the volume each, memory O(slice)); more, or the default set, take
+    one sort and two union-find sweeps that give every isovalue at once.
 
     Parameters
     ----------

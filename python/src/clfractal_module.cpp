@@ -455,6 +455,12 @@ nb::tuple components_call(nb::handle a, const std::string& type, const std::stri
     const Connectivity mode = parse_connectivity(connectivity);
     const Input in = input_of(a, type);
     const Volume& v = in.host();
+    if (isovalues && isovalues->size() <= 32) {
+        // A few isovalues: each labelled directly (count_components_at), no sort of the volume.
+        const Isovalues iso = choose_isovalues(v, isovalues, bins);
+        const std::vector<double> at = isovalue_list(iso);
+        return nb::make_tuple(owned(std::vector<double>(at)), owned(count_components_at(v, at, mode)));
+    }
     auto [iso, curve] = on_input(in, device, [&](Context& ctx) {
         Isovalues iso = choose_isovalues(v, isovalues, bins);
         ComponentCurve c =

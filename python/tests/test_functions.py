@@ -119,6 +119,10 @@ def test_components_match_labelling(volume, connectivity, cli, tmp_path):
     some_iso, some = clfractal.components(volume, connectivity=connectivity, isovalues=iso[1::5])
     np.testing.assert_array_equal(some_iso, iso[1::5])
     np.testing.assert_array_equal(some, counts[1::5])
+    # At most 32 isovalues are labelled one by one, without the sweep: the same counts.
+    few_iso, few = clfractal.components(volume, connectivity=connectivity, isovalues=iso[2:60:7])
+    np.testing.assert_array_equal(few_iso, iso[2:60:7])
+    np.testing.assert_array_equal(few, counts[2:60:7])
     with pytest.raises(ValueError, match="connectivity|freudenthal"):
         clfractal.components(volume, connectivity="face")
 
