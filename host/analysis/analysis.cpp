@@ -222,9 +222,11 @@ json noise_json(const NoiseLevel* l, const NoiseEstimate* e) {
     return j;
 }
 
-// Host memory beyond the volume of the denoising ladder: the filtered copy and its LD field in
-// float32 (the components at its recommendations are labelled in O(slice)).
-std::size_t ladder_bytes(const Volume& v) { return v.size_bytes() + 4 * v.vertices(); }
+// Host memory beyond the volume of the denoising ladder, at its largest step: the filtered
+// copy, the small-components filter's second copy and its labelling (4 bytes a vertex), and
+// the LD field of the targeted filter in float32 (the components at its recommendations are
+// labelled in O(slice)).
+std::size_t ladder_bytes(const Volume& v) { return 2 * v.size_bytes() + 8 * v.vertices(); }
 bool within(const AnalysisOptions& o, std::size_t bytes) { return o.memory_budget == 0 || bytes <= o.memory_budget; }
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 

@@ -118,7 +118,7 @@ struct AnalysisOptions {
     bool denoise = true;              ///< when nothing is clean: try the denoising ladder
     int window = 8;                   ///< LD window of the targeted filter
     /// Host memory in bytes the analysis may use beyond the volume for the denoising ladder
-    /// (the volume's bytes + 4 a vertex); above it the ladder is skipped and said in
+    /// (twice the volume's bytes + 8 a vertex); above it the ladder is skipped and said in
     /// `skipped`. 0: no limit.
     std::size_t memory_budget = 0;
 };
