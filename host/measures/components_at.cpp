@@ -225,10 +225,11 @@ std::int64_t join_chunks(const std::vector<ChunkResult>& chunks, int s, int adja
         for (Run& r : p.runs) r.id += base[t];
         return p;
     };
+    const std::vector<RowLink> links = row_links(adjacency);
     for (std::size_t t = 1; t < chunks.size(); ++t) {
         const PlaneRuns p = global(chunks[t].first[s], t), q = global(chunks[t - 1].last[s], t - 1);
         for (std::size_t y = 0; y < ny; ++y)
-            for (const RowLink& l : row_links(adjacency))
+            for (const RowLink& l : links)
                 if (l.dz == -1) b0 -= link_row(p, y, q, l, ny, forest);
     }
     return b0;

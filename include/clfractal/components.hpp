@@ -61,6 +61,9 @@ ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, C
 /// vertices or more.
 std::vector<std::int64_t> count_components_at(const Volume& v, const std::vector<double>& isovalues,
                                               Connectivity mode = Connectivity::cube);
+/// Up to this many isovalues, `clfractal components` and Python's `components()` label each
+/// directly (count_components_at) instead of sorting and sweeping the whole volume.
+constexpr std::size_t few_isovalues = 32;
 
 /// components(s) at one isovalue (as above).
 std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue,

@@ -455,7 +455,7 @@ nb::tuple components_call(nb::handle a, const std::string& type, const std::stri
     const Connectivity mode = parse_connectivity(connectivity);
     const Input in = input_of(a, type);
     const Volume& v = in.host();
-    if (isovalues && isovalues->size() <= 32) {
+    if (isovalues && isovalues->size() <= few_isovalues) {
         // A few isovalues: each labelled directly (count_components_at), no sort of the volume.
         const Isovalues iso = choose_isovalues(v, isovalues, bins);
         const std::vector<double> at = isovalue_list(iso);

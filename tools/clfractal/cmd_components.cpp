@@ -2,8 +2,8 @@
 // (docs/definitions.md §19 "Isosurface components"; thesis §3.1, Fig. 3.2).
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <chrono>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -82,7 +82,7 @@ int run_components(const ComponentsArgs& a) {
     progress("components of " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " for " +
              std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity");
     ComponentCurve c;
-    if (iso.size() <= 32) {
+    if (iso.size() <= few_isovalues) {
         // A few isovalues: each labelled directly (count_components_at), no sort of the volume.
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<double> at(iso.size());
