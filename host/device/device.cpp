@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <future>
 #include <iostream>
 #include <sstream>
 
@@ -231,13 +232,61 @@ Context::Context(cl::Device device) : device_(std::move(device)), faults_(new de
 
 Context::~Context() = default;
 
+namespace {
+
+// The creation start_shared() began, until shared() takes it.
+struct SharedStart {
+    std::mutex mutex;
+    bool begun = false;
+    std::future<Context*> creation;
+};
+
+SharedStart& shared_start() {
+    static SharedStart* const s = new SharedStart;  // never destroyed, like the context
+    return *s;
+}
+
+// The started creation, if one is pending (taken once); from here on start_shared() does
+// nothing.
+std::future<Context*> take_started() {
+    SharedStart& s = shared_start();
+    std::lock_guard<std::mutex> lock(s.mutex);
+    s.begun = true;
+    return std::move(s.creation);
+}
+
+}  // namespace
+
+void Context::start_shared() {
+    SharedStart& s = shared_start();
+    std::lock_guard<std::mutex> lock(s.mutex);
+    if (s.begun) return;
+    s.begun = true;
+    s.creation = std::async(std::launch::async, [] { return new Context(choose_device()); });
+}
+
+void Context::wait_shared() noexcept {
+    try {
+        SharedStart& s = shared_start();
+        std::unique_lock<std::mutex> lock(s.mutex);
+        if (!s.creation.valid()) return;
+        lock.unlock();
+        shared();
+    } catch (...) {
+        // The program failed before it needed the device; the creation's error is not its.
+    }
+}
+
 Context& Context::shared() {
     // Deliberately never destroyed. OpenCL runtimes tear down their own state in exit
     // handlers (Oclgrind's, NVIDIA's), and a program, queue or context released after that
     // crashes or hangs the process ("corrupted double-linked list" on Oclgrind). So no
     // OpenCL object of the shared context is released after main returns: the process's exit
     // returns its memory, and the pointer stays reachable (no leak report).
-    static Context* const ctx = new Context(choose_device());
+    static Context* const ctx = [] {
+        std::future<Context*> started = take_started();
+        return started.valid() ? started.get() : new Context(choose_device());
+    }();
     return *ctx;
 }
 

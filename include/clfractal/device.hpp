@@ -140,6 +140,14 @@ public:
     /// no OpenCL object of it is released after main returns (OpenCL runtimes tear down their
     /// own state in exit handlers; releasing after that crashes some of them).
     static Context& shared();
+    /// Begins creating shared() on another thread and returns at once, so that a program can
+    /// read its input while the OpenCL platform starts (tens of milliseconds on some). shared()
+    /// then waits for it and throws what the creation threw. A program that calls this calls
+    /// shared() or wait_shared() before it returns from main. Calls after the first do nothing.
+    static void start_shared();
+    /// Waits for a creation start_shared() began and discards its error, if any (the error
+    /// path of a program that never needed the device); returns at once otherwise.
+    static void wait_shared() noexcept;
 
     const cl::Device& device() const { return device_; }
     const cl::Context& context() const { return context_; }

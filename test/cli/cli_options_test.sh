@@ -128,5 +128,13 @@ expect 2 'CLFRACTAL_MEMORY_LIMIT: expected a byte count' -- env CLFRACTAL_MEMORY
 expect 0 'mem_64x64x64_uint16.raw' -- env CLFRACTAL_MEMORY_LIMIT=1T "$bin" fd mem_64x64x64_uint16.raw
 expect 0 'mem_64x64x64_uint16.raw' -- env CLFRACTAL_MEMORY_LIMIT=off "$bin" fd mem_64x64x64_uint16.raw
 
+# ---- The device is created while the input is read: its error when the command needs it,
+# the input's error (exit 2) when the input fails first; never both, never a crash.
+expect 1 'clfractal: error: .*no-such-device-xyz' -- env CLFRACTAL_DEVICE=no-such-device-xyz "$bin" fd mem_64x64x64_uint16.raw
+expect 2 'clfractal: error: missing_64x64x64_uint8.raw: no such file' -- \
+  env CLFRACTAL_DEVICE=no-such-device-xyz "$bin" fd missing_64x64x64_uint8.raw
+CLFRACTAL_DEVICE=no-such-device-xyz "$bin" fd missing_64x64x64_uint8.raw 2>&1 | grep -q no-such-device \
+  && fail "an input error also reported the device's" || pass
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

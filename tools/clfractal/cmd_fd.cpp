@@ -74,8 +74,9 @@ FdRun count_fd(const FdArgs& a) {
         if (a.components) throw InputError("--components: not with --stream (the sweep needs the whole volume)");
         if (a.noise_level) throw InputError("--noise-level: not with --stream (it needs the whole volume)");
     }
+    // The device is looked up only once the input is read: main() began creating it, and the
+    // read runs meanwhile.
     FdRun r;
-    Context& ctx = Context::shared();
     if (a.stream) {
         const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
         StreamedSpans streamed = stream_spans(a.volume, a.raw.options(), a.isovalues, a.bins, a.levels, kind);
@@ -84,7 +85,7 @@ FdRun count_fd(const FdArgs& a) {
         r.type = streamed.type;
         AnalysisOptions o = analysis_options(a, r.type);
         o.isovalues.reset();
-        r.an = analyse_curve(fd_curve(ctx, streamed.spans, kind), o);
+        r.an = analyse_curve(fd_curve(Context::shared(), streamed.spans, kind), o);
         r.an.spans = std::move(streamed.spans);
         r.an.dims = r.dims;
         r.an.type = r.type;
@@ -102,6 +103,7 @@ FdRun count_fd(const FdArgs& a) {
         if (a.bins && is_integer(r.type) && !is_wide(r.type))
             throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
         AnalysisOptions o = analysis_options(a, r.type);
+        Context& ctx = Context::shared();
         // fd stays within a quarter of the volume + 256 MiB beyond it; --components asks for more.
         if (!a.components) o.memory_budget = (std::size_t(256) << 20) + v.size_bytes() / 4;
         const std::size_t n = o.isovalues ? o.isovalues->size() : IsovalueSet::for_volume(v, o.bins).size();

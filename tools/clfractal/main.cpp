@@ -118,7 +118,11 @@ int main(int argc, char** argv) {
     if (parsed >= 0) return parsed;
     for (const Chosen& c : commands)
         if (app.got_subcommand(c.app)) {
+            // The commands that use the device begin creating it now, while they read their input.
+            const std::string name = c.app->get_name();
+            if (name != "info" && name != "gen" && name != "devices") Context::start_shared();
             const int status = run(app, c);
+            Context::wait_shared();  // a command that failed before it needed the device
             release_blas_caches();  // before the OpenCL runtime's exit handlers
             return status;
         }
