@@ -13,7 +13,8 @@
 # Walls from bash's EPOCHREALTIME around /usr/bin/time (which gives the peak RSS); medians of
 # the runs. The rest of fd (read, context, value range, output, exit) is fd's wall less the
 # devices wall and the analysis; fd reads its input while the platform starts (on another
-# thread), so the read counts there only for what outlasts the start. The counts of fd and the peer must be equal (exit 1 otherwise).
+# thread), so the read counts there only for what outlasts the start. The counts of fd and
+# the peer must be equal (exit 1 otherwise).
 #
 #   bench/startup_bench.sh [--build DIR] [--runs R] [--data DIR] [--work DIR]
 #                          [--volume PATH [--dims XxYxZ] [--type T]]... [--smoke]
