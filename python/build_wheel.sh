@@ -35,8 +35,9 @@ CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-2} \
   "${settings[@]}" -w "$work/raw" "$root"
 raw=("$work"/raw/clfractal-*.whl)
 rm -f "$out"/clfractal-*.whl
-# The library's own shared objects are in the wheel already (clfractal/, found through
-# $ORIGIN): left where they are, their dependencies bundled.
+# The library's own shared objects and the DICOM module are in the wheel already
+# (clfractal/, found through $ORIGIN): left where they are, their dependencies (GDCM for the
+# module) bundled.
 PATH=$venv/bin:$PATH "$venv/bin/auditwheel" repair --exclude 'libclfractal*' --wheel-dir "$out" "${raw[0]}"
 wheel=("$out"/clfractal-*.whl)
 echo "build_wheel: ${wheel[0]} ($(du -h "${wheel[0]}" | cut -f1))"

@@ -2,8 +2,9 @@
 // read with gdcm::Scanner, slices sorted by position along the slice normal (as GDCM's
 // IPPSorter does) and checked for even spacing, pixels decoded with gdcm::ImageReader (every
 // transfer syntax GDCM decodes), values in modality units by the rescale rule
-// (docs/definitions.md §27 "Values and orientation").
-#include "io/formats.hpp"
+// (docs/definitions.md §27 "Values and orientation"). Built as the module clfractal_dicom,
+// loaded on first use by io/dicom_loader.cpp: its one export is clfractal_dicom_module().
+#include "io/dicom_module.hpp"
 
 #include <gdcmDirectory.h>
 #include <gdcmImage.h>
@@ -563,13 +564,11 @@ private:
     std::vector<unsigned char> buffer_;
 };
 
-}  // namespace
-
-std::unique_ptr<SliceSource> open_dicom_slices(const std::string& path, const std::string& series_uid) {
+std::unique_ptr<SliceSource> open_series_slices(const std::string& path, const std::string& series_uid) {
     return std::make_unique<DicomSource>(path, series_uid);
 }
 
-Volume read_dicom(const std::string& path, const std::string& series_uid) {
+Volume read_series(const std::string& path, const std::string& series_uid) {
     // Every slice decoded once: stored values kept until the range settles the type.
     DicomSource s(path, series_uid, true);
     const std::size_t plane = s.dims.nx * s.dims.ny, bytes = plane * stored_kind_size(s.stored_kind());
@@ -592,7 +591,7 @@ Volume read_dicom(const std::string& path, const std::string& series_uid) {
     return v;
 }
 
-std::vector<std::string> dicom_notes(const std::string& path, const std::string& series_uid) {
+std::vector<std::string> series_notes(const std::string& path, const std::string& series_uid) {
     Scan s;
     scan(s, path);
     const Series* chosen = nullptr;
@@ -601,14 +600,21 @@ std::vector<std::string> dicom_notes(const std::string& path, const std::string&
     } catch (const InputError&) {
         // A tie: list them all, none chosen.
     }
-    std::vector<std::string> notes;
-    notes.push_back(std::to_string(s.series.size()) + " DICOM series in " + s.dir + ":");
+    std::vector<std::string> lines;
+    lines.push_back(std::to_string(s.series.size()) + " DICOM series in " + s.dir + ":");
     for (const auto& [uid, se] : s.series)
-        notes.push_back((chosen == &se ? "* " : "  ") + uid + "  " + std::to_string(se.files.size()) + " files  " +
+        lines.push_back((chosen == &se ? "* " : "  ") + uid + "  " + std::to_string(se.files.size()) + " files  " +
                         std::to_string(se.columns) + "x" + std::to_string(se.rows) +
                         (se.description.empty() ? "" : "  \"" + se.description + "\""));
-    notes.push_back("(* = read; choose another with --series UID)");
-    return notes;
+    lines.push_back("(* = read; choose another with --series UID)");
+    return lines;
 }
 
+const DicomModule module{dicom_module_abi, read_series, open_series_slices, series_notes};
+
+}  // namespace
 }  // namespace clfractal::io
+
+extern "C" __attribute__((visibility("default"))) const clfractal::io::DicomModule* clfractal_dicom_module() {
+    return &clfractal::io::module;
+}

@@ -65,3 +65,17 @@ def test_local_fd_on_real_volumes(shared_data, name, iso):
     np.testing.assert_array_equal(np.isnan(ld), np.isnan(expected))
     # log2 in float on the device: within 1e-6 (distinct count ratios differ by > 4e-5).
     np.testing.assert_allclose(ld[~np.isnan(ld)], expected[~np.isnan(expected)], rtol=1e-6)
+
+
+def test_dicom_series_read_through_the_module(shared_data, tmp_path):
+    """The DICOM module (loaded on first use) decodes the CT series as its reference decoding;
+    a cut file of it is a ValueError naming the file, raised inside the module."""
+    series = shared_data / "formats" / "dicom_ct_phantom"
+    if not series.is_dir():
+        pytest.skip(f"{series} not found")
+    a, _ = clfractal.read_volume(series)
+    np.testing.assert_array_equal(a, load(shared_data / "formats", "dicom_ct_phantom_512x512x28_int16.raw"))
+    first = sorted(series.iterdir())[0]
+    (tmp_path / "cut.dcm").write_bytes(first.read_bytes()[:700])
+    with pytest.raises(ValueError, match=r"cut\.dcm: truncated DICOM file"):
+        clfractal.read_volume(tmp_path / "cut.dcm")

@@ -121,6 +121,41 @@ for n in 0 100 132 140 200 300 400 500 600 800 1000 1500 1900; do
   if [ $rc -ne 2 ] || [ "$(wc -l <<<"$out")" -ne 1 ]; then cut_ok=0; fail "DICOM slice cut at $n bytes: exit $rc: $out"; fi
 done
 [ $cut_ok -eq 1 ] && pass
+# (Each of these errors is thrown inside the DICOM module, libclfractal_dicom.so, and caught
+# by the tool as bad input.)
+# Without the module: the binary and its libraries copied to a directory that lacks it (the
+# copies loaded instead of the build tree's, checked with ldd). Reading DICOM is one error
+# line naming the file, exit 2, by every reading path; the other formats still read.
+mkdir -p nodicom
+cp "$bin" nodicom/
+for lib in $(ldd "$bin" | awk '$3 ~ /libclfractal/ {print $3}'); do cp "$lib" "nodicom/$(basename "$lib")"; done
+if [ -e nodicom/libclfractal_dicom.so ] || ! ls nodicom/libclfractal_io.so* >/dev/null 2>&1; then
+  fail "nodicom: the copy holds the module or lacks libclfractal_io"
+elif ! LD_LIBRARY_PATH="$work/nodicom" ldd nodicom/$(basename "$bin") | grep -q "=> $work/nodicom/libclfractal_io"; then
+  fail "nodicom: the copy's libclfractal_io is not the one loaded"
+else
+  nodicom="env LD_LIBRARY_PATH=$work/nodicom $work/nodicom/$(basename "$bin")"
+  missing='dcm: cannot read DICOM: DICOM support is missing \(.*libclfractal_dicom\.so: cannot open shared object file'
+  # error_line PATTERN -- command...: exit 2, stderr exactly the line 'clfractal: error: ...PATTERN'
+  error_line() {
+    local pattern=$1 out rc
+    shift 2
+    out=$("$@" 2>&1 >/dev/null)
+    rc=$?
+    if [ "$rc" -ne 2 ]; then fail "'$*' exited $rc, expected 2: $out"; return; fi
+    if [ "$(wc -l <<<"$out")" -ne 1 ] || ! grep -qE -- "^clfractal: error: $pattern" <<<"$out"; then
+      fail "'$*' is not one error line matching '$pattern': $out"; return
+    fi
+    pass
+  }
+  bad_input "$missing" -- $nodicom -q filter dcm --median
+  error_line "$missing" -- $nodicom -q fd dcm --stream
+  error_line "$missing" -- $nodicom info dcm
+  error_line "dcm/1\.2\.826\.0\.1\.1_4\.dcm: cannot read DICOM: DICOM support is missing" \
+    -- $nodicom -q fd dcm/1.2.826.0.1.1_4.dcm
+  expect 0 'mean FD' -- $nodicom -q fd u16.nrrd --csv nodicom_u16.csv
+  same nodicom_u16.csv u16.csv "NRRD curve without the DICOM module"
+fi
 printf 'ObjectType = Image\nNDims = 3\nDimSize = 19 19 19\nElementType = MET_UCHAR\nElementDataFile = gone.raw\n' > gone.mhd
 bad_input "gone\.mhd: data file '.*gone\.raw' does not exist" -- "$bin" -q filter gone.mhd --median
 # Headers claiming more data than their files hold: refused before anything that size is

@@ -2,11 +2,12 @@
 # The installed package: `cmake --install` into a fresh prefix, then the examples built
 # outside the tree against it, once with find_package(clfractal) and once with pkg-config,
 # and run.
-# Usage: install_test.sh BUILD_DIR SOURCE_DIR WORKDIR
+# Usage: install_test.sh BUILD_DIR SOURCE_DIR WORKDIR [CLFRACTAL_FIXTURES]
 set -eu
 build=$1
 src=$2
 work=$3
+fixtures=${4:-}
 rm -rf "$work" && mkdir -p "$work"
 prefix=$work/prefix
 cmake --install "$build" --prefix "$prefix" >/dev/null
@@ -37,6 +38,20 @@ fi
 needed=$(readelf -d "$work/examples-build/scanner_pipeline" | sed -n 's/.*(NEEDED).*\[\(libclfractal[^]]*\)\].*/\1/p' | tr '\n' ' ')
 [ "$needed" = "libclfractal_core.so.0 " ] || { echo "FAIL: scanner_pipeline needs '$needed', not libclfractal_core alone"; exit 1; }
 "$work/examples-build/scanner_pipeline" 32 | grep -q "noisy isovalues" || { echo "FAIL: example scanner_pipeline (find_package)"; exit 1; }
+
+# The DICOM module beside the libraries: the one installed file that links GDCM, and the
+# installed tool reads a DICOM series through it.
+[ -f "$libdir/libclfractal_dicom.so" ] || { echo "FAIL: libclfractal_dicom.so not installed in $libdir"; exit 1; }
+ldd "$libdir/libclfractal_dicom.so" | grep -q 'libgdcmMSFF' || { echo "FAIL: the DICOM module does not link GDCM"; exit 1; }
+for f in "$prefix/bin/clfractal" "$libdir"/libclfractal*.so.0; do
+  if LD_LIBRARY_PATH=$libdir ldd "$f" | grep -q gdcm; then echo "FAIL: $f links GDCM"; exit 1; fi
+done
+if [ -n "$fixtures" ]; then
+  LD_LIBRARY_PATH=$libdir "$prefix/bin/clfractal" -q gen noisy-sphere --size 9 --noise 4 --type uint16 -o "$work/u16.nrrd"
+  "$fixtures" dicom "$work/u16.nrrd" "$work/dcm" 1.2.826.0.1.9 0
+  LD_LIBRARY_PATH=$libdir "$prefix/bin/clfractal" info "$work/dcm" | grep -q 'DICOM series' \
+    || { echo "FAIL: the installed clfractal does not read DICOM"; exit 1; }
+fi
 
 # 2. pkg-config: a C compiler and nothing else; the scanner pipeline with clfractal-core.
 export PKG_CONFIG_PATH=$libdir/pkgconfig

@@ -1,7 +1,5 @@
 #include "report_html.hpp"
 
-#include <gdcmBase64.h>
-
 #include <cstdio>
 #include <stdexcept>
 
@@ -18,14 +16,6 @@ std::string escape(const std::string& text) {
             case '\'': out += "&#39;"; break;
             default: out += c;
         }
-    return out;
-}
-
-std::string base64(const std::string& bytes) {
-    const std::size_t n = gdcm::Base64::GetEncodeLength(bytes.data(), bytes.size());
-    std::string out(n, '\0');
-    if (gdcm::Base64::Encode(out.data(), out.size(), bytes.data(), bytes.size()) != n)
-        throw std::runtime_error("base64: the encoder wrote an unexpected length");
     return out;
 }
 

@@ -5,13 +5,12 @@
 
 #include <string>
 
+#include "base64.hpp"
+
 namespace cli::html {
 
 /// Text with &, <, >, " and ' escaped.
 std::string escape(const std::string& text);
-
-/// RFC 4648 base64 (GDCM's encoder, already a dependency of the library).
-std::string base64(const std::string& bytes);
 
 /// An <img> whose source is the PNG itself (data:image/png;base64,...).
 std::string png_image(const std::string& png, const std::string& alt);
