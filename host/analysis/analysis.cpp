@@ -230,15 +230,34 @@ std::size_t ladder_bytes(const Volume& v) { return 2 * v.size_bytes() + 8 * v.ve
 bool within(const AnalysisOptions& o, std::size_t bytes) { return o.memory_budget == 0 || bytes <= o.memory_budget; }
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
-// The share of vertices whose value differs between two volumes of the same type and dims.
-double changed_share(const Volume& a, const Volume& b) {
+// The values of x[0 .. n) and y[0 .. n) whose bytes differ, compared as unsigned integers
+// U of the value's size (one load each, vectorised).
+template <class U> std::size_t differing(const unsigned char* x, const unsigned char* y, std::size_t n) {
     std::size_t changed = 0;
-    const std::size_t bytes = value_size(a.type());
+#pragma omp parallel for reduction(+ : changed) schedule(static)
+    for (long long i = 0; i < (long long)n; ++i) {
+        U a, b;
+        std::memcpy(&a, x + std::size_t(i) * sizeof(U), sizeof(U));
+        std::memcpy(&b, y + std::size_t(i) * sizeof(U), sizeof(U));
+        changed += std::size_t(a != b);
+    }
+    return changed;
+}
+
+// The share of vertices whose value differs (in its bytes) between two volumes of the same
+// type and dims.
+double changed_share(const Volume& a, const Volume& b) {
     const auto* x = static_cast<const unsigned char*>(a.data());
     const auto* y = static_cast<const unsigned char*>(b.data());
-#pragma omp parallel for reduction(+ : changed) schedule(static)
-    for (std::size_t i = 0; i < a.vertices(); ++i) changed += std::memcmp(x + i * bytes, y + i * bytes, bytes) != 0;
-    return a.vertices() ? double(changed) / double(a.vertices()) : 0.0;
+    const std::size_t n = a.vertices();
+    std::size_t changed = 0;
+    switch (value_size(a.type())) {
+    case 1: changed = differing<std::uint8_t>(x, y, n); break;
+    case 2: changed = differing<std::uint16_t>(x, y, n); break;
+    case 4: changed = differing<std::uint32_t>(x, y, n); break;
+    default: changed = differing<std::uint64_t>(x, y, n); break;
+    }
+    return n ? double(changed) / double(n) : 0.0;
 }
 
 // Components at the entries' isovalues, each labelled directly (count_components_at): one
