@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstring>
 #include <cmath>
+#include <iterator>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -223,9 +225,10 @@ json noise_json(const NoiseLevel* l, const NoiseEstimate* e) {
 }
 
 // Host memory beyond the volume of the denoising ladder, at its largest step: the filtered
-// copy, the small-components filter's second copy and its labelling (4 bytes a vertex), and
-// the LD field of the targeted filter in float32 (the components at its recommendations are
-// labelled in O(slice)).
+// copy (step 1's, which step 2 filters further), the small-components filter's second copy
+// and its labelling (4 bytes a run along x, at most a run a vertex), and the LD field of the
+// targeted filter in float32 (the components at its recommendations are labelled in
+// O(slice)).
 std::size_t ladder_bytes(const Volume& v) { return 2 * v.size_bytes() + 8 * v.vertices(); }
 bool within(const AnalysisOptions& o, std::size_t bytes) { return o.memory_budget == 0 || bytes <= o.memory_budget; }
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
@@ -296,17 +299,21 @@ Advice advise(Context& ctx, const Volume& v, const IsovalueSet& iso, const Analy
 }
 
 // The denoising ladder: the fractal-targeted median at the first recommendation's isovalue
-// (LD > 2.5; then the same followed by the small-components filter of size 20, the best
-// for the component count in bench/denoise_benchmark.py; then LD > 2.2), then the median
-// everywhere; each re-runs the advice on its result, and the ladder stops at the first that
-// leaves a clean well-populated isovalue.
+// (LD > 2.5; then its result, not filtered again, through the small-components filter of
+// size 20, the best for the component count in bench/denoise_benchmark.py; then LD > 2.2),
+// then the median everywhere; each re-runs the advice on its result, and the ladder stops at
+// the first that leaves a clean well-populated isovalue.
 std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const IsovalueSet& iso,
                                            const AnalysisOptions& o, double at) {
     std::vector<DenoiseAttempt> tried;
     // (threshold, K): the targeted median where LD > threshold (NaN: the median everywhere),
     // then, for K > 0, the small-components filter of size K at the same isovalue.
     const std::pair<double, std::size_t> steps[] = {{2.5, 0}, {2.5, 20}, {2.2, 0}, {NAN, 0}};
-    for (const auto& [h, k] : steps) {
+    // The targeted median of the step before, kept when the next step filters it further (the
+    // same threshold, then small components) instead of filtering again.
+    std::optional<Volume> kept;
+    for (std::size_t i = 0; i < std::size(steps); ++i) {
+        const auto& [h, k] = steps[i];
         const auto t0 = std::chrono::steady_clock::now();
         DenoiseAttempt d;
         d.method = "median";
@@ -316,8 +323,10 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         d.threshold = h;
         d.window = o.window;
         d.small_components = k;
-        Volume out = d.targeted ? targeted_filter(ctx, v, FilterSpec::median(), at, h, o.window).volume
-                                : median_filter(ctx, v);
+        Volume out = kept        ? std::move(*kept)
+                     : d.targeted ? targeted_filter(ctx, v, FilterSpec::median(), at, h, o.window).volume
+                                  : median_filter(ctx, v);
+        kept.reset();
         if (k) {
             d.filter += " and small components (K " + std::to_string(k) + ")";
             out = small_components_filter(out, at, k).volume;
@@ -336,6 +345,7 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         d.seconds = seconds_since(t0);
         tried.push_back(std::move(d));
         if (tried.back().clean) break;
+        if (i + 1 < std::size(steps) && !k && steps[i + 1].first == h && steps[i + 1].second) kept = std::move(out);
     }
     return tried;
 }
