@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstring>
 #include <cmath>
+#include <iterator>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -223,22 +225,42 @@ json noise_json(const NoiseLevel* l, const NoiseEstimate* e) {
 }
 
 // Host memory beyond the volume of the denoising ladder, at its largest step: the filtered
-// copy, the small-components filter's second copy and its labelling (4 bytes a vertex), and
-// the LD field of the targeted filter in float32 (the components at its recommendations are
-// labelled in O(slice)).
+// copy (step 1's, which step 2 filters further), the small-components filter's second copy
+// and its labelling (4 bytes a run along x, at most a run a vertex), and the LD field of the
+// targeted filter in float32 (the components at its recommendations are labelled in
+// O(slice)).
 std::size_t ladder_bytes(const Volume& v) { return 2 * v.size_bytes() + 8 * v.vertices(); }
 bool within(const AnalysisOptions& o, std::size_t bytes) { return o.memory_budget == 0 || bytes <= o.memory_budget; }
 std::string mib(std::size_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
-// The share of vertices whose value differs between two volumes of the same type and dims.
-double changed_share(const Volume& a, const Volume& b) {
+// The values of x[0 .. n) and y[0 .. n) whose bytes differ, compared as unsigned integers
+// U of the value's size (one load each, vectorised).
+template <class U> std::size_t differing(const unsigned char* x, const unsigned char* y, std::size_t n) {
     std::size_t changed = 0;
-    const std::size_t bytes = value_size(a.type());
+#pragma omp parallel for reduction(+ : changed) schedule(static)
+    for (long long i = 0; i < (long long)n; ++i) {
+        U a, b;
+        std::memcpy(&a, x + std::size_t(i) * sizeof(U), sizeof(U));
+        std::memcpy(&b, y + std::size_t(i) * sizeof(U), sizeof(U));
+        changed += std::size_t(a != b);
+    }
+    return changed;
+}
+
+// The share of vertices whose value differs (in its bytes) between two volumes of the same
+// type and dims.
+double changed_share(const Volume& a, const Volume& b) {
     const auto* x = static_cast<const unsigned char*>(a.data());
     const auto* y = static_cast<const unsigned char*>(b.data());
-#pragma omp parallel for reduction(+ : changed) schedule(static)
-    for (std::size_t i = 0; i < a.vertices(); ++i) changed += std::memcmp(x + i * bytes, y + i * bytes, bytes) != 0;
-    return a.vertices() ? double(changed) / double(a.vertices()) : 0.0;
+    const std::size_t n = a.vertices();
+    std::size_t changed = 0;
+    switch (value_size(a.type())) {
+    case 1: changed = differing<std::uint8_t>(x, y, n); break;
+    case 2: changed = differing<std::uint16_t>(x, y, n); break;
+    case 4: changed = differing<std::uint32_t>(x, y, n); break;
+    default: changed = differing<std::uint64_t>(x, y, n); break;
+    }
+    return n ? double(changed) / double(n) : 0.0;
 }
 
 // Components at the entries' isovalues, each labelled directly (count_components_at): one
@@ -277,17 +299,21 @@ Advice advise(Context& ctx, const Volume& v, const IsovalueSet& iso, const Analy
 }
 
 // The denoising ladder: the fractal-targeted median at the first recommendation's isovalue
-// (LD > 2.5; then the same followed by the small-components filter of size 20, the best
-// for the component count in bench/denoise_benchmark.py; then LD > 2.2), then the median
-// everywhere; each re-runs the advice on its result, and the ladder stops at the first that
-// leaves a clean well-populated isovalue.
+// (LD > 2.5; then its result, not filtered again, through the small-components filter of
+// size 20, the best for the component count in bench/denoise_benchmark.py; then LD > 2.2),
+// then the median everywhere; each re-runs the advice on its result, and the ladder stops at
+// the first that leaves a clean well-populated isovalue.
 std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const IsovalueSet& iso,
                                            const AnalysisOptions& o, double at) {
     std::vector<DenoiseAttempt> tried;
     // (threshold, K): the targeted median where LD > threshold (NaN: the median everywhere),
     // then, for K > 0, the small-components filter of size K at the same isovalue.
     const std::pair<double, std::size_t> steps[] = {{2.5, 0}, {2.5, 20}, {2.2, 0}, {NAN, 0}};
-    for (const auto& [h, k] : steps) {
+    // The targeted median of the step before, kept when the next step filters it further (the
+    // same threshold, then small components) instead of filtering again.
+    std::optional<Volume> kept;
+    for (std::size_t i = 0; i < std::size(steps); ++i) {
+        const auto& [h, k] = steps[i];
         const auto t0 = std::chrono::steady_clock::now();
         DenoiseAttempt d;
         d.method = "median";
@@ -297,8 +323,10 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         d.threshold = h;
         d.window = o.window;
         d.small_components = k;
-        Volume out = d.targeted ? targeted_filter(ctx, v, FilterSpec::median(), at, h, o.window).volume
-                                : median_filter(ctx, v);
+        Volume out = kept        ? std::move(*kept)
+                     : d.targeted ? targeted_filter(ctx, v, FilterSpec::median(), at, h, o.window).volume
+                                  : median_filter(ctx, v);
+        kept.reset();
         if (k) {
             d.filter += " and small components (K " + std::to_string(k) + ")";
             out = small_components_filter(out, at, k).volume;
@@ -317,6 +345,7 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         d.seconds = seconds_since(t0);
         tried.push_back(std::move(d));
         if (tried.back().clean) break;
+        if (i + 1 < std::size(steps) && !k && steps[i + 1].first == h && steps[i + 1].second) kept = std::move(out);
     }
     return tried;
 }

@@ -89,7 +89,9 @@ struct DenoiseAttempt {
     std::vector<CleanBand> bands;       ///< the clean bands of the result
     std::vector<Recommendation> recommended;  ///< the advice on the result
     FdSummary summary;                  ///< of the result's curve
-    double seconds = 0;                 ///< wall time of the filter and the re-run
+    /// Wall time of the filter and the re-run (with small components after a targeted median
+    /// at the same threshold: the small-components filter of that attempt's result).
+    double seconds = 0;
     /// The command line(s) that write the filtered volume ("VOLUME" stands for the input).
     std::string command(const std::string& volume = "VOLUME", const std::string& output = "OUT.nrrd") const;
 };

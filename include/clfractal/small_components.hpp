@@ -18,10 +18,12 @@
 // either set of the result has K or fewer vertices. When it has K or fewer, every vertex
 // ends at the value of step (2): one positive component of at most K vertices.
 //
-// The labelling is one raster-order union-find pass per set on the host (union by size, path
-// halving; 4 bytes per vertex, 8 above 2^31 vertices), four passes in all (the last two count
-// the components of the input's negative set and of the result's positive set). It reads
-// each vertex once per pass and is bound by memory latency.
+// The labelling is one raster-order pass per set on the host over the set's runs along x,
+// each joined by union-find (union by size, path halving) to the runs of the rows before it
+// that it touches: 4 bytes a run (at most one run a vertex; 8 bytes from 2^31 vertices) and
+// two planes of runs. Four labellings at most: the last two count the components of the
+// input's negative set and of the result's positive set, which are those already counted
+// when step (1), or both steps, changed nothing.
 #pragma once
 #include <cstddef>
 #include <string>
