@@ -1,251 +1,334 @@
 // components(s) at a few isovalues by direct labelling (clfractal/components.hpp,
 // count_components_at): A = {f < s} and C = {f >= s} as runs along x, joined by union-find
-// plane by plane. The grid is cut into z-chunks labelled in parallel, each keeping the runs of
-// its first and of its current plane only (memory O(slice)); the chunks are then joined at
-// their seams. b0 of a set = runs - unions that joined two components.
+// plane by plane. The runs of A and C alternate along a row and cover it, so one scan of the
+// row yields both, kept in one list (a run is its last x and its label), and one walk over two
+// rows joins the neighbouring runs of both sets. The grid is cut into z-chunks labelled in
+// parallel, each keeping the runs of its first and of its current plane only (memory O(slice));
+// the chunks are then joined at their seams. b0 of a set = its new labels - the unions that
+// joined two of its components.
 #include "clfractal/components.hpp"
 #include "clfractal/error.hpp"
 
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <type_traits>
+
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "row_mask packs bytes assuming a little-endian layout"
+#endif
 
 namespace clfractal {
 
 namespace {
 
-// A run [a, b] of one set along x, and its label.
+constexpr std::uint32_t unlabelled = std::numeric_limits<std::uint32_t>::max();
+
+// A run of one set along x: its last vertex and its label. It begins one past the end of the
+// run before it in the row (or at 0); the runs of a row alternate between A (set 0) and C (1).
 struct Run {
-    std::uint32_t a, b, id;
+    std::uint32_t end, id;
 };
 
-// The runs of one plane, row by row: row y is runs[row[y], row[y + 1]).
+// The runs of one plane, row by row: row y is runs[row[y], row[y + 1]) and begins with a run of
+// set first[y]. `runs` is grown ahead of a row's scan, so its size is not the number of runs.
 struct PlaneRuns {
     std::vector<Run> runs;
-    std::vector<std::size_t> row;
+    std::vector<std::uint32_t> row;
+    std::vector<std::uint8_t> first;
     void clear() {
-        runs.clear();
         row.assign(1, 0);
+        first.clear();
     }
+    std::size_t count() const { return row.back(); }
+    // Room for `n` more runs after the last row.
+    Run* room(std::size_t n) {
+        if (count() + n > runs.size()) runs.resize(std::max(2 * runs.size(), count() + n));
+        return runs.data() + count();
+    }
+    void trim() { runs.resize(count()); }
 };
 
-// An earlier row (dy, dz) whose vertices x + lo .. x + hi neighbour vertex x (dz = 0: the same
-// plane, dy = -1), from the neighbourhood of the set: 6 (faces), 26 (the cube), 14 (the
-// Freudenthal edges: offsets whose signs do not mix).
+// The neighbours of a run of one set in an earlier row: the runs of the set that overlap it in x
+// (on), and those that begin one past its end (hi: dx = +1) or end one before its start (lo:
+// dx = -1).
+struct SetLink {
+    bool on = false, lo = false, hi = false;
+};
+
+// An earlier row (dy, dz) (dz = 0: the same plane, dy = -1) and how each set's runs neighbour
+// runs there, from the set's neighbourhood: 6 (faces), 26 (the cube), 14 (the Freudenthal
+// edges: offsets whose signs do not mix).
 struct RowLink {
-    int dy, dz, lo, hi;
+    int dy, dz;
+    SetLink set[2];
 };
 
-std::vector<RowLink> row_links(int adjacency) {
+SetLink set_link(int adjacency, int dy, int dz) {
+    SetLink l;
+    for (int dx = -1; dx <= 1; ++dx) {
+        const int n = std::abs(dx) + std::abs(dy) + std::abs(dz);
+        const bool mixed = std::min({dx, dy, dz}) < 0 && std::max({dx, dy, dz}) > 0;
+        if (!(adjacency == 6 ? n == 1 : adjacency == 26 ? true : !mixed)) continue;
+        (dx < 0 ? l.lo : dx > 0 ? l.hi : l.on) = true;
+    }
+    return l;
+}
+
+std::vector<RowLink> row_links(int a_adjacency, int c_adjacency) {
     std::vector<RowLink> links;
     for (int dz = -1; dz <= 0; ++dz)
         for (int dy = -1; dy <= 1; ++dy) {
             if (dz == 0 && dy >= 0) continue;
-            int lo = 2, hi = -2;
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int n = std::abs(dx) + std::abs(dy) + std::abs(dz);
-                const bool mixed = std::min({dx, dy, dz}) < 0 && std::max({dx, dy, dz}) > 0;
-                const bool keep = adjacency == 6 ? n == 1 : adjacency == 26 ? true : !mixed;
-                if (keep) lo = std::min(lo, dx), hi = std::max(hi, dx);
-            }
-            if (lo <= hi) links.push_back({dy, dz, lo, hi});
+            const RowLink l{dy, dz, {set_link(a_adjacency, dy, dz), set_link(c_adjacency, dy, dz)}};
+            if (l.set[0].on || l.set[1].on || l.set[0].lo || l.set[1].lo || l.set[0].hi || l.set[1].hi)
+                links.push_back(l);
         }
     return links;
 }
 
-// Union-find with path halving; the smaller label is the root.
+// Union-find with path halving; the smaller label is the root, so a component's root is its
+// smallest label. Labels are added after room() made space for them.
 class Forest {
 public:
+    void room(std::size_t n) {
+        if (size_ + n > parent_.size()) parent_.resize(std::max(2 * parent_.size(), size_ + n));
+    }
     std::uint32_t add() {
-        parent_.push_back(std::uint32_t(parent_.size()));
-        return parent_.back();
+        parent_[size_] = std::uint32_t(size_);
+        return std::uint32_t(size_++);
     }
     std::uint32_t find(std::uint32_t x) {
         while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
         return x;
     }
-    // Whether a and b were apart.
-    bool unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a), b = find(b);
-        if (a == b) return false;
+    // Joins two distinct roots; returns the root of the whole.
+    std::uint32_t link(std::uint32_t a, std::uint32_t b) {
         if (a < b) std::swap(a, b);
         parent_[a] = b;
-        return true;
+        return b;
     }
-    void reset(std::size_t n) {
-        parent_.resize(n);
-        std::iota(parent_.begin(), parent_.end(), std::uint32_t(0));
+    // Keeps labels 0..keep-1 as they are and makes keep..n-1 roots of their own.
+    void truncate(std::size_t keep, std::size_t n) {
+        room(n > size_ ? n - size_ : 0);
+        std::iota(parent_.begin() + std::ptrdiff_t(keep), parent_.begin() + std::ptrdiff_t(n), std::uint32_t(keep));
+        size_ = n;
     }
-    std::size_t size() const { return parent_.size(); }
+    std::size_t size() const { return size_; }
 
 private:
     std::vector<std::uint32_t> parent_;
+    std::size_t size_ = 0;
 };
 
-// Joins each run of `cur` to the runs of `other` it neighbours (x + lo .. x + hi); returns
-// the number of unions that joined two components. Both lists are in increasing x.
-std::int64_t link_rows(const Run* cur, std::size_t n, const Run* other, std::size_t m, int lo, int hi,
-                       Forest& forest) {
-    std::int64_t unions = 0;
-    std::size_t j = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::int64_t from = std::int64_t(cur[i].a) + lo, to = std::int64_t(cur[i].b) + hi;
-        while (j < m && std::int64_t(other[j].b) < from) ++j;
-        for (std::size_t k = j; k < m && std::int64_t(other[k].a) <= to; ++k)
-            unions += forest.unite(cur[i].id, other[k].id);
+// Joins the label `c` of a run of the current row (unlabelled: it takes the other's component)
+// to the label `o` of a neighbouring run of an earlier row, each replaced by its root; returns 1
+// when two components became one.
+inline int join(std::uint32_t& c, std::uint32_t& o, Forest& forest) {
+    o = forest.find(o);
+    if (c == unlabelled) {
+        c = o;
+        return 0;
     }
-    return unions;
+    const std::uint32_t r = forest.find(c);
+    c = r == o ? r : forest.link(r, o);
+    return r != o;
+}
+
+// Joins the runs of the current row (from `cur` to `cur_end`, the first in set sc) to the runs
+// of an earlier row (from `other`, the first in set so) that neighbour them under `l`; adds to
+// merges[s] the unions that joined two components of set s. The walk visits each pair of runs
+// that overlap in x once (the rows' runs partition the same x range); where both rows change set
+// at the same x, the run ending there in one row and the run beginning after it in the other
+// are of one set and meet diagonally.
+void link_rows(Run* cur, const Run* cur_end, unsigned sc, Run* other, unsigned so, const RowLink& l, Forest& forest,
+               std::int64_t merges[2]) {
+    for (;;) {
+        if (sc == so && l.set[sc].on) merges[sc] += join(cur->id, other->id, forest);
+        const std::uint32_t ec = cur->end, eo = other->end;
+        if (ec == eo) {
+            if (cur + 1 == cur_end) return;
+            if (sc != so) {
+                // cur ends at x = ec, the other's next run (set sc) begins at ec + 1: dx = +1;
+                // cur's next run (set so) begins at ec + 1, the other's run ends at ec: dx = -1.
+                if (l.set[sc].hi) merges[sc] += join(cur->id, other[1].id, forest);
+                if (l.set[so].lo) merges[so] += join(cur[1].id, other->id, forest);
+            }
+        }
+        const unsigned step_c = ec <= eo, step_o = eo <= ec;
+        cur += step_c, sc ^= step_c;
+        other += step_o, so ^= step_o;
+    }
+}
+
+// Bit k: whether vertex k of `p` (k < n <= 64) is in A. The comparisons go to bytes (a loop
+// the compiler vectorises), packed eight at a time by one multiplication: byte i (0 or 1) of
+// w lands on bit 56 + i of w * 0x0102040810204080, and no other product reaches bits 56..63.
+template <class T, class Less> std::uint64_t row_mask(const T* p, std::size_t n, Less less) {
+    std::uint8_t in[64] = {};
+    if (n == 64)
+        for (std::size_t k = 0; k < 64; ++k) in[k] = less(p[k]);
+    else
+        for (std::size_t k = 0; k < n; ++k) in[k] = less(p[k]);
+    std::uint64_t m = 0;
+    for (unsigned q = 0; q < 8; ++q) {
+        std::uint64_t w;
+        std::memcpy(&w, in + 8 * q, 8);
+        m |= ((w * 0x0102040810204080ull) >> 56) << (8 * q);
+    }
+    return m;
+}
+
+// Appends the runs of one row of `p` (unlabelled) and returns the set of its first run. A run
+// ends wherever the set changes, found 64 vertices at a time from the bits where the mask
+// differs from itself shifted by one.
+template <class T, class Less> unsigned row_runs(const T* row, std::size_t nx, Less less, PlaneRuns& p) {
+    Run* out = p.room(nx);
+    const Run* const begin = out;
+    std::uint64_t before = less(row[0]);  // the set of vertex x0 - 1; at x0 = 0, no change
+    for (std::size_t x0 = 0; x0 < nx; x0 += 64) {
+        const std::size_t n = std::min<std::size_t>(64, nx - x0);
+        const std::uint64_t m = row_mask(row + x0, n, less);
+        std::uint64_t change = m ^ (m << 1 | before);
+        if (n < 64) change &= (std::uint64_t(1) << n) - 1;
+        before = m >> 63;
+        for (; change; change &= change - 1) *out++ = {std::uint32_t(x0 + unsigned(__builtin_ctzll(change)) - 1), unlabelled};
+    }
+    *out++ = {std::uint32_t(nx - 1), unlabelled};
+    p.row.push_back(std::uint32_t(p.count() + std::size_t(out - begin)));
+    p.first.push_back(!less(row[0]));
+    return p.first.back();
 }
 
 // Row y of plane `p` joined to row y + dy of plane `q` (the same plane or the one before).
-std::int64_t link_row(const PlaneRuns& p, std::size_t y, const PlaneRuns& q, const RowLink& l, std::size_t ny,
-                      Forest& forest) {
+void link_row(PlaneRuns& p, std::size_t y, PlaneRuns& q, const RowLink& l, Forest& forest, std::int64_t merges[2]) {
     const std::int64_t yy = std::int64_t(y) + l.dy;
-    if (yy < 0 || yy >= std::int64_t(ny)) return 0;
-    const Run* cur = p.runs.data() + p.row[y];
-    const Run* other = q.runs.data() + q.row[std::size_t(yy)];
-    return link_rows(cur, p.row[y + 1] - p.row[y], other, q.row[std::size_t(yy) + 1] - q.row[std::size_t(yy)], l.lo,
-                     l.hi, forest);
+    if (yy < 0 || yy >= std::int64_t(q.first.size())) return;
+    Run* other = q.runs.data() + q.row[std::size_t(yy)];
+    link_rows(p.runs.data() + p.row[y], p.runs.data() + p.row[y + 1], p.first[y], other, q.first[std::size_t(yy)], l,
+              forest, merges);
 }
 
-// One set's labelling over a chunk of planes: the forest, the first and the current plane.
-struct SetChunk {
+// The labelling of both sets over a chunk of planes: one forest, the first, the previous and
+// the current plane.
+struct Chunk {
     std::vector<RowLink> links;
     Forest forest;
     PlaneRuns first, prev, cur;
-    std::int64_t b0 = 0;  ///< runs - joining unions within the chunk
+    std::int64_t b0[2] = {0, 0};  ///< new labels - joining unions within the chunk, by set
+    std::uint32_t first_labels = 0;
     std::vector<std::uint32_t> relabel;
 
-    explicit SetChunk(int adjacency) : links(row_links(adjacency)) {
+    explicit Chunk(const std::vector<RowLink>& l) : links(l) {
         first.clear();
         prev.clear();
         cur.clear();
     }
-    void add_run(std::uint32_t a, std::uint32_t b) {
-        cur.runs.push_back({a, b, forest.add()});
-        ++b0;
-    }
-    // Row y of the current plane is complete: join it to the earlier rows.
-    void end_row(std::size_t y, std::size_t ny, bool has_prev) {
-        cur.row.push_back(cur.runs.size());
+    // Row y of the current plane is scanned: join it to the earlier rows, then label its runs
+    // that joined none.
+    void end_row(std::size_t y, bool has_prev) {
+        std::int64_t merges[2] = {0, 0};
         for (const RowLink& l : links)
-            if (l.dz == 0 || has_prev) b0 -= link_row(cur, y, l.dz == 0 ? cur : prev, l, ny, forest);
+            if (l.dz == 0 || has_prev) link_row(cur, y, l.dz == 0 ? cur : prev, l, forest, merges);
+        forest.room(cur.row[y + 1] - cur.row[y]);
+        unsigned s = cur.first[y];
+        for (Run* r = cur.runs.data() + cur.row[y]; r != cur.runs.data() + cur.row[y + 1]; ++r, s ^= 1)
+            if (r->id == unlabelled) r->id = forest.add(), ++b0[s];
+        b0[0] -= merges[0], b0[1] -= merges[1];
     }
-    // The plane is complete: keep labels of the first and the current plane only, renumbered
-    // 0.. by component.
+    // The plane is complete. The first plane's components become labels 0..F-1 and keep them
+    // (its runs are needed at the seams); a later component holding one of them has its root
+    // among them (the smallest label). Each later plane's runs are renumbered F.. by component
+    // and the labels beyond dropped, so the forest holds O(slice) labels.
     void end_plane(bool is_first) {
-        if (is_first) first = cur;
-        relabel.assign(forest.size(), UINT32_MAX);
-        std::uint32_t next = 0;
-        auto renumber = [&](PlaneRuns& p) {
-            for (Run& r : p.runs) {
-                std::uint32_t& to = relabel[forest.find(r.id)];
-                if (to == UINT32_MAX) to = next++;
-                r.id = to;
+        const std::uint32_t keep = is_first ? 0 : first_labels;
+        relabel.assign(forest.size() - keep, unlabelled);
+        std::uint32_t next = keep;
+        for (Run* r = cur.runs.data(); r != cur.runs.data() + cur.count(); ++r) {
+            std::uint32_t root = forest.find(r->id);
+            if (root >= keep) {
+                std::uint32_t& to = relabel[root - keep];
+                if (to == unlabelled) to = next++;
+                root = to;
             }
-        };
-        renumber(first);
-        renumber(cur);
-        forest.reset(next);
+            r->id = root;
+        }
+        forest.truncate(keep, next);
+        if (is_first) first_labels = next, first = cur, first.trim();
         std::swap(prev, cur);
         cur.clear();
     }
 };
 
-// The runs of one row into A (less) and C. Blocks of 32 vertices all on the side of the
-// current run are passed over with one count (vectorised); the others vertex by vertex.
-template <class T, class Less>
-void row_runs(const T* row, std::size_t nx, Less less, SetChunk& a, SetChunk& c) {
-    constexpr std::size_t block = 32;
-    bool in = less(row[0]);
-    std::size_t s = 0, x = 1;
-    while (x < nx) {
-        if (x + block <= nx) {
-            unsigned n = 0;
-            for (std::size_t i = 0; i < block; ++i) n += less(row[x + i]);
-            if (n == (in ? block : 0)) {
-                x += block;
-                continue;
-            }
-        }
-        for (const std::size_t end = std::min(nx, x + block); x < end; ++x) {
-            const bool b = less(row[x]);
-            if (b == in) continue;
-            (in ? a : c).add_run(std::uint32_t(s), std::uint32_t(x - 1));
-            s = x;
-            in = b;
-        }
-    }
-    (in ? a : c).add_run(std::uint32_t(s), std::uint32_t(nx - 1));
-}
-
 struct ChunkResult {
     std::int64_t b0[2] = {0, 0};
-    PlaneRuns first[2], last[2];  ///< labels: components of the chunk, 0..labels-1
-    std::uint32_t labels[2] = {0, 0};
+    PlaneRuns first, last;  ///< labels: components of the chunk, 0..labels-1
+    std::uint32_t labels = 0;
 };
 
 template <class T, class Less>
-ChunkResult label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z1, Less less, int a_adj, int c_adj) {
-    SetChunk a(a_adj), c(c_adj);
+ChunkResult label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z1, Less less,
+                        const std::vector<RowLink>& links) {
+    Chunk c(links);
     for (std::size_t z = z0; z < z1; ++z) {
         for (std::size_t y = 0; y < d.ny; ++y) {
-            row_runs(f + (z * d.ny + y) * d.nx, d.nx, less, a, c);
-            a.end_row(y, d.ny, z > z0);
-            c.end_row(y, d.ny, z > z0);
+            row_runs(f + (z * d.ny + y) * d.nx, d.nx, less, c.cur);
+            c.end_row(y, z > z0);
         }
-        a.end_plane(z == z0);
         c.end_plane(z == z0);
     }
     ChunkResult r;
-    SetChunk* sets[2] = {&a, &c};
-    for (int s = 0; s < 2; ++s) {
-        r.b0[s] = sets[s]->b0;
-        r.first[s] = std::move(sets[s]->first);
-        r.last[s] = std::move(sets[s]->prev);
-        r.labels[s] = std::uint32_t(sets[s]->forest.size());
-    }
+    r.b0[0] = c.b0[0], r.b0[1] = c.b0[1];
+    // The first plane's labels to their roots (the last plane's are roots already).
+    for (Run& run : c.first.runs) run.id = c.forest.find(run.id);
+    r.first = std::move(c.first);
+    r.last = std::move(c.prev);
+    r.last.trim();
+    r.labels = std::uint32_t(c.forest.size());
     return r;
 }
 
-// b0 of set s over the whole grid: the chunks' b0 less the unions their seams make.
-std::int64_t join_chunks(const std::vector<ChunkResult>& chunks, int s, int adjacency, std::size_t ny) {
+// b0 of both sets over the whole grid: the chunks' b0 less the unions their seams make.
+std::array<std::int64_t, 2> join_chunks(const std::vector<ChunkResult>& chunks, const std::vector<RowLink>& links,
+                                        std::size_t ny) {
     std::vector<std::uint32_t> base(chunks.size() + 1, 0);
-    for (std::size_t t = 0; t < chunks.size(); ++t) base[t + 1] = base[t] + chunks[t].labels[s];
+    for (std::size_t t = 0; t < chunks.size(); ++t) base[t + 1] = base[t] + chunks[t].labels;
     Forest forest;
-    forest.reset(base.back());
-    std::int64_t b0 = 0;
-    for (const ChunkResult& c : chunks) b0 += c.b0[s];
+    forest.truncate(0, base.back());
+    std::int64_t merges[2] = {0, 0};
     // Each chunk's seam planes with global labels.
     auto global = [&](PlaneRuns p, std::size_t t) {
         for (Run& r : p.runs) r.id += base[t];
         return p;
     };
-    const std::vector<RowLink> links = row_links(adjacency);
     for (std::size_t t = 1; t < chunks.size(); ++t) {
-        const PlaneRuns p = global(chunks[t].first[s], t), q = global(chunks[t - 1].last[s], t - 1);
+        PlaneRuns p = global(chunks[t].first, t), q = global(chunks[t - 1].last, t - 1);
         for (std::size_t y = 0; y < ny; ++y)
             for (const RowLink& l : links)
-                if (l.dz == -1) b0 -= link_row(p, y, q, l, ny, forest);
+                if (l.dz == -1) link_row(p, y, q, l, forest, merges);
     }
+    std::array<std::int64_t, 2> b0 = {-merges[0], -merges[1]};
+    for (const ChunkResult& c : chunks) b0[0] += c.b0[0], b0[1] += c.b0[1];
     return b0;
 }
 
 template <class T, class Less> std::int64_t components_with(const Volume& v, Less less, Connectivity mode) {
     const Dims d = v.dims();
-    const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
+    const std::vector<RowLink> links =
+        mode == Connectivity::cube ? row_links(6, 26) : row_links(14, 14);
     const std::size_t chunks = std::min<std::size_t>(d.nz, 2 * std::size_t(omp_get_max_threads()));
     std::vector<ChunkResult> r(chunks);
     const T* f = v.as<T>();
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::size_t t = 0; t < chunks; ++t)
-        r[t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, a_adj, c_adj);
-    const std::int64_t a = join_chunks(r, 0, a_adj, d.ny), c = join_chunks(r, 1, c_adj, d.ny);
-    return a > 0 && c > 0 ? a + c - 1 : 0;
+        r[t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, links);
+    const std::array<std::int64_t, 2> b0 = join_chunks(r, links, d.ny);
+    return b0[0] > 0 && b0[1] > 0 ? b0[0] + b0[1] - 1 : 0;
 }
 
 // A = {f < s} compared as count_components compares (IsovalueSet::single(type, s)): integer
