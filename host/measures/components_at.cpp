@@ -1,11 +1,11 @@
 // components(s) at a few isovalues by direct labelling (clfractal/components.hpp,
 // count_components_at): A = {f < s} and C = {f >= s} as runs along x, joined by union-find
-// plane by plane. The runs of A and C alternate along a row and cover it, so one scan of the
-// row yields both, kept in one list (a run is its last x and its label), and one walk over two
-// rows joins the neighbouring runs of both sets. The grid is cut into z-chunks labelled in
-// parallel, each keeping the runs of its first and of its current plane only (memory O(slice));
-// the chunks are then joined at their seams. b0 of a set = its new labels - the unions that
-// joined two of its components.
+// plane by plane. The runs of A and C alternate along a row and cover it, so a row is kept as
+// bit masks (which vertices are in A, where the set changes) and one label a run; two rows'
+// neighbouring runs of both sets are found with bit operations on their masks, 64 vertices at
+// a time. The grid is cut into z-chunks labelled in parallel, each keeping the runs of its
+// first and of its current plane only (memory O(slice)); the chunks are then joined at their
+// seams. b0 of a set = its new labels - the unions that joined two of its components.
 #include "clfractal/components.hpp"
 #include "clfractal/error.hpp"
 
@@ -29,30 +29,37 @@ namespace {
 
 constexpr std::uint32_t unlabelled = std::numeric_limits<std::uint32_t>::max();
 
-// A run of one set along x: its last vertex and its label. It begins one past the end of the
-// run before it in the row (or at 0); the runs of a row alternate between A (set 0) and C (1).
-struct Run {
-    std::uint32_t end, id;
+// The runs of one plane, row by row, with `words` 64-bit words a row. Bit b of word w of row
+// y is vertex x = 64 w + b: in[] whether it is in A (0 beyond nx), change[] whether its set
+// differs from that of x - 1 (0 at x = 0). Each change begins a run, so the runs of a row
+// alternate between A (set 0) and C (set 1); run k of row y has label id[row[y] + k], and the
+// run holding x is id[base[w] + ones(change bits 0..b of word w)] (base: row[y] + the changes
+// in the row's earlier words).
+struct PlaneRuns {
+    std::size_t words = 0;
+    std::vector<std::uint64_t> in, change;
+    std::vector<std::uint32_t> base, id, row;
+    void clear() {
+        in.clear(), change.clear(), base.clear(), id.clear();
+        row.assign(1, 0);
+    }
+    std::size_t rows() const { return row.size() - 1; }
 };
 
-// The runs of one plane, row by row: row y is runs[row[y], row[y + 1]) and begins with a run of
-// set first[y]. `runs` is grown ahead of a row's scan, so its size is not the number of runs.
-struct PlaneRuns {
-    std::vector<Run> runs;
-    std::vector<std::uint32_t> row;
-    std::vector<std::uint8_t> first;
-    void clear() {
-        row.assign(1, 0);
-        first.clear();
-    }
-    std::size_t count() const { return row.back(); }
-    // Room for `n` more runs after the last row.
-    Run* room(std::size_t n) {
-        if (count() + n > runs.size()) runs.resize(std::max(2 * runs.size(), count() + n));
-        return runs.data() + count();
-    }
-    void trim() { runs.resize(count()); }
-};
+// The number of bits set. x86-64 has had an instruction for it since 2008 but not in its
+// baseline, so on x86-64 the function that counts most (link_rows) is also compiled for it and
+// chosen at load time (LINK_CLONES); elsewhere the compiler's builtin is the instruction.
+inline unsigned ones(std::uint64_t x) { return unsigned(__builtin_popcountll(x)); }
+#if defined(__x86_64__) && !defined(__POPCNT__) && (defined(__GNUC__) || defined(__clang__))
+#define LINK_CLONES __attribute__((target_clones("popcnt", "default")))
+#else
+#define LINK_CLONES
+#endif
+
+// The index in `id` of the run holding bit b of a word whose changes are `change` (see PlaneRuns).
+inline std::uint32_t run_at(std::uint64_t change, std::uint32_t base, unsigned b) {
+    return base + ones(change << (63 - b));
+}
 
 // The neighbours of a run of one set in an earlier row: the runs of the set that overlap it in x
 // (on), and those that begin one past its end (hi: dx = +1) or end one before its start (lo:
@@ -140,29 +147,46 @@ inline int join(std::uint32_t& c, std::uint32_t& o, Forest& forest) {
     return r != o;
 }
 
-// Joins the runs of the current row (from `cur` to `cur_end`, the first in set sc) to the runs
-// of an earlier row (from `other`, the first in set so) that neighbour them under `l`; adds to
-// merges[s] the unions that joined two components of set s. The walk visits each pair of runs
-// that overlap in x once (the rows' runs partition the same x range); where both rows change set
-// at the same x, the run ending there in one row and the run beginning after it in the other
-// are of one set and meet diagonally.
-void link_rows(Run* cur, const Run* cur_end, unsigned sc, Run* other, unsigned so, const RowLink& l, Forest& forest,
-               std::int64_t merges[2]) {
-    for (;;) {
-        if (sc == so && l.set[sc].on) merges[sc] += join(cur->id, other->id, forest);
-        const std::uint32_t ec = cur->end, eo = other->end;
-        if (ec == eo) {
-            if (cur + 1 == cur_end) return;
-            if (sc != so) {
-                // cur ends at x = ec, the other's next run (set sc) begins at ec + 1: dx = +1;
-                // cur's next run (set so) begins at ec + 1, the other's run ends at ec: dx = -1.
-                if (l.set[sc].hi) merges[sc] += join(cur->id, other[1].id, forest);
-                if (l.set[so].lo) merges[so] += join(cur[1].id, other->id, forest);
-            }
+// All ones when `b`, else 0.
+inline std::uint64_t all(bool b) { return std::uint64_t(0) - std::uint64_t(b); }
+
+// Joins the runs of row y of plane `p` to the runs of an earlier row (row yy of plane `q`) that
+// neighbour them under `l`; adds to merges[s] the unions that joined two components of set s.
+// Word by word: a pair of runs of one set that overlap in x begins where both rows are in the
+// set and were not both at x - 1 (each pair once, the rows' runs partitioning the same x range);
+// where both rows change at x into different sets, the run ending at x - 1 in one row and the
+// run beginning at x in the other are of one set and meet diagonally.
+LINK_CLONES void link_rows(PlaneRuns& p, std::size_t y, PlaneRuns& q, std::size_t yy, const RowLink& l, std::size_t nx,
+               Forest& forest, std::int64_t merges[2]) {
+    const std::uint64_t on_a = all(l.set[0].on), on_c = all(l.set[1].on), lo_a = all(l.set[0].lo),
+                        lo_c = all(l.set[1].lo), hi_a = all(l.set[0].hi), hi_c = all(l.set[1].hi);
+    const std::size_t wp = y * p.words, wq = yy * q.words;
+    std::uint32_t* const pid = p.id.data();
+    std::uint32_t* const qid = q.id.data();
+    std::uint64_t both_a_before = 0, both_c_before = 0;
+    for (std::size_t w = 0; w < p.words; ++w) {
+        const std::uint64_t mp = p.in[wp + w], mq = q.in[wq + w], tp = p.change[wp + w], tq = q.change[wq + w];
+        const std::uint32_t bp = p.base[wp + w], bq = q.base[wq + w];
+        const std::uint64_t valid = nx - 64 * w >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << (nx - 64 * w)) - 1;
+        const std::uint64_t both_a = mp & mq & on_a, both_c = ~mp & ~mq & valid & on_c;
+        std::uint64_t starts = (both_a & ~(both_a << 1 | both_a_before)) | (both_c & ~(both_c << 1 | both_c_before));
+        both_a_before = both_a >> 63, both_c_before = both_c >> 63;
+        const std::uint64_t diagonal = tp & tq & (mp ^ mq);
+        // hi: p's run ending at x - 1 meets q's run beginning at x (dx = +1), of q's set at x;
+        // lo: p's run beginning at x meets q's run ending at x - 1 (dx = -1), of p's set at x.
+        std::uint64_t hi = diagonal & ((mq & hi_a) | (~mq & hi_c)), lo = diagonal & ((mp & lo_a) | (~mp & lo_c));
+        for (; starts; starts &= starts - 1) {
+            const unsigned b = unsigned(__builtin_ctzll(starts));
+            merges[~mp >> b & 1] += join(pid[run_at(tp, bp, b)], qid[run_at(tq, bq, b)], forest);
         }
-        const unsigned step_c = ec <= eo, step_o = eo <= ec;
-        cur += step_c, sc ^= step_c;
-        other += step_o, so ^= step_o;
+        for (; hi; hi &= hi - 1) {
+            const unsigned b = unsigned(__builtin_ctzll(hi));
+            merges[~mq >> b & 1] += join(pid[run_at(tp, bp, b) - 1], qid[run_at(tq, bq, b)], forest);
+        }
+        for (; lo; lo &= lo - 1) {
+            const unsigned b = unsigned(__builtin_ctzll(lo));
+            merges[~mp >> b & 1] += join(pid[run_at(tp, bp, b)], qid[run_at(tq, bq, b) - 1], forest);
+        }
     }
 }
 
@@ -184,61 +208,57 @@ template <class T, class Less> std::uint64_t row_mask(const T* p, std::size_t n,
     return m;
 }
 
-// Appends the runs of one row of `p` (unlabelled) and returns the set of its first run. A run
-// ends wherever the set changes, found 64 vertices at a time from the bits where the mask
-// differs from itself shifted by one.
-template <class T, class Less> unsigned row_runs(const T* row, std::size_t nx, Less less, PlaneRuns& p) {
-    Run* out = p.room(nx);
-    const Run* const begin = out;
-    std::uint64_t before = less(row[0]);  // the set of vertex x0 - 1; at x0 = 0, no change
+// Appends one row of the volume to plane `p`: its masks, and its runs, unlabelled.
+template <class T, class Less> void row_runs(const T* row, std::size_t nx, Less less, PlaneRuns& p) {
+    std::uint64_t before = less(row[0]);  // whether vertex x0 - 1 is in A; at x0 = 0, no change
+    std::uint32_t runs = p.row.back();
     for (std::size_t x0 = 0; x0 < nx; x0 += 64) {
         const std::size_t n = std::min<std::size_t>(64, nx - x0);
         const std::uint64_t m = row_mask(row + x0, n, less);
         std::uint64_t change = m ^ (m << 1 | before);
         if (n < 64) change &= (std::uint64_t(1) << n) - 1;
         before = m >> 63;
-        for (; change; change &= change - 1) *out++ = {std::uint32_t(x0 + unsigned(__builtin_ctzll(change)) - 1), unlabelled};
+        p.in.push_back(m);
+        p.change.push_back(change);
+        p.base.push_back(runs);
+        runs += ones(change);
     }
-    *out++ = {std::uint32_t(nx - 1), unlabelled};
-    p.row.push_back(std::uint32_t(p.count() + std::size_t(out - begin)));
-    p.first.push_back(!less(row[0]));
-    return p.first.back();
+    ++runs;  // the row's first run
+    p.row.push_back(runs);
+    p.id.resize(runs, unlabelled);
 }
 
 // Row y of plane `p` joined to row y + dy of plane `q` (the same plane or the one before).
-void link_row(PlaneRuns& p, std::size_t y, PlaneRuns& q, const RowLink& l, Forest& forest, std::int64_t merges[2]) {
+void link_row(PlaneRuns& p, std::size_t y, PlaneRuns& q, const RowLink& l, std::size_t nx, Forest& forest,
+              std::int64_t merges[2]) {
     const std::int64_t yy = std::int64_t(y) + l.dy;
-    if (yy < 0 || yy >= std::int64_t(q.first.size())) return;
-    Run* other = q.runs.data() + q.row[std::size_t(yy)];
-    link_rows(p.runs.data() + p.row[y], p.runs.data() + p.row[y + 1], p.first[y], other, q.first[std::size_t(yy)], l,
-              forest, merges);
+    if (yy >= 0 && yy < std::int64_t(q.rows())) link_rows(p, y, q, std::size_t(yy), l, nx, forest, merges);
 }
 
 // The labelling of both sets over a chunk of planes: one forest, the first, the previous and
 // the current plane.
 struct Chunk {
     std::vector<RowLink> links;
+    std::size_t nx;
     Forest forest;
     PlaneRuns first, prev, cur;
     std::int64_t b0[2] = {0, 0};  ///< new labels - joining unions within the chunk, by set
     std::uint32_t first_labels = 0;
     std::vector<std::uint32_t> relabel;
 
-    explicit Chunk(const std::vector<RowLink>& l) : links(l) {
-        first.clear();
-        prev.clear();
-        cur.clear();
+    Chunk(const std::vector<RowLink>& l, std::size_t nx_) : links(l), nx(nx_) {
+        for (PlaneRuns* p : {&first, &prev, &cur}) p->words = (nx + 63) / 64, p->clear();
     }
     // Row y of the current plane is scanned: join it to the earlier rows, then label its runs
     // that joined none.
     void end_row(std::size_t y, bool has_prev) {
         std::int64_t merges[2] = {0, 0};
         for (const RowLink& l : links)
-            if (l.dz == 0 || has_prev) link_row(cur, y, l.dz == 0 ? cur : prev, l, forest, merges);
+            if (l.dz == 0 || has_prev) link_row(cur, y, l.dz == 0 ? cur : prev, l, nx, forest, merges);
         forest.room(cur.row[y + 1] - cur.row[y]);
-        unsigned s = cur.first[y];
-        for (Run* r = cur.runs.data() + cur.row[y]; r != cur.runs.data() + cur.row[y + 1]; ++r, s ^= 1)
-            if (r->id == unlabelled) r->id = forest.add(), ++b0[s];
+        unsigned s = cur.in[y * cur.words] & 1 ? 0 : 1;  // the set of the row's first run
+        for (std::uint32_t k = cur.row[y]; k < cur.row[y + 1]; ++k, s ^= 1)
+            if (cur.id[k] == unlabelled) cur.id[k] = forest.add(), ++b0[s];
         b0[0] -= merges[0], b0[1] -= merges[1];
     }
     // The plane is complete. The first plane's components become labels 0..F-1 and keep them
@@ -249,17 +269,17 @@ struct Chunk {
         const std::uint32_t keep = is_first ? 0 : first_labels;
         relabel.assign(forest.size() - keep, unlabelled);
         std::uint32_t next = keep;
-        for (Run* r = cur.runs.data(); r != cur.runs.data() + cur.count(); ++r) {
-            std::uint32_t root = forest.find(r->id);
+        for (std::uint32_t& id : cur.id) {
+            std::uint32_t root = forest.find(id);
             if (root >= keep) {
                 std::uint32_t& to = relabel[root - keep];
                 if (to == unlabelled) to = next++;
                 root = to;
             }
-            r->id = root;
+            id = root;
         }
         forest.truncate(keep, next);
-        if (is_first) first_labels = next, first = cur, first.trim();
+        if (is_first) first_labels = next, first = cur;
         std::swap(prev, cur);
         cur.clear();
     }
@@ -274,7 +294,7 @@ struct ChunkResult {
 template <class T, class Less>
 ChunkResult label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z1, Less less,
                         const std::vector<RowLink>& links) {
-    Chunk c(links);
+    Chunk c(links, d.nx);
     for (std::size_t z = z0; z < z1; ++z) {
         for (std::size_t y = 0; y < d.ny; ++y) {
             row_runs(f + (z * d.ny + y) * d.nx, d.nx, less, c.cur);
@@ -285,17 +305,16 @@ ChunkResult label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z
     ChunkResult r;
     r.b0[0] = c.b0[0], r.b0[1] = c.b0[1];
     // The first plane's labels to their roots (the last plane's are roots already).
-    for (Run& run : c.first.runs) run.id = c.forest.find(run.id);
+    for (std::uint32_t& id : c.first.id) id = c.forest.find(id);
     r.first = std::move(c.first);
     r.last = std::move(c.prev);
-    r.last.trim();
     r.labels = std::uint32_t(c.forest.size());
     return r;
 }
 
 // b0 of both sets over the whole grid: the chunks' b0 less the unions their seams make.
 std::array<std::int64_t, 2> join_chunks(const std::vector<ChunkResult>& chunks, const std::vector<RowLink>& links,
-                                        std::size_t ny) {
+                                        std::size_t nx, std::size_t ny) {
     std::vector<std::uint32_t> base(chunks.size() + 1, 0);
     for (std::size_t t = 0; t < chunks.size(); ++t) base[t + 1] = base[t] + chunks[t].labels;
     Forest forest;
@@ -303,14 +322,14 @@ std::array<std::int64_t, 2> join_chunks(const std::vector<ChunkResult>& chunks, 
     std::int64_t merges[2] = {0, 0};
     // Each chunk's seam planes with global labels.
     auto global = [&](PlaneRuns p, std::size_t t) {
-        for (Run& r : p.runs) r.id += base[t];
+        for (std::uint32_t& id : p.id) id += base[t];
         return p;
     };
     for (std::size_t t = 1; t < chunks.size(); ++t) {
         PlaneRuns p = global(chunks[t].first, t), q = global(chunks[t - 1].last, t - 1);
         for (std::size_t y = 0; y < ny; ++y)
             for (const RowLink& l : links)
-                if (l.dz == -1) link_row(p, y, q, l, forest, merges);
+                if (l.dz == -1) link_row(p, y, q, l, nx, forest, merges);
     }
     std::array<std::int64_t, 2> b0 = {-merges[0], -merges[1]};
     for (const ChunkResult& c : chunks) b0[0] += c.b0[0], b0[1] += c.b0[1];
@@ -327,7 +346,7 @@ template <class T, class Less> std::int64_t components_with(const Volume& v, Les
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::size_t t = 0; t < chunks; ++t)
         r[t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, links);
-    const std::array<std::int64_t, 2> b0 = join_chunks(r, links, d.ny);
+    const std::array<std::int64_t, 2> b0 = join_chunks(r, links, d.nx, d.ny);
     return b0[0] > 0 && b0[1] > 0 ? b0[0] + b0[1] - 1 : 0;
 }
 
