@@ -137,6 +137,7 @@ private:
 // to the label `o` of a neighbouring run of an earlier row, each replaced by its root; returns 1
 // when two components became one.
 inline int join(std::uint32_t& c, std::uint32_t& o, Forest& forest) {
+    if (c == o) return 0;  // often: neighbouring runs already hold one root
     o = forest.find(o);
     if (c == unlabelled) {
         c = o;
