@@ -27,7 +27,7 @@ namespace clfractal {
 
 namespace {
 
-constexpr std::uint32_t unlabelled = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
 
 // The runs of one plane, row by row, with `words` 64-bit words a row. Bit b of word w of row
 // y is vertex x = 64 w + b: in[] whether it is in A (0 beyond nx), change[] whether its set
@@ -100,25 +100,30 @@ std::vector<RowLink> row_links(int a_adjacency, int c_adjacency) {
 }
 
 // Union-find with path halving; the smaller label is the root, so a component's root is its
-// smallest label. Labels are added after room() made space for them.
+// smallest label.
 class Forest {
 public:
     void room(std::size_t n) {
         if (size_ + n > parent_.size()) parent_.resize(std::max(2 * parent_.size(), size_ + n));
     }
-    std::uint32_t add() {
-        parent_[size_] = std::uint32_t(size_);
-        return std::uint32_t(size_++);
-    }
     std::uint32_t find(std::uint32_t x) {
         while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
         return x;
     }
-    // Joins two distinct roots; returns the root of the whole.
+    // Joins two roots (or one root with itself); returns the root of the whole.
     std::uint32_t link(std::uint32_t a, std::uint32_t b) {
-        if (a < b) std::swap(a, b);
-        parent_[a] = b;
-        return b;
+        // min and max by masks: compilers tend to branch on a < b, which is hard to predict.
+        const std::uint32_t lo = b ^ ((a ^ b) & (std::uint32_t(0) - std::uint32_t(a < b)));
+        parent_[a ^ b ^ lo] = lo;
+        return lo;
+    }
+    // Labels n more runs, first.. first + n - 1; returns first.
+    std::uint32_t add(std::size_t n) {
+        room(n);
+        std::iota(parent_.begin() + std::ptrdiff_t(size_), parent_.begin() + std::ptrdiff_t(size_ + n),
+                  std::uint32_t(size_));
+        size_ += n;
+        return std::uint32_t(size_ - n);
     }
     // Keeps labels 0..keep-1 as they are and makes keep..n-1 roots of their own.
     void truncate(std::size_t keep, std::size_t n) {
@@ -133,19 +138,14 @@ private:
     std::size_t size_ = 0;
 };
 
-// Joins the label `c` of a run of the current row (unlabelled: it takes the other's component)
-// to the label `o` of a neighbouring run of an earlier row, each replaced by its root; returns 1
-// when two components became one.
+// Joins the components of two neighbouring runs whose labels are `c` and `o`, each replaced
+// by the root; returns 1 when two components became one. Free of branches but for the finds
+// (mostly one step: labels are kept at their roots), since whether the two were apart is
+// seldom predictable.
 inline int join(std::uint32_t& c, std::uint32_t& o, Forest& forest) {
-    if (c == o) return 0;  // often: neighbouring runs already hold one root
-    o = forest.find(o);
-    if (c == unlabelled) {
-        c = o;
-        return 0;
-    }
-    const std::uint32_t r = forest.find(c);
-    c = r == o ? r : forest.link(r, o);
-    return r != o;
+    const std::uint32_t a = forest.find(c), b = forest.find(o);
+    c = o = forest.link(a, b);
+    return a != b;
 }
 
 // All ones when `b`, else 0.
@@ -209,7 +209,7 @@ template <class T, class Less> std::uint64_t row_mask(const T* p, std::size_t n,
     return m;
 }
 
-// Appends one row of the volume to plane `p`: its masks, and its runs, unlabelled.
+// Appends one row of the volume to plane `p`: its masks, and room for its runs' labels.
 template <class T, class Less> void row_runs(const T* row, std::size_t nx, Less less, PlaneRuns& p) {
     std::uint64_t before = less(row[0]);  // whether vertex x0 - 1 is in A; at x0 = 0, no change
     std::uint32_t runs = p.row.back();
@@ -226,7 +226,7 @@ template <class T, class Less> void row_runs(const T* row, std::size_t nx, Less 
     }
     ++runs;  // the row's first run
     p.row.push_back(runs);
-    p.id.resize(runs, unlabelled);
+    p.id.resize(runs);
 }
 
 // Row y of plane `p` joined to row y + dy of plane `q` (the same plane or the one before).
@@ -243,23 +243,22 @@ struct Chunk {
     std::size_t nx;
     Forest forest;
     PlaneRuns first, prev, cur;
-    std::int64_t b0[2] = {0, 0};  ///< new labels - joining unions within the chunk, by set
+    std::int64_t b0[2] = {0, 0};  ///< runs - joining unions within the chunk, by set
     std::uint32_t first_labels = 0;
     std::vector<std::uint32_t> relabel;
 
     Chunk(const std::vector<RowLink>& l, std::size_t nx_) : links(l), nx(nx_) {
         for (PlaneRuns* p : {&first, &prev, &cur}) p->words = (nx + 63) / 64, p->clear();
     }
-    // Row y of the current plane is scanned: join it to the earlier rows, then label its runs
-    // that joined none.
+    // Row y of the current plane is scanned: label its runs, then join them to the earlier rows.
     void end_row(std::size_t y, bool has_prev) {
+        const std::uint32_t k0 = cur.row[y], n = cur.row[y + 1] - k0;
+        std::iota(cur.id.begin() + k0, cur.id.begin() + k0 + n, forest.add(n));
+        const unsigned s = cur.in[y * cur.words] & 1 ? 0 : 1;  // the set of the row's first run
+        b0[s] += (n + 1) / 2, b0[s ^ 1] += n / 2;
         std::int64_t merges[2] = {0, 0};
         for (const RowLink& l : links)
             if (l.dz == 0 || has_prev) link_row(cur, y, l.dz == 0 ? cur : prev, l, nx, forest, merges);
-        forest.room(cur.row[y + 1] - cur.row[y]);
-        unsigned s = cur.in[y * cur.words] & 1 ? 0 : 1;  // the set of the row's first run
-        for (std::uint32_t k = cur.row[y]; k < cur.row[y + 1]; ++k, s ^= 1)
-            if (cur.id[k] == unlabelled) cur.id[k] = forest.add(), ++b0[s];
         b0[0] -= merges[0], b0[1] -= merges[1];
     }
     // The plane is complete. The first plane's components become labels 0..F-1 and keep them
@@ -268,13 +267,13 @@ struct Chunk {
     // and the labels beyond dropped, so the forest holds O(slice) labels.
     void end_plane(bool is_first) {
         const std::uint32_t keep = is_first ? 0 : first_labels;
-        relabel.assign(forest.size() - keep, unlabelled);
+        relabel.assign(forest.size() - keep, none);
         std::uint32_t next = keep;
         for (std::uint32_t& id : cur.id) {
             std::uint32_t root = forest.find(id);
             if (root >= keep) {
                 std::uint32_t& to = relabel[root - keep];
-                if (to == unlabelled) to = next++;
+                if (to == none) to = next++;
                 root = to;
             }
             id = root;
