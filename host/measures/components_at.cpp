@@ -10,6 +10,9 @@
 #include "clfractal/error.hpp"
 
 #include <omp.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -19,7 +22,7 @@
 #include <numeric>
 #include <type_traits>
 
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#if !defined(__SSE2__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
 #error "row_mask packs bytes assuming a little-endian layout"
 #endif
 
@@ -47,8 +50,8 @@ struct PlaneRuns {
 };
 
 // The number of bits set. x86-64 has had an instruction for it since 2008 but not in its
-// baseline, so on x86-64 the function that counts most (link_rows) is also compiled for it and
-// chosen at load time (LINK_CLONES); elsewhere the compiler's builtin is the instruction.
+// baseline, so on x86-64 the functions that count (link_rows, index_row) are also compiled for it
+// and chosen at load time (LINK_CLONES); elsewhere the compiler's builtin is the instruction.
 inline unsigned ones(std::uint64_t x) { return unsigned(__builtin_popcountll(x)); }
 #if defined(__x86_64__) && !defined(__POPCNT__) && (defined(__GNUC__) || defined(__clang__))
 #define LINK_CLONES __attribute__((target_clones("popcnt", "default")))
@@ -192,27 +195,47 @@ LINK_CLONES void link_rows(PlaneRuns& p, std::size_t y, PlaneRuns& q, std::size_
 }
 
 // Bit k: whether vertex k of `p` (k < n <= 64) is in A. The comparisons go to bytes (a loop
-// the compiler vectorises), packed eight at a time by one multiplication: byte i (0 or 1) of
-// w lands on bit 56 + i of w * 0x0102040810204080, and no other product reaches bits 56..63.
+// the compiler vectorises), packed sixteen at a time from their sign bits on x86-64, else eight
+// at a time by one multiplication: byte i (0 or 1) of w lands on bit 56 + i of
+// w * 0x0102040810204080, and no other product reaches bits 56..63.
 template <class T, class Less> std::uint64_t row_mask(const T* p, std::size_t n, Less less) {
-    std::uint8_t in[64] = {};
+    alignas(16) std::uint8_t in[64] = {};
     if (n == 64)
         for (std::size_t k = 0; k < 64; ++k) in[k] = less(p[k]);
     else
         for (std::size_t k = 0; k < n; ++k) in[k] = less(p[k]);
     std::uint64_t m = 0;
+#ifdef __SSE2__
+    for (unsigned q = 0; q < 4; ++q) {
+        const __m128i v = _mm_slli_epi16(_mm_load_si128(reinterpret_cast<const __m128i*>(in + 16 * q)), 7);
+        m |= std::uint64_t(unsigned(_mm_movemask_epi8(v))) << (16 * q);
+    }
+#else
     for (unsigned q = 0; q < 8; ++q) {
         std::uint64_t w;
         std::memcpy(&w, in + 8 * q, 8);
         m |= ((w * 0x0102040810204080ull) >> 56) << (8 * q);
     }
+#endif
     return m;
+}
+
+// The run index bases of the row whose masks were appended last to `p`, and room for its
+// runs' labels.
+LINK_CLONES void index_row(PlaneRuns& p) {
+    std::uint32_t runs = p.row.back();
+    for (std::size_t w = p.base.size(); w < p.change.size(); ++w) {
+        p.base.push_back(runs);
+        runs += ones(p.change[w]);
+    }
+    ++runs;  // the row's first run
+    p.row.push_back(runs);
+    p.id.resize(runs);
 }
 
 // Appends one row of the volume to plane `p`: its masks, and room for its runs' labels.
 template <class T, class Less> void row_runs(const T* row, std::size_t nx, Less less, PlaneRuns& p) {
     std::uint64_t before = less(row[0]);  // whether vertex x0 - 1 is in A; at x0 = 0, no change
-    std::uint32_t runs = p.row.back();
     for (std::size_t x0 = 0; x0 < nx; x0 += 64) {
         const std::size_t n = std::min<std::size_t>(64, nx - x0);
         const std::uint64_t m = row_mask(row + x0, n, less);
@@ -221,12 +244,8 @@ template <class T, class Less> void row_runs(const T* row, std::size_t nx, Less 
         before = m >> 63;
         p.in.push_back(m);
         p.change.push_back(change);
-        p.base.push_back(runs);
-        runs += ones(change);
     }
-    ++runs;  // the row's first run
-    p.row.push_back(runs);
-    p.id.resize(runs);
+    index_row(p);
 }
 
 // Row y of plane `p` joined to row y + dy of plane `q` (the same plane or the one before).
