@@ -5,7 +5,7 @@
 // neighbouring runs of both sets are found with bit operations on their masks, 64 vertices at
 // a time. The grid is cut into z-chunks labelled in parallel, each keeping the runs of its
 // first and of its current plane only (memory O(slice)); the chunks are then joined at their
-// seams. b0 of a set = its new labels - the unions that joined two of its components.
+// seams. b0 of a set = its runs - the unions that joined two of its components.
 #include "clfractal/components.hpp"
 #include "clfractal/error.hpp"
 
@@ -50,8 +50,8 @@ struct PlaneRuns {
 };
 
 // The number of bits set. x86-64 has had an instruction for it since 2008 but not in its
-// baseline, so on x86-64 the functions that count (link_rows, index_row) are also compiled for it
-// and chosen at load time (LINK_CLONES); elsewhere the compiler's builtin is the instruction.
+// baseline, so on x86-64 the functions that count (link_rows, index_row) are also compiled
+// for it and chosen at load time (LINK_CLONES); elsewhere the compiler's builtin serves.
 inline unsigned ones(std::uint64_t x) { return unsigned(__builtin_popcountll(x)); }
 #if defined(__x86_64__) && !defined(__POPCNT__) && (defined(__GNUC__) || defined(__clang__))
 #define LINK_CLONES __attribute__((target_clones("popcnt", "default")))
@@ -160,8 +160,8 @@ inline std::uint64_t all(bool b) { return std::uint64_t(0) - std::uint64_t(b); }
 // set and were not both at x - 1 (each pair once, the rows' runs partitioning the same x range);
 // where both rows change at x into different sets, the run ending at x - 1 in one row and the
 // run beginning at x in the other are of one set and meet diagonally.
-LINK_CLONES void link_rows(PlaneRuns& p, std::size_t y, PlaneRuns& q, std::size_t yy, const RowLink& l, std::size_t nx,
-               Forest& forest, std::int64_t merges[2]) {
+LINK_CLONES void link_rows(PlaneRuns& p, std::size_t y, PlaneRuns& q, std::size_t yy, const RowLink& l,
+                           std::size_t nx, Forest& forest, std::int64_t merges[2]) {
     const std::uint64_t on_a = all(l.set[0].on), on_c = all(l.set[1].on), lo_a = all(l.set[0].lo),
                         lo_c = all(l.set[1].lo), hi_a = all(l.set[0].hi), hi_c = all(l.set[1].hi);
     const std::size_t wp = y * p.words, wq = yy * q.words;
