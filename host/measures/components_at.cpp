@@ -1,251 +1,372 @@
 // components(s) at a few isovalues by direct labelling (clfractal/components.hpp,
 // count_components_at): A = {f < s} and C = {f >= s} as runs along x, joined by union-find
-// plane by plane. The grid is cut into z-chunks labelled in parallel, each keeping the runs of
-// its first and of its current plane only (memory O(slice)); the chunks are then joined at
-// their seams. b0 of a set = runs - unions that joined two components.
+// plane by plane. The runs of A and C alternate along a row and cover it, so a row is kept as
+// bit masks (which vertices are in A, where the set changes) and one label a run; two rows'
+// neighbouring runs of both sets are found with bit operations on their masks, 64 vertices at
+// a time. The grid is cut into z-chunks labelled in parallel, each keeping the runs of its
+// first and of its current plane only (memory O(slice)); the chunks are then joined at their
+// seams. b0 of a set = its runs - the unions that joined two of its components.
 #include "clfractal/components.hpp"
 #include "clfractal/error.hpp"
 
 #include <omp.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <type_traits>
+
+#if !defined(__SSE2__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "row_mask packs bytes assuming a little-endian layout"
+#endif
 
 namespace clfractal {
 
 namespace {
 
-// A run [a, b] of one set along x, and its label.
-struct Run {
-    std::uint32_t a, b, id;
-};
+constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
 
-// The runs of one plane, row by row: row y is runs[row[y], row[y + 1]).
+// The runs of one plane, row by row, with `words` 64-bit words a row. Bit b of word w of row
+// y is vertex x = 64 w + b: in[] whether it is in A (0 beyond nx), change[] whether its set
+// differs from that of x - 1 (0 at x = 0). Each change begins a run, so the runs of a row
+// alternate between A (set 0) and C (set 1); run k of row y has label id[row[y] + k], and the
+// run holding x is id[base[w] + ones(change bits 0..b of word w)] (base: row[y] + the changes
+// in the row's earlier words).
 struct PlaneRuns {
-    std::vector<Run> runs;
-    std::vector<std::size_t> row;
+    std::size_t words = 0;
+    std::vector<std::uint64_t> in, change;
+    std::vector<std::uint32_t> base, id, row;
     void clear() {
-        runs.clear();
+        in.clear(), change.clear(), base.clear(), id.clear();
         row.assign(1, 0);
     }
+    std::size_t rows() const { return row.size() - 1; }
 };
 
-// An earlier row (dy, dz) whose vertices x + lo .. x + hi neighbour vertex x (dz = 0: the same
-// plane, dy = -1), from the neighbourhood of the set: 6 (faces), 26 (the cube), 14 (the
-// Freudenthal edges: offsets whose signs do not mix).
+// The number of bits set. x86-64 has had an instruction for it since 2008 but not in its
+// baseline, so on x86-64 the functions that count (link_rows, index_row) are also compiled
+// for it and chosen at load time (LINK_CLONES); elsewhere the compiler's builtin serves.
+inline unsigned ones(std::uint64_t x) { return unsigned(__builtin_popcountll(x)); }
+#if defined(__x86_64__) && !defined(__POPCNT__) && (defined(__GNUC__) || defined(__clang__))
+#define LINK_CLONES __attribute__((target_clones("popcnt", "default")))
+#else
+#define LINK_CLONES
+#endif
+
+// The index in `id` of the run holding bit b of a word whose changes are `change` (see PlaneRuns).
+inline std::uint32_t run_at(std::uint64_t change, std::uint32_t base, unsigned b) {
+    return base + ones(change << (63 - b));
+}
+
+// The neighbours of a run of one set in an earlier row: the runs of the set that overlap it in x
+// (on), and those that begin one past its end (hi: dx = +1) or end one before its start (lo:
+// dx = -1).
+struct SetLink {
+    bool on = false, lo = false, hi = false;
+};
+
+// An earlier row (dy, dz) (dz = 0: the same plane, dy = -1) and how each set's runs neighbour
+// runs there, from the set's neighbourhood: 6 (faces), 26 (the cube), 14 (the Freudenthal
+// edges: offsets whose signs do not mix).
 struct RowLink {
-    int dy, dz, lo, hi;
+    int dy, dz;
+    SetLink set[2];
 };
 
-std::vector<RowLink> row_links(int adjacency) {
+SetLink set_link(int adjacency, int dy, int dz) {
+    SetLink l;
+    for (int dx = -1; dx <= 1; ++dx) {
+        const int n = std::abs(dx) + std::abs(dy) + std::abs(dz);
+        const bool mixed = std::min({dx, dy, dz}) < 0 && std::max({dx, dy, dz}) > 0;
+        if (!(adjacency == 6 ? n == 1 : adjacency == 26 ? true : !mixed)) continue;
+        (dx < 0 ? l.lo : dx > 0 ? l.hi : l.on) = true;
+    }
+    return l;
+}
+
+std::vector<RowLink> row_links(int a_adjacency, int c_adjacency) {
     std::vector<RowLink> links;
     for (int dz = -1; dz <= 0; ++dz)
         for (int dy = -1; dy <= 1; ++dy) {
             if (dz == 0 && dy >= 0) continue;
-            int lo = 2, hi = -2;
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int n = std::abs(dx) + std::abs(dy) + std::abs(dz);
-                const bool mixed = std::min({dx, dy, dz}) < 0 && std::max({dx, dy, dz}) > 0;
-                const bool keep = adjacency == 6 ? n == 1 : adjacency == 26 ? true : !mixed;
-                if (keep) lo = std::min(lo, dx), hi = std::max(hi, dx);
-            }
-            if (lo <= hi) links.push_back({dy, dz, lo, hi});
+            const RowLink l{dy, dz, {set_link(a_adjacency, dy, dz), set_link(c_adjacency, dy, dz)}};
+            if (l.set[0].on || l.set[1].on || l.set[0].lo || l.set[1].lo || l.set[0].hi || l.set[1].hi)
+                links.push_back(l);
         }
     return links;
 }
 
-// Union-find with path halving; the smaller label is the root.
+// Union-find with path halving; the smaller label is the root, so a component's root is its
+// smallest label.
 class Forest {
 public:
-    std::uint32_t add() {
-        parent_.push_back(std::uint32_t(parent_.size()));
-        return parent_.back();
+    void room(std::size_t n) {
+        if (size_ + n > parent_.size()) parent_.resize(std::max(2 * parent_.size(), size_ + n));
     }
     std::uint32_t find(std::uint32_t x) {
         while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
         return x;
     }
-    // Whether a and b were apart.
-    bool unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a), b = find(b);
-        if (a == b) return false;
-        if (a < b) std::swap(a, b);
-        parent_[a] = b;
-        return true;
+    // Joins two roots (or one root with itself); returns the root of the whole.
+    std::uint32_t link(std::uint32_t a, std::uint32_t b) {
+        // min and max by masks: compilers tend to branch on a < b, which is hard to predict.
+        const std::uint32_t lo = b ^ ((a ^ b) & (std::uint32_t(0) - std::uint32_t(a < b)));
+        parent_[a ^ b ^ lo] = lo;
+        return lo;
     }
-    void reset(std::size_t n) {
-        parent_.resize(n);
-        std::iota(parent_.begin(), parent_.end(), std::uint32_t(0));
+    // Labels n more runs, first.. first + n - 1; returns first.
+    std::uint32_t add(std::size_t n) {
+        room(n);
+        std::iota(parent_.begin() + std::ptrdiff_t(size_), parent_.begin() + std::ptrdiff_t(size_ + n),
+                  std::uint32_t(size_));
+        size_ += n;
+        return std::uint32_t(size_ - n);
     }
-    std::size_t size() const { return parent_.size(); }
+    // Keeps labels 0..keep-1 as they are and makes keep..n-1 roots of their own.
+    void truncate(std::size_t keep, std::size_t n) {
+        room(n > size_ ? n - size_ : 0);
+        std::iota(parent_.begin() + std::ptrdiff_t(keep), parent_.begin() + std::ptrdiff_t(n), std::uint32_t(keep));
+        size_ = n;
+    }
+    std::size_t size() const { return size_; }
 
 private:
     std::vector<std::uint32_t> parent_;
+    std::size_t size_ = 0;
 };
 
-// Joins each run of `cur` to the runs of `other` it neighbours (x + lo .. x + hi); returns
-// the number of unions that joined two components. Both lists are in increasing x.
-std::int64_t link_rows(const Run* cur, std::size_t n, const Run* other, std::size_t m, int lo, int hi,
-                       Forest& forest) {
-    std::int64_t unions = 0;
-    std::size_t j = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::int64_t from = std::int64_t(cur[i].a) + lo, to = std::int64_t(cur[i].b) + hi;
-        while (j < m && std::int64_t(other[j].b) < from) ++j;
-        for (std::size_t k = j; k < m && std::int64_t(other[k].a) <= to; ++k)
-            unions += forest.unite(cur[i].id, other[k].id);
+// Joins the components of two neighbouring runs whose labels are `c` and `o`, each replaced
+// by the root; returns 1 when two components became one. Free of branches but for the finds
+// (mostly one step: labels are kept at their roots), since whether the two were apart is
+// seldom predictable.
+inline int join(std::uint32_t& c, std::uint32_t& o, Forest& forest) {
+    const std::uint32_t a = forest.find(c), b = forest.find(o);
+    c = o = forest.link(a, b);
+    return a != b;
+}
+
+// All ones when `b`, else 0.
+inline std::uint64_t all(bool b) { return std::uint64_t(0) - std::uint64_t(b); }
+
+// Joins the runs of row y of plane `p` to the runs of an earlier row (row yy of plane `q`) that
+// neighbour them under `l`; adds to merges[s] the unions that joined two components of set s.
+// Word by word: a pair of runs of one set that overlap in x begins where both rows are in the
+// set and were not both at x - 1 (each pair once, the rows' runs partitioning the same x range);
+// where both rows change at x into different sets, the run ending at x - 1 in one row and the
+// run beginning at x in the other are of one set and meet diagonally.
+LINK_CLONES void link_rows(PlaneRuns& p, std::size_t y, PlaneRuns& q, std::size_t yy, const RowLink& l,
+                           std::size_t nx, Forest& forest, std::int64_t merges[2]) {
+    const std::uint64_t on_a = all(l.set[0].on), on_c = all(l.set[1].on), lo_a = all(l.set[0].lo),
+                        lo_c = all(l.set[1].lo), hi_a = all(l.set[0].hi), hi_c = all(l.set[1].hi);
+    const std::size_t wp = y * p.words, wq = yy * q.words;
+    std::uint32_t* const pid = p.id.data();
+    std::uint32_t* const qid = q.id.data();
+    std::uint64_t both_a_before = 0, both_c_before = 0;
+    for (std::size_t w = 0; w < p.words; ++w) {
+        const std::uint64_t mp = p.in[wp + w], mq = q.in[wq + w], tp = p.change[wp + w], tq = q.change[wq + w];
+        const std::uint32_t bp = p.base[wp + w], bq = q.base[wq + w];
+        const std::uint64_t valid = nx - 64 * w >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << (nx - 64 * w)) - 1;
+        const std::uint64_t both_a = mp & mq & on_a, both_c = ~mp & ~mq & valid & on_c;
+        std::uint64_t starts = (both_a & ~(both_a << 1 | both_a_before)) | (both_c & ~(both_c << 1 | both_c_before));
+        both_a_before = both_a >> 63, both_c_before = both_c >> 63;
+        const std::uint64_t diagonal = tp & tq & (mp ^ mq);
+        // hi: p's run ending at x - 1 meets q's run beginning at x (dx = +1), of q's set at x;
+        // lo: p's run beginning at x meets q's run ending at x - 1 (dx = -1), of p's set at x.
+        std::uint64_t hi = diagonal & ((mq & hi_a) | (~mq & hi_c)), lo = diagonal & ((mp & lo_a) | (~mp & lo_c));
+        for (; starts; starts &= starts - 1) {
+            const unsigned b = unsigned(__builtin_ctzll(starts));
+            merges[~mp >> b & 1] += join(pid[run_at(tp, bp, b)], qid[run_at(tq, bq, b)], forest);
+        }
+        for (; hi; hi &= hi - 1) {
+            const unsigned b = unsigned(__builtin_ctzll(hi));
+            merges[~mq >> b & 1] += join(pid[run_at(tp, bp, b) - 1], qid[run_at(tq, bq, b)], forest);
+        }
+        for (; lo; lo &= lo - 1) {
+            const unsigned b = unsigned(__builtin_ctzll(lo));
+            merges[~mp >> b & 1] += join(pid[run_at(tp, bp, b)], qid[run_at(tq, bq, b) - 1], forest);
+        }
     }
-    return unions;
+}
+
+// Bit k: whether vertex k of `p` (k < n <= 64) is in A. The comparisons go to bytes (a loop
+// the compiler vectorises), packed sixteen at a time from their sign bits on x86-64, else eight
+// at a time by one multiplication: byte i (0 or 1) of w lands on bit 56 + i of
+// w * 0x0102040810204080, and no other product reaches bits 56..63.
+template <class T, class Less> std::uint64_t row_mask(const T* p, std::size_t n, Less less) {
+    alignas(16) std::uint8_t in[64] = {};
+    if (n == 64)
+        for (std::size_t k = 0; k < 64; ++k) in[k] = less(p[k]);
+    else
+        for (std::size_t k = 0; k < n; ++k) in[k] = less(p[k]);
+    std::uint64_t m = 0;
+#ifdef __SSE2__
+    for (unsigned q = 0; q < 4; ++q) {
+        const __m128i v = _mm_slli_epi16(_mm_load_si128(reinterpret_cast<const __m128i*>(in + 16 * q)), 7);
+        m |= std::uint64_t(unsigned(_mm_movemask_epi8(v))) << (16 * q);
+    }
+#else
+    for (unsigned q = 0; q < 8; ++q) {
+        std::uint64_t w;
+        std::memcpy(&w, in + 8 * q, 8);
+        m |= ((w * 0x0102040810204080ull) >> 56) << (8 * q);
+    }
+#endif
+    return m;
+}
+
+// The run index bases of the row whose masks were appended last to `p`, and room for its
+// runs' labels.
+LINK_CLONES void index_row(PlaneRuns& p) {
+    std::uint32_t runs = p.row.back();
+    for (std::size_t w = p.base.size(); w < p.change.size(); ++w) {
+        p.base.push_back(runs);
+        runs += ones(p.change[w]);
+    }
+    ++runs;  // the row's first run
+    p.row.push_back(runs);
+    p.id.resize(runs);
+}
+
+// Appends one row of the volume to plane `p`: its masks, and room for its runs' labels.
+template <class T, class Less> void row_runs(const T* row, std::size_t nx, Less less, PlaneRuns& p) {
+    std::uint64_t before = less(row[0]);  // whether vertex x0 - 1 is in A; at x0 = 0, no change
+    for (std::size_t x0 = 0; x0 < nx; x0 += 64) {
+        const std::size_t n = std::min<std::size_t>(64, nx - x0);
+        const std::uint64_t m = row_mask(row + x0, n, less);
+        std::uint64_t change = m ^ (m << 1 | before);
+        if (n < 64) change &= (std::uint64_t(1) << n) - 1;
+        before = m >> 63;
+        p.in.push_back(m);
+        p.change.push_back(change);
+    }
+    index_row(p);
 }
 
 // Row y of plane `p` joined to row y + dy of plane `q` (the same plane or the one before).
-std::int64_t link_row(const PlaneRuns& p, std::size_t y, const PlaneRuns& q, const RowLink& l, std::size_t ny,
-                      Forest& forest) {
+void link_row(PlaneRuns& p, std::size_t y, PlaneRuns& q, const RowLink& l, std::size_t nx, Forest& forest,
+              std::int64_t merges[2]) {
     const std::int64_t yy = std::int64_t(y) + l.dy;
-    if (yy < 0 || yy >= std::int64_t(ny)) return 0;
-    const Run* cur = p.runs.data() + p.row[y];
-    const Run* other = q.runs.data() + q.row[std::size_t(yy)];
-    return link_rows(cur, p.row[y + 1] - p.row[y], other, q.row[std::size_t(yy) + 1] - q.row[std::size_t(yy)], l.lo,
-                     l.hi, forest);
+    if (yy >= 0 && yy < std::int64_t(q.rows())) link_rows(p, y, q, std::size_t(yy), l, nx, forest, merges);
 }
 
-// One set's labelling over a chunk of planes: the forest, the first and the current plane.
-struct SetChunk {
+// The labelling of both sets over a chunk of planes: one forest, the first, the previous and
+// the current plane.
+struct Chunk {
     std::vector<RowLink> links;
+    std::size_t nx;
     Forest forest;
     PlaneRuns first, prev, cur;
-    std::int64_t b0 = 0;  ///< runs - joining unions within the chunk
+    std::int64_t b0[2] = {0, 0};  ///< runs - joining unions within the chunk, by set
+    std::uint32_t first_labels = 0;
     std::vector<std::uint32_t> relabel;
 
-    explicit SetChunk(int adjacency) : links(row_links(adjacency)) {
-        first.clear();
-        prev.clear();
-        cur.clear();
+    Chunk(const std::vector<RowLink>& l, std::size_t nx_) : links(l), nx(nx_) {
+        for (PlaneRuns* p : {&first, &prev, &cur}) p->words = (nx + 63) / 64, p->clear();
     }
-    void add_run(std::uint32_t a, std::uint32_t b) {
-        cur.runs.push_back({a, b, forest.add()});
-        ++b0;
-    }
-    // Row y of the current plane is complete: join it to the earlier rows.
-    void end_row(std::size_t y, std::size_t ny, bool has_prev) {
-        cur.row.push_back(cur.runs.size());
+    // Row y of the current plane is scanned: label its runs, then join them to the earlier rows.
+    void end_row(std::size_t y, bool has_prev) {
+        const std::uint32_t k0 = cur.row[y], n = cur.row[y + 1] - k0;
+        std::iota(cur.id.begin() + k0, cur.id.begin() + k0 + n, forest.add(n));
+        const unsigned s = cur.in[y * cur.words] & 1 ? 0 : 1;  // the set of the row's first run
+        b0[s] += (n + 1) / 2, b0[s ^ 1] += n / 2;
+        std::int64_t merges[2] = {0, 0};
         for (const RowLink& l : links)
-            if (l.dz == 0 || has_prev) b0 -= link_row(cur, y, l.dz == 0 ? cur : prev, l, ny, forest);
+            if (l.dz == 0 || has_prev) link_row(cur, y, l.dz == 0 ? cur : prev, l, nx, forest, merges);
+        b0[0] -= merges[0], b0[1] -= merges[1];
     }
-    // The plane is complete: keep labels of the first and the current plane only, renumbered
-    // 0.. by component.
+    // The plane is complete. The first plane's components become labels 0..F-1 and keep them
+    // (its runs are needed at the seams); a later component holding one of them has its root
+    // among them (the smallest label). Each later plane's runs are renumbered F.. by component
+    // and the labels beyond dropped, so the forest holds O(slice) labels.
     void end_plane(bool is_first) {
-        if (is_first) first = cur;
-        relabel.assign(forest.size(), UINT32_MAX);
-        std::uint32_t next = 0;
-        auto renumber = [&](PlaneRuns& p) {
-            for (Run& r : p.runs) {
-                std::uint32_t& to = relabel[forest.find(r.id)];
-                if (to == UINT32_MAX) to = next++;
-                r.id = to;
+        const std::uint32_t keep = is_first ? 0 : first_labels;
+        relabel.assign(forest.size() - keep, none);
+        std::uint32_t next = keep;
+        for (std::uint32_t& id : cur.id) {
+            std::uint32_t root = forest.find(id);
+            if (root >= keep) {
+                std::uint32_t& to = relabel[root - keep];
+                if (to == none) to = next++;
+                root = to;
             }
-        };
-        renumber(first);
-        renumber(cur);
-        forest.reset(next);
+            id = root;
+        }
+        forest.truncate(keep, next);
+        if (is_first) first_labels = next, first = cur;
         std::swap(prev, cur);
         cur.clear();
     }
 };
 
-// The runs of one row into A (less) and C. Blocks of 32 vertices all on the side of the
-// current run are passed over with one count (vectorised); the others vertex by vertex.
-template <class T, class Less>
-void row_runs(const T* row, std::size_t nx, Less less, SetChunk& a, SetChunk& c) {
-    constexpr std::size_t block = 32;
-    bool in = less(row[0]);
-    std::size_t s = 0, x = 1;
-    while (x < nx) {
-        if (x + block <= nx) {
-            unsigned n = 0;
-            for (std::size_t i = 0; i < block; ++i) n += less(row[x + i]);
-            if (n == (in ? block : 0)) {
-                x += block;
-                continue;
-            }
-        }
-        for (const std::size_t end = std::min(nx, x + block); x < end; ++x) {
-            const bool b = less(row[x]);
-            if (b == in) continue;
-            (in ? a : c).add_run(std::uint32_t(s), std::uint32_t(x - 1));
-            s = x;
-            in = b;
-        }
-    }
-    (in ? a : c).add_run(std::uint32_t(s), std::uint32_t(nx - 1));
-}
-
 struct ChunkResult {
     std::int64_t b0[2] = {0, 0};
-    PlaneRuns first[2], last[2];  ///< labels: components of the chunk, 0..labels-1
-    std::uint32_t labels[2] = {0, 0};
+    PlaneRuns first, last;  ///< labels: components of the chunk, 0..labels-1
+    std::uint32_t labels = 0;
 };
 
 template <class T, class Less>
-ChunkResult label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z1, Less less, int a_adj, int c_adj) {
-    SetChunk a(a_adj), c(c_adj);
+ChunkResult label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z1, Less less,
+                        const std::vector<RowLink>& links) {
+    Chunk c(links, d.nx);
     for (std::size_t z = z0; z < z1; ++z) {
         for (std::size_t y = 0; y < d.ny; ++y) {
-            row_runs(f + (z * d.ny + y) * d.nx, d.nx, less, a, c);
-            a.end_row(y, d.ny, z > z0);
-            c.end_row(y, d.ny, z > z0);
+            row_runs(f + (z * d.ny + y) * d.nx, d.nx, less, c.cur);
+            c.end_row(y, z > z0);
         }
-        a.end_plane(z == z0);
         c.end_plane(z == z0);
     }
     ChunkResult r;
-    SetChunk* sets[2] = {&a, &c};
-    for (int s = 0; s < 2; ++s) {
-        r.b0[s] = sets[s]->b0;
-        r.first[s] = std::move(sets[s]->first);
-        r.last[s] = std::move(sets[s]->prev);
-        r.labels[s] = std::uint32_t(sets[s]->forest.size());
-    }
+    r.b0[0] = c.b0[0], r.b0[1] = c.b0[1];
+    // The first plane's labels to their roots (the last plane's are roots already).
+    for (std::uint32_t& id : c.first.id) id = c.forest.find(id);
+    r.first = std::move(c.first);
+    r.last = std::move(c.prev);
+    r.labels = std::uint32_t(c.forest.size());
     return r;
 }
 
-// b0 of set s over the whole grid: the chunks' b0 less the unions their seams make.
-std::int64_t join_chunks(const std::vector<ChunkResult>& chunks, int s, int adjacency, std::size_t ny) {
+// b0 of both sets over the whole grid: the chunks' b0 less the unions their seams make.
+std::array<std::int64_t, 2> join_chunks(const std::vector<ChunkResult>& chunks, const std::vector<RowLink>& links,
+                                        std::size_t nx, std::size_t ny) {
     std::vector<std::uint32_t> base(chunks.size() + 1, 0);
-    for (std::size_t t = 0; t < chunks.size(); ++t) base[t + 1] = base[t] + chunks[t].labels[s];
+    for (std::size_t t = 0; t < chunks.size(); ++t) base[t + 1] = base[t] + chunks[t].labels;
     Forest forest;
-    forest.reset(base.back());
-    std::int64_t b0 = 0;
-    for (const ChunkResult& c : chunks) b0 += c.b0[s];
+    forest.truncate(0, base.back());
+    std::int64_t merges[2] = {0, 0};
     // Each chunk's seam planes with global labels.
     auto global = [&](PlaneRuns p, std::size_t t) {
-        for (Run& r : p.runs) r.id += base[t];
+        for (std::uint32_t& id : p.id) id += base[t];
         return p;
     };
-    const std::vector<RowLink> links = row_links(adjacency);
     for (std::size_t t = 1; t < chunks.size(); ++t) {
-        const PlaneRuns p = global(chunks[t].first[s], t), q = global(chunks[t - 1].last[s], t - 1);
+        PlaneRuns p = global(chunks[t].first, t), q = global(chunks[t - 1].last, t - 1);
         for (std::size_t y = 0; y < ny; ++y)
             for (const RowLink& l : links)
-                if (l.dz == -1) b0 -= link_row(p, y, q, l, ny, forest);
+                if (l.dz == -1) link_row(p, y, q, l, nx, forest, merges);
     }
+    std::array<std::int64_t, 2> b0 = {-merges[0], -merges[1]};
+    for (const ChunkResult& c : chunks) b0[0] += c.b0[0], b0[1] += c.b0[1];
     return b0;
 }
 
 template <class T, class Less> std::int64_t components_with(const Volume& v, Less less, Connectivity mode) {
     const Dims d = v.dims();
-    const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
+    const std::vector<RowLink> links =
+        mode == Connectivity::cube ? row_links(6, 26) : row_links(14, 14);
     const std::size_t chunks = std::min<std::size_t>(d.nz, 2 * std::size_t(omp_get_max_threads()));
     std::vector<ChunkResult> r(chunks);
     const T* f = v.as<T>();
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::size_t t = 0; t < chunks; ++t)
-        r[t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, a_adj, c_adj);
-    const std::int64_t a = join_chunks(r, 0, a_adj, d.ny), c = join_chunks(r, 1, c_adj, d.ny);
-    return a > 0 && c > 0 ? a + c - 1 : 0;
+        r[t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, links);
+    const std::array<std::int64_t, 2> b0 = join_chunks(r, links, d.nx, d.ny);
+    return b0[0] > 0 && b0[1] > 0 ? b0[0] + b0[1] - 1 : 0;
 }
 
 // A = {f < s} compared as count_components compares (IsovalueSet::single(type, s)): integer
