@@ -4,6 +4,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
+#include <csignal>
 #include <cstring>
 #include <future>
 #include <iostream>
@@ -246,6 +247,21 @@ SharedStart& shared_start() {
     return *s;
 }
 
+// Restores, when it goes, the calling thread's signal stack as it was when it came.
+class SignalStackKept {
+public:
+    SignalStackKept() : saved_(sigaltstack(nullptr, &before_) == 0) {}
+    ~SignalStackKept() {
+        if (saved_) sigaltstack(&before_, nullptr);
+    }
+    SignalStackKept(const SignalStackKept&) = delete;
+    SignalStackKept& operator=(const SignalStackKept&) = delete;
+
+private:
+    stack_t before_{};
+    bool saved_;
+};
+
 // The started creation, if one is pending (taken once); from here on start_shared() does
 // nothing.
 std::future<Context*> take_started() {
@@ -262,7 +278,13 @@ void Context::start_shared() {
     std::lock_guard<std::mutex> lock(s.mutex);
     if (s.begun) return;
     s.begun = true;
-    s.creation = std::async(std::launch::async, [] { return new Context(choose_device()); });
+    s.creation = std::async(std::launch::async, [] {
+        // The OpenCL runtime may give the thread that starts it a signal stack of its own
+        // (PoCL's LLVM does); the thread leaves with the one it came with, so that its exit
+        // frees only what it set up itself (AddressSanitizer unmaps the thread's signal stack).
+        SignalStackKept kept;
+        return new Context(choose_device());
+    });
 }
 
 void Context::wait_shared() noexcept {
