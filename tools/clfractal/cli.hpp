@@ -153,7 +153,16 @@ void print_components(std::ostream& out, const std::string& volume, const clfrac
 struct Command {
     std::string name, help;
     std::function<std::function<int()>(CLI::App&)> attach;
+    /// Whether main() begins creating the device (Context::start_shared) before the command
+    /// runs, so that the platform starts while the command reads its input.
+    bool uses_device = true;
 };
+
+/// `c` for a command that never needs the device (main() does not start it).
+inline Command without_device(Command c) {
+    c.uses_device = false;
+    return c;
+}
 
 /// A Command whose options `setup(CLI::App*, Args&)` adds into an Args, and that runs
 /// `run(args)` (an exit status) once the command line is parsed.

@@ -32,8 +32,9 @@ void setup_devices(CLI::App*, DevicesArgs&) {}
 }  // namespace
 
 Command devices_command() {
-    return command<DevicesArgs>("devices", "list OpenCL platforms and devices, marking the chosen one", setup_devices,
-                                [](const DevicesArgs&) { return cmd_devices(); });
+    // It lists the platforms itself; the shared context is not what it prints.
+    return without_device(command<DevicesArgs>("devices", "list OpenCL platforms and devices, marking the chosen one",
+                                               setup_devices, [](const DevicesArgs&) { return cmd_devices(); }));
 }
 
 }  // namespace cli

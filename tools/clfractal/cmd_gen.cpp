@@ -40,8 +40,9 @@ void setup_gen(CLI::App* c, GenArgs& a) {
 }  // namespace
 
 Command gen_command() {
-    return command<GenArgs>("gen", "write a synthetic volume (NRRD, or NIfTI for .nii/.nii.gz)", setup_gen,
-                            [](const GenArgs& a) { return cmd_gen(a.name, a.opt, a.type, a.output); });
+    return without_device(
+        command<GenArgs>("gen", "write a synthetic volume (NRRD, or NIfTI for .nii/.nii.gz)", setup_gen,
+                         [](const GenArgs& a) { return cmd_gen(a.name, a.opt, a.type, a.output); }));
 }
 
 }  // namespace cli

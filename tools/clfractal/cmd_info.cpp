@@ -80,8 +80,8 @@ void setup_info(CLI::App* c, InfoArgs& a) {
 }  // namespace
 
 Command info_command() {
-    return command<InfoArgs>("info", "dimensions, type, value range and histogram of a volume", setup_info,
-                             [](const InfoArgs& a) { return cmd_info(a.volume, a.raw); });
+    return without_device(command<InfoArgs>("info", "dimensions, type, value range and histogram of a volume",
+                                            setup_info, [](const InfoArgs& a) { return cmd_info(a.volume, a.raw); }));
 }
 
 }  // namespace cli

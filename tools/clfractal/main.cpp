@@ -24,6 +24,7 @@ namespace {
 struct Chosen {
     CLI::App* app;
     std::function<int()> run;
+    bool uses_device;
 };
 
 // Every subcommand, in the order of --help.
@@ -121,7 +122,7 @@ int main(int argc, char** argv) {
     std::vector<Chosen> commands;
     for (const cli::Command& c : all_commands()) {
         CLI::App* sub = app.add_subcommand(c.name, c.help);
-        commands.push_back({sub, c.attach(*sub)});
+        commands.push_back({sub, c.attach(*sub), c.uses_device});
         hide_unhelpful_defaults(*sub);
     }
     const int parsed = parse(app, argc, argv);
@@ -129,8 +130,7 @@ int main(int argc, char** argv) {
     for (const Chosen& c : commands)
         if (app.got_subcommand(c.app)) {
             // The commands that use the device begin creating it now, while they read their input.
-            const std::string name = c.app->get_name();
-            if (name != "info" && name != "gen" && name != "devices") Context::start_shared();
+            if (c.uses_device) Context::start_shared();
             const int status = run(app, c);
             Context::wait_shared();  // a command that failed before it needed the device
             release_blas_caches();  // before the OpenCL runtime's exit handlers
