@@ -48,6 +48,7 @@ def commands(vol, out):
         ("fd", ["fd", vol], "fd"),
         ("fd --stream", ["fd", "--stream", vol], "stream"),
         ("components", ["components", vol], "in-core"),
+        ("components --stream", ["components", "--stream", vol, "--isovalues", "499:502:1"], "stream"),
         ("smooth", ["smooth", vol, "--iso", "500", "--threshold", "2.3", "-o", out + "/smooth.nrrd"], "in-core"),
         ("local", ["local", vol, "--iso", "500", "-o", out + "/local.nrrd"], "in-core"),
         ("local --stream", ["local", "--stream", vol, "--iso", "500", "-o", out + "/local_s.nrrd"], "stream"),

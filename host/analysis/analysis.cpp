@@ -265,14 +265,20 @@ double changed_share(const Volume& a, const Volume& b) {
 
 // Components at the entries' isovalues, each labelled directly (count_components_at): one
 // pass over the volume an isovalue, memory O(slice).
-void fill_components(const Volume& v, std::vector<Recommendation*> entries) {
+void fill_components(const std::vector<Recommendation*>& entries, const EntryCounter& count) {
+    if (entries.empty()) return;
     std::vector<double> at;
     for (const Recommendation* e : entries) at.push_back(e->isovalue);
     std::sort(at.begin(), at.end());
     at.erase(std::unique(at.begin(), at.end()), at.end());
-    const std::vector<std::int64_t> c = count_components_at(v, at, Connectivity::cube);
+    const std::vector<std::int64_t> c = count(at);
+    if (c.size() != at.size()) throw std::logic_error("fill_components: one count an isovalue expected");
     for (Recommendation* e : entries)
         e->components = c[std::size_t(std::lower_bound(at.begin(), at.end(), e->isovalue) - at.begin())];
+}
+
+EntryCounter counter(const Volume& v) {
+    return [&v](const std::vector<double>& at) { return count_components_at(v, at, Connectivity::cube); };
 }
 
 // The curve, bands, recommendations and noisiest isovalue of `v` at `iso`.
@@ -340,7 +346,7 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         if (o.components != ComponentsScope::none && !d.recommended.empty()) {
             std::vector<Recommendation*> es;
             for (Recommendation& e : d.recommended) es.push_back(&e);
-            fill_components(out, es);
+            fill_components(es, counter(out));
         }
         d.seconds = seconds_since(t0);
         tried.push_back(std::move(d));
@@ -520,18 +526,27 @@ std::string DenoiseAttempt::command(const std::string& volume, const std::string
     return s.str();
 }
 
-Analysis analyse_curve(const FdCurve& f, const AnalysisOptions& o) {
+void fill_entry_components(Analysis& a, const EntryCounter& count) {
+    std::vector<Recommendation*> es;
+    for (Recommendation& e : a.recommended) es.push_back(&e);
+    if (a.noisiest) es.push_back(&*a.noisiest);
+    fill_components(es, count);
+}
+
+Analysis analyse_curve(const FdCurve& f, const AnalysisOptions& o, std::vector<std::uint64_t> histogram) {
     check_advice(o.advice);
     Analysis a;
     a.options = o;
     a.isovalues = f.isovalues;
     a.curve = f;
+    a.histogram = std::move(histogram);
     a.summary = summarize(f.fd, f.counts.at(0), f.counts.at(1));
     a.bands = clean_bands(f, BandOptions{o.advice.clean_fd, o.advice.clean_share});
-    a.recommended = recommend(f, {}, o.advice);
+    a.recommended = recommend(f, a.histogram, o.advice);
     a.clean = has_clean_isovalue(f, o.advice);
     if (const auto k = noisiest_isovalue(f, o.advice.clean_share))
-        a.noisiest = entry(f, *k, Run{*k, *k, f.counts[0][*k]}, boundary_strength(f, {}), o.advice, "noisiest");
+        a.noisiest = entry(f, *k, Run{*k, *k, f.counts[0][*k]}, boundary_strength(f, a.histogram), o.advice,
+                           "noisiest");
     return a;
 }
 
@@ -567,10 +582,7 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o) {
         for (Recommendation& e : a.recommended) e.components = a.components->components[e.index];
         if (a.noisiest) a.noisiest->components = a.components->components[a.noisiest->index];
     } else if (o.components == ComponentsScope::recommended) {
-        std::vector<Recommendation*> es;
-        for (Recommendation& e : a.recommended) es.push_back(&e);
-        if (a.noisiest) es.push_back(&*a.noisiest);
-        fill_components(v, es);
+        fill_entry_components(a, counter(v));
     }
     if (o.noise_level) a.noise_level = estimate_noise_level(ctx, v);
     if (o.surface_noise) a.surface_noise = estimate_noise(ctx, v, a.isovalues, o.advice.clean_share);

@@ -180,7 +180,12 @@ LINK_CLONES void link_rows(PlaneRuns& p, std::size_t y, PlaneRuns& q, std::size_
     std::uint32_t* const qid = q.id.data();
     std::uint64_t both_a_before = 0, both_c_before = 0;
     for (std::size_t w = 0; w < p.words; ++w) {
-        const std::uint64_t mp = p.in[wp + w], mq = q.in[wq + w], tp = p.change[wp + w], tq = q.change[wq + w];
+        const std::uint64_t tp = p.change[wp + w], tq = q.change[wq + w];
+        // Neither row changes set in this word (nor at its first bit): both continue the runs
+        // of the word before, so no pair of runs begins or meets here, and the sets at bit 63
+        // are those at the last bit of the word before. Most words of most scans.
+        if ((tp | tq) == 0 && w > 0) continue;
+        const std::uint64_t mp = p.in[wp + w], mq = q.in[wq + w];
         const std::uint32_t bp = p.base[wp + w], bq = q.base[wq + w];
         const std::uint64_t valid = nx - 64 * w >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << (nx - 64 * w)) - 1;
         const std::uint64_t both_a = mp & mq & on_a, both_c = ~mp & ~mq & valid & on_c;
@@ -342,81 +347,167 @@ ChunkResult label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z
     return r;
 }
 
-// b0 of both sets over the whole grid: the chunks' b0 less the unions their seams make.
-std::array<std::int64_t, 2> join_chunks(const std::vector<ChunkResult>& chunks, const std::vector<RowLink>& links,
-                                        std::size_t nx, std::size_t ny) {
+// The labelling of the planes so far, for joining more after them: b0 of both sets, and the
+// last plane with the labels of its components, 0..labels-1.
+struct Prefix {
+    std::int64_t b0[2] = {0, 0};
+    PlaneRuns last;
+    std::uint32_t labels = 0;
+    bool any = false;
+};
+
+// Extends `p` by chunks of the planes that follow it (consecutive z-ranges, in order): their
+// b0 less the unions their seams make (with `p`'s last plane and with each other), and the
+// last chunk's last plane relabelled by the components of the whole.
+void extend(Prefix& p, std::vector<ChunkResult>& chunks, const std::vector<RowLink>& links, std::size_t nx,
+            std::size_t ny) {
+    if (chunks.empty()) return;
+    if (p.any) {
+        ChunkResult front;
+        front.first = front.last = std::move(p.last);
+        front.labels = p.labels;
+        chunks.insert(chunks.begin(), std::move(front));
+    }
     std::vector<std::uint32_t> base(chunks.size() + 1, 0);
     for (std::size_t t = 0; t < chunks.size(); ++t) base[t + 1] = base[t] + chunks[t].labels;
     Forest forest;
     forest.truncate(0, base.back());
     std::int64_t merges[2] = {0, 0};
-    // Each chunk's seam planes with global labels.
-    auto global = [&](PlaneRuns p, std::size_t t) {
-        for (std::uint32_t& id : p.id) id += base[t];
-        return p;
-    };
-    for (std::size_t t = 1; t < chunks.size(); ++t) {
-        PlaneRuns p = global(chunks[t].first, t), q = global(chunks[t - 1].last, t - 1);
+    for (std::size_t t = 0; t < chunks.size(); ++t)  // the seam planes with labels of the whole
+        for (PlaneRuns* q : {&chunks[t].first, &chunks[t].last})
+            for (std::uint32_t& id : q->id) id += base[t];
+    for (std::size_t t = 1; t < chunks.size(); ++t)
         for (std::size_t y = 0; y < ny; ++y)
             for (const RowLink& l : links)
-                if (l.dz == -1) link_row(p, y, q, l, nx, forest, merges);
+                if (l.dz == -1) link_row(chunks[t].first, y, chunks[t - 1].last, l, nx, forest, merges);
+    p.b0[0] -= merges[0], p.b0[1] -= merges[1];
+    for (const ChunkResult& c : chunks) p.b0[0] += c.b0[0], p.b0[1] += c.b0[1];
+    // The last plane's components, numbered 0.. in order of appearance.
+    std::vector<std::uint32_t> relabel(base.back(), none);
+    p.labels = 0;
+    p.last = std::move(chunks.back().last);
+    for (std::uint32_t& id : p.last.id) {
+        std::uint32_t& to = relabel[forest.find(id)];
+        if (to == none) to = p.labels++;
+        id = to;
     }
-    std::array<std::int64_t, 2> b0 = {-merges[0], -merges[1]};
-    for (const ChunkResult& c : chunks) b0[0] += c.b0[0], b0[1] += c.b0[1];
-    return b0;
+    p.any = true;
 }
 
-template <class T, class Less> std::int64_t components_with(const Volume& v, Less less, Connectivity mode) {
-    const Dims d = v.dims();
-    const std::vector<RowLink> links =
-        mode == Connectivity::cube ? row_links(6, 26) : row_links(14, 14);
-    const std::size_t chunks = std::min<std::size_t>(d.nz, 2 * std::size_t(omp_get_max_threads()));
-    std::vector<ChunkResult> r(chunks);
-    const T* f = v.as<T>();
-#pragma omp parallel for schedule(dynamic, 1)
-    for (std::size_t t = 0; t < chunks; ++t)
-        r[t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, links);
-    const std::array<std::int64_t, 2> b0 = join_chunks(r, links, d.nx, d.ny);
-    return b0[0] > 0 && b0[1] > 0 ? b0[0] + b0[1] - 1 : 0;
-}
+std::int64_t components_of(const Prefix& p) { return p.b0[0] > 0 && p.b0[1] > 0 ? p.b0[0] + p.b0[1] - 1 : 0; }
 
-// A = {f < s} compared as count_components compares (IsovalueSet::single(type, s)): integer
-// data f < ceil(s), float data f < s in the data's type (the set holds s in that type), each
-// as one comparison in the data's own type.
-template <class T> std::int64_t components_at(const Volume& v, double isovalue, Connectivity mode) {
-    const IsovalueSet iso = IsovalueSet::single(v.type(), isovalue);
+// Calls f(less) with A = {f < s} compared as count_components compares
+// (IsovalueSet::single(type, s)): integer data f < ceil(s), float data f < s in the data's type
+// (the set holds s in that type), each as one comparison in the data's own type. Returns false,
+// without calling f, when every value or none of the type is below s (A or C is the whole grid).
+template <class T, class F> bool with_less(ValueType type, double isovalue, F&& f) {
+    const IsovalueSet iso = IsovalueSet::single(type, isovalue);
     if constexpr (std::is_integral_v<T>) {
         const std::int64_t c = iso.first();
         if (sizeof(T) < 8 || std::is_signed_v<T>) {
-            // Every value, or none, below c: A or C is the whole grid.
             if (c > std::int64_t(std::numeric_limits<T>::max()) || c <= std::int64_t(std::numeric_limits<T>::min()))
-                return 0;
+                return false;
             const T t = T(c);
-            return components_with<T>(v, [t](T x) { return x < t; }, mode);
+            f([t](T x) { return x < t; });
+        } else {
+            f([c](T x) { return std::int64_t(x) < c; });
         }
-        return components_with<T>(v, [c](T x) { return std::int64_t(x) < c; }, mode);
     } else {
         const T t = T(iso.list().front());
-        return components_with<T>(v, [t](T x) { return x < t; }, mode);
+        f([t](T x) { return x < t; });
     }
+    return true;
+}
+
+// The components of both sets at every isovalue, so far: `prefix` (one an isovalue) extended by
+// the planes [0, d.nz) of `f`, each isovalue's cut into z-chunks, all labelled on every core.
+template <class T>
+void label_planes(const T* f, const Dims& d, ValueType type, const std::vector<double>& isovalues,
+                  const std::vector<RowLink>& links, std::vector<Prefix>& prefix) {
+    const std::size_t n = isovalues.size();
+    const std::size_t chunks = std::min<std::size_t>(d.nz, 2 * std::size_t(omp_get_max_threads()));
+    std::vector<std::vector<ChunkResult>> r(n, std::vector<ChunkResult>(chunks));
+    std::vector<char> whole(n, 0);  // A or C is every vertex: no surface
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::size_t k = 0; k < n * chunks; ++k) {
+        const std::size_t j = k / chunks, t = k % chunks;
+        const bool some = with_less<T>(type, isovalues[j], [&](auto less) {
+            r[j][t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, links);
+        });
+        if (!some && t == 0) whole[j] = 1;
+    }
+    for (std::size_t j = 0; j < n; ++j)
+        if (!whole[j]) extend(prefix[j], r[j], links, d.nx, d.ny);
+}
+
+std::vector<RowLink> links_of(Connectivity mode) {
+    return mode == Connectivity::cube ? row_links(6, 26) : row_links(14, 14);
+}
+
+void check_slice(std::size_t nx, std::size_t ny) {
+    if (nx >= (std::size_t(1) << 31) || nx * ny >= (std::size_t(1) << 30))
+        throw InputError("components at an isovalue: at most 2^30 vertices a slice");
+}
+
+void check_isovalues(const std::vector<double>& isovalues) {
+    for (double s : isovalues)
+        if (!std::isfinite(s)) throw InputError("isovalue must be finite");
 }
 
 }  // namespace
 
 std::vector<std::int64_t> count_components_at(const Volume& v, const std::vector<double>& isovalues,
                                               Connectivity mode) {
-    for (double s : isovalues)
-        if (!std::isfinite(s)) throw InputError("isovalue must be finite");
-    std::vector<std::int64_t> out;
+    check_isovalues(isovalues);
     const Dims d = v.dims();
     if (v.vertices() == 0) return std::vector<std::int64_t>(isovalues.size(), 0);
-    if (d.nx >= (std::size_t(1) << 31) || d.nx * d.ny >= (std::size_t(1) << 30))
-        throw InputError("components at an isovalue: at most 2^30 vertices a slice");
-    for (double s : isovalues)
-        out.push_back(visit(v, [&](const auto* p) {
-            using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-            return components_at<T>(v, s, mode);
-        }));
+    check_slice(d.nx, d.ny);
+    std::vector<Prefix> prefix(isovalues.size());
+    visit(v, [&](const auto* f) { label_planes(f, d, v.type(), isovalues, links_of(mode), prefix); });
+    std::vector<std::int64_t> out;
+    for (const Prefix& p : prefix) out.push_back(components_of(p));
+    return out;
+}
+
+struct ComponentsAtStream::Impl {
+    std::size_t nx = 0, ny = 0, nz = 0;
+    ValueType type = ValueType::uint8;
+    std::vector<RowLink> links;
+    std::vector<double> isovalues;
+    std::vector<Prefix> prefix;  ///< one an isovalue
+};
+
+ComponentsAtStream::ComponentsAtStream(std::size_t nx, std::size_t ny, ValueType type,
+                                       const std::vector<double>& isovalues, Connectivity mode)
+    : impl_(std::make_unique<Impl>()) {
+    check_isovalues(isovalues);
+    if (nx == 0 || ny == 0) throw InputError("components stream: slices of no vertex");
+    check_slice(nx, ny);
+    impl_->nx = nx, impl_->ny = ny, impl_->type = type;
+    impl_->links = links_of(mode);
+    impl_->isovalues = isovalues;
+    impl_->prefix.resize(isovalues.size());
+}
+
+ComponentsAtStream::~ComponentsAtStream() = default;
+ComponentsAtStream::ComponentsAtStream(ComponentsAtStream&&) noexcept = default;
+ComponentsAtStream& ComponentsAtStream::operator=(ComponentsAtStream&&) noexcept = default;
+
+void ComponentsAtStream::push_slices(const void* slices, std::size_t count) {
+    if (count == 0) return;
+    Impl& m = *impl_;
+    visit_type(m.type, [&](auto zero) {
+        label_planes(static_cast<const decltype(zero)*>(slices), Dims{m.nx, m.ny, count}, m.type, m.isovalues,
+                     m.links, m.prefix);
+    });
+    m.nz += count;
+}
+
+std::size_t ComponentsAtStream::slices() const { return impl_->nz; }
+
+std::vector<std::int64_t> ComponentsAtStream::counts() const {
+    std::vector<std::int64_t> out;
+    for (const Prefix& p : impl_->prefix) out.push_back(components_of(p));
     return out;
 }
 

@@ -121,7 +121,7 @@ struct SpanStream::Impl {
             }
         }
         r.seconds += t.seconds;
-        r.slabs = batches;
+        r.slabs = batches + t.slabs;  // the full batches and the open one's
         return r;
     }
 };

@@ -7,6 +7,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -156,10 +157,18 @@ struct Analysis {
 /// isovalue (a constant volume, a grid with fewer than 2 vertices on an axis).
 Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o = {});
 
-/// The analysis of a curve alone (a streamed volume): bands, recommendations (boundary
-/// strength from I(s), no histogram) and the noisiest isovalue; no components, noise or
-/// denoising.
-Analysis analyse_curve(const FdCurve& f, const AnalysisOptions& o = {});
+/// Counts components(s) at isovalues given sorted, each once; one count each.
+using EntryCounter = std::function<std::vector<std::int64_t>(const std::vector<double>&)>;
+/// Sets the components of the recommended and noisiest entries of `a`, calling `count` once
+/// with their isovalues: count_components_at on the volume (what analyse does), or a pass
+/// over a file slice by slice (ComponentsAtStream; what `fd --stream` does after analyse_curve).
+void fill_entry_components(Analysis& a, const EntryCounter& count);
+
+/// The analysis of a curve alone (a streamed volume): bands, recommendations and the noisiest
+/// isovalue, with the boundary strength from `histogram` (isovalue_histogram of the volume at
+/// the curve's isovalues, summed slice batch by slice batch; empty: h = 1); no components (see
+/// fill_entry_components), noise or denoising.
+Analysis analyse_curve(const FdCurve& f, const AnalysisOptions& o = {}, std::vector<std::uint64_t> histogram = {});
 
 /// The isovalue --iso auto uses: the first recommendation's (InputError when there is none).
 double auto_isovalue(Context& ctx, const Volume& v, Recommendation* chosen = nullptr);

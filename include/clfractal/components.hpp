@@ -17,6 +17,7 @@
 // one prefix sum over the isovalues.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,33 @@ ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, C
 /// vertices or more.
 std::vector<std::int64_t> count_components_at(const Volume& v, const std::vector<double>& isovalues,
                                               Connectivity mode = Connectivity::cube);
+/// components(s) at a few isovalues of a volume given in z order, a batch of slices at a time
+/// (a file larger than memory, a scanner's slices as they arrive): after the last slice,
+/// counts() equals count_components_at on the whole volume. Each batch is labelled in z-chunks
+/// on every core and joined to the slices before it at their seam; between batches only the
+/// last slice's runs are kept (memory O(slice) an isovalue).
+class ComponentsAtStream {
+public:
+    /// Slices of nx x ny vertices of `type`; the isovalues as count_components_at takes them
+    /// (InputError for a non-finite one, an empty slice or one of 2^30 vertices or more).
+    ComponentsAtStream(std::size_t nx, std::size_t ny, ValueType type, const std::vector<double>& isovalues,
+                       Connectivity mode = Connectivity::cube);
+    ~ComponentsAtStream();
+    ComponentsAtStream(ComponentsAtStream&&) noexcept;
+    ComponentsAtStream& operator=(ComponentsAtStream&&) noexcept;
+
+    /// The next `count` slices: nx * ny * count values of the type, x fastest, then y, then z.
+    void push_slices(const void* slices, std::size_t count);
+    /// The slices pushed so far.
+    std::size_t slices() const;
+    /// components(s) of the slices pushed so far, one an isovalue (0 before any).
+    std::vector<std::int64_t> counts() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 /// Up to this many isovalues, `clfractal components` and Python's `components()` label each
 /// directly (count_components_at) instead of sorting and sweeping the whole volume.
 constexpr std::size_t few_isovalues = 32;

@@ -166,6 +166,23 @@ expect 0 'streamed, memory' -- "$bin" -q fd synthetic:sphere:20 --edge --stream
 expect 0 'isovalues +61 \(30 \.\. 90\)' -- "$bin" -q fd st2_13x11x9_uint8.raw --edge --stream --csv st2_stream.csv
 expect 0 'mean FD' -- "$bin" -q fd st2_13x11x9_uint8.raw --edge --csv st2_whole.csv
 cmp -s st2_whole.csv st2_stream.csv && pass || fail "fd --stream (one pass, cropped) CSV differs from fd"
+# The whole answer streamed, as in core: the entries with their component counts (a second
+# pass over the file) and the boundary strength from the streamed histogram; the same text and
+# JSON but for the times (the in-core run without the denoising a stream cannot try).
+"$bin" -q gen noisy-sphere --size 40 --noise 6 -o ns40.nrrd >/dev/null 2>&1 || fail "gen noisy-sphere"
+for f in st_21x17x29_uint8.raw st.nrrd ns40.nrrd; do
+  "$bin" -q fd "$f" --no-denoise --json whole.json 2>&1 | grep -v '^time' > whole.txt
+  "$bin" -q fd "$f" --stream --json streamed.json 2>&1 | grep -v '^time' > streamed.txt
+  grep -q '^recommended.* [0-9][0-9]* components' streamed.txt && cmp -s whole.txt streamed.txt && pass ||
+    fail "fd --stream on $f: not the in-core answer: $(diff whole.txt streamed.txt | head -4)"
+  python3 - whole.json streamed.json <<'PY' && pass || fail "fd --stream --json on $f differs from fd --json"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+for j in (a, b):
+    for k in [k for k in j if k.startswith("seconds_")]: del j[k]
+sys.exit(a != b or b["recommended"][0]["components"] is None)
+PY
+done
 expect 2 'clfractal: error: .*st_cut.nrrd.*gzip data truncated' -- "$bin" -q fd st_cut.nrrd --stream
 expect 2 'clfractal: error: .*st_plain.nrrd.*not gzip' -- "$bin" -q fd st_plain.nrrd --stream
 expect 2 'clfractal: error: .*short_10x10x10_uint8.raw.*truncated' -- "$bin" fd short_10x10x10_uint8.raw --stream
@@ -263,6 +280,21 @@ expect 0 'freudenthal' -- "$bin" -q components synthetic:torus:20 --connectivity
 expect 2 'clfractal: error: .*connectivity' -- "$bin" components synthetic:sphere:16 --connectivity six
 expect 2 'clfractal: error: .*nope.nrrd' -- "$bin" components nope.nrrd
 expect 2 'clfractal: error: .*cannot write' -- "$bin" -q components synthetic:sphere:16 --csv no/such/dir/c.csv
+# components --stream: a few isovalues labelled as the file is read slice by slice (raw by
+# mmap, gzip NRRD, float data), the in-core CSV exactly.
+"$bin" -q gen torus --size 18 -o torus18.nrrd >/dev/null 2>&1 || fail "gen torus"
+for spec in "ns40.nrrd 2:9:1" "st_21x17x29_uint8.raw 38:42:1" "st.nrrd 85:95:1" "torus18.nrrd 0.1,0.35,0.5"; do
+  set -- $spec
+  expect 0 'most +[0-9]+ components' -- "$bin" -q components "$1" --isovalues "$2" --csv comp_whole.csv
+  expect 0 'read and labelled \(streamed' -- "$bin" -q components "$1" --isovalues "$2" --stream --csv comp_stream.csv
+  cmp -s comp_whole.csv comp_stream.csv && pass || fail "components --stream on $1 at $2 differs from in core"
+done
+expect 2 'clfractal: error: --stream: give the isovalues' -- "$bin" components ns40.nrrd --stream
+expect 2 'clfractal: error: --stream: 33 isovalues; at most 32' -- "$bin" components ns40.nrrd --stream --isovalues 0:32:1
+expect 2 'clfractal: error: --verify: not with --stream' -- "$bin" components ns40.nrrd --stream --isovalues 3:4:1 --verify
+expect 2 'clfractal: error: --plot: not with --stream' -- "$bin" components ns40.nrrd --stream --isovalues 3:4:1 --plot c.png
+expect 2 'clfractal: error: .*short_10x10x10_uint8.raw.*truncated' -- "$bin" components short_10x10x10_uint8.raw --stream --isovalues 1:2:1
+expect 2 'components --stream --isovalues A,B,... labels a few isovalues within 512 MiB' -- env CLFRACTAL_MEMORY_LIMIT=1M "$bin" components ns40.nrrd
 expect 0 'corr\(D, components' -- "$bin" -q fd synthetic:noisy-sphere:32 --components --csv fdc.csv --json fdc.json --plot fdc.png
 [ "$(head -1 fdc.csv)" = "isovalue,count,count_sub,fd,components" ] && pass || fail "fd --components csv header: $(head -1 fdc.csv)"
 [ -s fdc.png ] && pass || fail "fd --components plot missing"

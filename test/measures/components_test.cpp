@@ -242,14 +242,13 @@ int check_direct(const Volume& v, Connectivity mode, const IsovalueSet& iso) {
     return bad;
 }
 
-TEST_CASE("direct labelling at a few isovalues: the curve and BFS, every type, both modes, any number of z-chunks") {
-    const int threads = omp_get_max_threads();
-    // Rows of 70 and 97: the blocks of 32 that row_runs passes over, and their tails.
-    const Dims dims[] = {{1, 1, 1}, {1, 1, 9}, {9, 1, 1}, {1, 8, 1}, {2, 3, 7}, {7, 6, 5}, {13, 7, 11}, {5, 4, 23},
-                         {70, 3, 5}, {97, 2, 3}};
-    std::uint32_t seed = 500;
-    // 1 .. 7 threads: 2 chunks a thread, so seams fall between every pair of planes somewhere.
-    for (int t : {1, 2, 3, 7}) {
+// check(v, m) on a random volume of each dims, every type and both modes, on each number of
+// threads: values lo .. lo + 3 or lo + 30 in turn (lo -5 for the signed types).
+template <class F>
+void for_random_volumes(const std::vector<Dims>& dims, std::initializer_list<int> threads, std::uint32_t seed,
+                        F&& check) {
+    const int before = omp_get_max_threads();
+    for (int t : threads) {
         omp_set_num_threads(t);
         for (const Dims& d : dims)
             for (ValueType type : types)
@@ -259,12 +258,22 @@ TEST_CASE("direct labelling at a few isovalues: the curve and BFS, every type, b
                     CAPTURE(value_type_name(type));
                     CAPTURE(connectivity_name(m));
                     const long lo = type == ValueType::int8 || type == ValueType::int16 ? -5 : 0;
-                    Volume v = testutil::random_volume(d, type, lo, lo + (seed % 2 ? 3 : 30), seed);
+                    const Volume v = testutil::random_volume(d, type, lo, lo + (seed % 2 ? 3 : 30), seed);
                     ++seed;
-                    CHECK(check_direct(v, m, IsovalueSet::for_volume(v, 24)) == 0);
+                    check(v, m);
                 }
     }
-    omp_set_num_threads(threads);
+    omp_set_num_threads(before);
+}
+
+TEST_CASE("direct labelling at a few isovalues: the curve and BFS, every type, both modes, any number of z-chunks") {
+    // Rows of 70 and 97: the blocks of 32 that row_runs passes over, and their tails. 1 .. 7
+    // threads: 2 chunks a thread, so seams fall between every pair of planes somewhere.
+    for_random_volumes({{1, 1, 1}, {1, 1, 9}, {9, 1, 1}, {1, 8, 1}, {2, 3, 7}, {7, 6, 5}, {13, 7, 11}, {5, 4, 23},
+                        {70, 3, 5}, {97, 2, 3}},
+                       {1, 2, 3, 7}, 500, [](const Volume& v, Connectivity m) {
+                           CHECK(check_direct(v, m, IsovalueSet::for_volume(v, 24)) == 0);
+                       });
     // Against breadth-first search directly, and isovalues outside the data (one set empty: 0).
     Volume v = testutil::random_volume({17, 12, 19}, ValueType::uint8, 0, 9, 601);
     for (Connectivity m : modes) {
@@ -278,6 +287,58 @@ TEST_CASE("direct labelling at a few isovalues: the curve and BFS, every type, b
     Volume f = testutil::random_volume({9, 8, 10}, ValueType::float32, -20, 20, 602);
     for (Connectivity m : modes) CHECK(check_direct(f, m, IsovalueSet::floats({-7.25f, -0.5f, 0.f, 3.75f})) == 0);
     CHECK_THROWS_AS(count_components_at(v, {1.0, INFINITY}), InputError);
+}
+
+// The first k slices of v, as a volume of their own.
+Volume first_slices(const Volume& v, std::size_t k) {
+    const Dims d = v.dims();
+    Volume out(Dims{d.nx, d.ny, k}, v.type());
+    std::memcpy(out.data(), v.data(), out.size_bytes());
+    return out;
+}
+
+// v pushed into a ComponentsAtStream `batch` slices at a time; after each push the counts must
+// be count_components_at of the slices so far. Returns the mismatches.
+int check_stream(const Volume& v, const std::vector<double>& at, Connectivity m, std::size_t batch) {
+    const Dims d = v.dims();
+    ComponentsAtStream stream(d.nx, d.ny, v.type(), at, m);
+    CHECK(stream.counts() == std::vector<std::int64_t>(at.size(), 0));
+    const std::size_t slice = d.nx * d.ny * value_size(v.type());
+    int bad = 0;
+    for (std::size_t z = 0; z < d.nz; z += batch) {
+        const std::size_t n = std::min(batch, d.nz - z);
+        stream.push_slices(static_cast<const char*>(v.data()) + z * slice, n);
+        if (stream.slices() != z + n) ++bad;
+        if (stream.counts() != count_components_at(first_slices(v, z + n), at, m) && bad++ < 5)
+            MESSAGE(dims_string(d) << " " << value_type_name(v.type()) << " " << connectivity_name(m) << ": batch "
+                                   << batch << ", after " << z + n << " slices the stream differs");
+    }
+    return bad;
+}
+
+TEST_CASE("the components stream: count_components_at of the slices so far, any batches, every type, both modes") {
+    for_random_volumes({{1, 1, 1}, {9, 1, 1}, {1, 8, 4}, {2, 3, 7}, {7, 6, 5}, {13, 7, 11}, {70, 3, 5}, {97, 2, 3}},
+                       {1, 3}, 900, [](const Volume& v, Connectivity m) {
+                           const IsovalueSet iso = IsovalueSet::for_volume(v, 6);
+                           std::vector<double> at = {-300, 1e6};  // one set empty: 0
+                           for (std::size_t j = 0; j < iso.size(); ++j) at.push_back(iso.value(j));
+                           for (std::size_t batch : {std::size_t(1), std::size_t(2), std::size_t(3), v.dims().nz})
+                               CHECK(check_stream(v, at, m, batch) == 0);
+                       });
+    // Against breadth-first search directly, one slice at a time and all at once.
+    const Volume v = testutil::random_volume({17, 12, 19}, ValueType::uint8, 0, 9, 901);
+    const std::vector<double> at = {0.5, 1, 4.2, 9};
+    for (Connectivity m : modes)
+        for (std::size_t batch : {1, 19}) {
+            ComponentsAtStream stream(17, 12, ValueType::uint8, at, m);
+            for (std::size_t z = 0; z < 19; z += batch)
+                stream.push_slices(v.as<std::uint8_t>() + z * 17 * 12, std::min<std::size_t>(batch, 19 - z));
+            const std::vector<std::int64_t> c = stream.counts();
+            for (std::size_t j = 0; j < at.size(); ++j) CHECK(c[j] == identity(v, at[j], m));
+        }
+    CHECK_THROWS_AS(ComponentsAtStream(4, 4, ValueType::uint8, {NAN}), InputError);
+    CHECK_THROWS_AS(ComponentsAtStream(0, 4, ValueType::uint8, {1}), InputError);
+    CHECK_THROWS_AS(ComponentsAtStream(std::size_t(1) << 15, std::size_t(1) << 15, ValueType::uint8, {1}), InputError);
 }
 
 TEST_CASE("direct labelling on structured shapes: nested shells, a torus, a checkerboard") {
@@ -504,6 +565,12 @@ TEST_CASE("direct labelling equals the curve at eight isovalues of every real vo
             const ComponentCurve c = count_components(testutil::ctx(), v, iso, m);
             const std::vector<std::int64_t> direct = count_components_at(v, at, m);
             for (std::size_t q = 1; q <= 8; ++q) CHECK(direct[q - 1] == c.components[q * (iso.size() - 1) / 9]);
+            // Streamed 7 slices at a time: the same counts.
+            ComponentsAtStream stream(v.dims().nx, v.dims().ny, v.type(), at, m);
+            const std::size_t slice = v.dims().nx * v.dims().ny * value_size(v.type());
+            for (std::size_t z = 0; z < v.dims().nz; z += 7)
+                stream.push_slices(static_cast<const char*>(v.data()) + z * slice, std::min<std::size_t>(7, v.dims().nz - z));
+            CHECK(stream.counts() == direct);
         }
     }
 }

@@ -15,6 +15,7 @@
 #include "clfractal/analysis.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/device_volume.hpp"
+#include "clfractal/slice_reader.hpp"
 #include "clfractal/smooth.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/span.hpp"
@@ -220,9 +221,14 @@ struct StreamedSpans {
     clfractal::ValueType type;
     clfractal::SpanResult spans;
     std::string method;  ///< how the file was read: mmap, gzip, memory
+    std::vector<std::uint64_t> histogram;  ///< isovalue_histogram at the spans' isovalues
 };
 StreamedSpans stream_spans(const std::string& volume, const clfractal::RawOptions& raw, const std::string& isovalues,
                            std::size_t bins, int levels, clfractal::SpanKind kind);
+/// components(s) at a few isovalues of a volume file read slice by slice (ComponentsAtStream):
+/// memory a batch of slices (32 MiB) and O(slice) an isovalue, whatever the file size.
+std::vector<std::int64_t> stream_components_at(clfractal::SliceReader& reader, const std::vector<double>& isovalues,
+                                               clfractal::Connectivity mode);
 /// local --stream: the LD field of a volume file read and written slice by slice.
 int cmd_local_stream(const std::string& volume, const clfractal::RawOptions& raw, double iso, int window,
                      const std::string& output);

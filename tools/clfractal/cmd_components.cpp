@@ -24,7 +24,7 @@ namespace {
 struct ComponentsArgs {
     std::string volume, csv, plot, connectivity = "cube", isovalues;
     std::size_t bins = 0;
-    bool verify = false;
+    bool verify = false, stream = false;
     RawArgs raw;
 };
 
@@ -71,9 +71,42 @@ int verify_components(const Volume& v, const IsovalueSet& iso, Connectivity mode
     return bad;
 }
 
+// --stream: a few isovalues labelled as the file is read slice by slice (ComponentsAtStream),
+// for volumes larger than memory; the whole curve needs the volume in memory.
+int run_components_stream(const ComponentsArgs& a, Connectivity mode) {
+    if (a.verify) throw InputError("--verify: not with --stream (the check sweeps the whole volume)");
+    if (!a.plot.empty()) throw InputError("--plot: not with --stream (the plot draws the whole curve)");
+    if (a.isovalues.empty())
+        throw InputError("--stream: give the isovalues (--isovalues A,B,... or A:B:STEP, at most " +
+                         std::to_string(few_isovalues) + "); the whole curve needs the volume in memory");
+    SliceReader reader(a.volume, a.raw.options());
+    const IsovalueSet iso = parse_isovalues(a.isovalues, reader.type());
+    if (iso.size() > few_isovalues)
+        throw InputError("--stream: " + std::to_string(iso.size()) + " isovalues; at most " +
+                         std::to_string(few_isovalues) + " are labelled slice by slice");
+    progress("components of " + dims_string(reader.dims()) + " " + value_type_name(reader.type()) + " at " +
+             std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity, slice by slice (" +
+             reader.method() + ")");
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<double> at(iso.size());
+    for (std::size_t j = 0; j < at.size(); ++j) at[j] = iso.value(j);
+    const std::vector<std::int64_t> c = stream_components_at(reader, at, mode);
+    const double seconds = seconds_since(t0);
+    print_components(std::cout, a.volume, reader.dims(), reader.type(), mode, iso, c);
+    const double vertices = double(reader.dims().nx) * double(reader.dims().ny) * double(reader.dims().nz);
+    std::cout << std::setprecision(4) << "time          " << seconds << " s read and labelled (streamed, "
+              << reader.method() << ", " << vertices / seconds / 1e6 << " Mvoxel/s)\n";
+    if (!a.csv.empty()) write_file_atomic(a.csv, components_csv(iso, c));
+    return 0;
+}
+
 int run_components(const ComponentsArgs& a) {
-    Volume v = read_volume_within(a.volume, a.raw.options(), {"clfractal components"});
     const Connectivity mode = parse_connectivity(a.connectivity);
+    if (a.stream) return run_components_stream(a, mode);
+    Volume v = read_volume_within(a.volume, a.raw.options(),
+                                  {"clfractal components", 4.0,
+                                   "clfractal components --stream --isovalues A,B,... labels a few isovalues within "
+                                   "512 MiB"});
     if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     IsovalueSet iso = !a.isovalues.empty() ? parse_isovalues(a.isovalues, v.type())
@@ -120,6 +153,8 @@ void setup_components(CLI::App* c, ComponentsArgs& a) {
     c->add_option("--csv", a.csv, "write isovalue,components");
     c->add_option("--plot", a.plot, "draw the curve (log scale) to a PNG with gnuplot");
     c->add_flag("--verify", a.verify, "check every isovalue against per-isovalue labelling (slow); exit 1 on a mismatch");
+    c->add_flag("--stream", a.stream,
+                "read the file slice by slice and label up to 32 --isovalues (memory: a few slices; same numbers)");
     a.raw.add(c);
 }
 

@@ -7,6 +7,8 @@
 #include <iostream>
 #include <vector>
 
+#include "clfractal/analysis.hpp"
+#include "clfractal/components.hpp"
 #include "clfractal/local.hpp"
 
 #include "clfractal/slice_reader.hpp"
@@ -23,7 +25,7 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
     const Dims d = reader.dims();
     if (bins && is_integer(reader.type()) && !is_wide(reader.type()))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
-    StreamedSpans out{d, reader.type(), {}, reader.method()};
+    StreamedSpans out{d, reader.type(), {}, reader.method(), {}};
     IsovalueSet iso;
     // uint8 without --isovalues: one pass, counting every value 0..255 and cropping the
     // curves to the value range afterwards (the count at s does not depend on the set).
@@ -49,6 +51,11 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
         void* slices = stream.next_slices(room);
         const std::size_t n = std::min(room, d.nz - z);
         reader.read(slices, n);
+        // The vertices at each isovalue (boundary strength), batch by batch, as in core.
+        const std::vector<std::uint64_t> h =
+            isovalue_histogram(Volume::wrap(slices, Dims{d.nx, d.ny, n}, reader.type()), iso);
+        if (out.histogram.empty()) out.histogram.assign(h.size(), 0);
+        for (std::size_t k = 0; k < h.size(); ++k) out.histogram[k] += h[k];
         if (crop) {
             const ValueStats s = value_stats(slices, ValueType::uint8, n * reader.slice_bytes());
             lo = std::min(lo, s.min);
@@ -63,8 +70,26 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
         out.spans.isovalues = IsovalueSet::integers(first, last);
         for (SpanCurves& c : out.spans.curves)
             for (auto& level : c.counts) level = std::vector<std::uint64_t>(level.begin() + first, level.begin() + last + 1);
+        // No value lies outside [first, last], so the cropped bins are the whole histogram.
+        out.histogram = std::vector<std::uint64_t>(out.histogram.begin() + first, out.histogram.begin() + last + 1);
     }
     return out;
+}
+
+std::vector<std::int64_t> stream_components_at(SliceReader& reader, const std::vector<double>& isovalues,
+                                               Connectivity mode) {
+    const Dims d = reader.dims();
+    if (d.nx == 0 || d.ny == 0 || d.nz == 0) return std::vector<std::int64_t>(isovalues.size(), 0);
+    ComponentsAtStream stream(d.nx, d.ny, reader.type(), isovalues, mode);
+    // Batches of up to 32 MiB, read into one reused buffer.
+    const std::size_t batch = std::clamp<std::size_t>((std::size_t(32) << 20) / reader.slice_bytes(), 1, d.nz);
+    std::vector<unsigned char> slices(batch * reader.slice_bytes());
+    for (std::size_t z = 0; z < d.nz; z += batch) {
+        const std::size_t n = std::min(batch, d.nz - z);
+        reader.read(slices.data(), n);
+        stream.push_slices(slices.data(), n);
+    }
+    return stream.counts();
 }
 
 int cmd_local_stream(const std::string& volume, const RawOptions& raw, double iso, int window,
