@@ -118,7 +118,12 @@ def document(name, obj):
     text = f"\n### `{name}`\n\n```python\n{kind} {name}{sig}\n```\n\n"
     text += numpydoc_to_markdown(doc) if doc else "(no docstring)\n"
     if inspect.isclass(obj):
-        for member, value in obj.__dict__.items():
+        # Its own members, then those it takes from the package's private bases (_SlicePush).
+        members = dict(obj.__dict__)
+        for base in obj.__mro__[1:]:
+            if base.__module__ == obj.__module__ and base.__name__.startswith("_"):
+                members.update({k: v for k, v in base.__dict__.items() if k not in members})
+        for member, value in members.items():
             if member.startswith("_") or not (inspect.getdoc(value) and (callable(value) or isinstance(value, property))):
                 continue
             head = f"{name}.{member}" + ("" if isinstance(value, property) else signature(value))

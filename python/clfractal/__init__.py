@@ -86,7 +86,7 @@ __version__ = _clfractal.__version__
 
 __all__ = [
     "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "SliceStream", "Fd4", "fd4", "local4",
-    "Components", "components", "median", "gaussian", "bilateral", "Filtered", "targeted_filter",
+    "Components", "components", "ComponentsStream", "median", "gaussian", "bilateral", "Filtered", "targeted_filter",
     "ld_guided_filter", "Smoothed", "smooth", "Mesh", "mesh", "write_ply", "NoiseLevel", "noise_level",
     "noise_dimension", "SmallComponents", "small_components", "Recommendation", "Analysis", "analyse", "VolumeFile", "read_volume", "Orientation", "write_volume", "VolumeInfo", "info",
     "devices", "device_description", "OPENCL_DRIVERS",
@@ -270,7 +270,45 @@ def fd_curve(volume, kind: str = "box", levels: int = 2, isovalues=None, bins: i
     return FdCurve(raw, kind, int(levels), a.dtype)
 
 
-class SliceStream:
+def _slice_stack(slices, dtype: np.dtype, who: str) -> np.ndarray:
+    """A (ny, nx) slice or (k, ny, nx) stack as a C-contiguous (k, ny, nx) array of `dtype`
+    (converted only when that holds every value exactly)."""
+    a = np.asarray(slices)
+    if a.ndim == 2:
+        a = a[None]
+    if a.ndim != 3:
+        raise ValueError(f"{who}.push: expected a (ny, nx) slice or (k, ny, nx) stack, got shape {a.shape}")
+    if a.dtype != dtype:
+        with np.errstate(all="ignore"):
+            b = a.astype(dtype)
+        if not np.array_equal(b, a):
+            raise ValueError(f"{who}.push: {a.dtype} values do not fit the stream's {dtype}")
+        a = b
+    return np.ascontiguousarray(a)
+
+
+def _stream_dtype(dtype, who: str) -> np.dtype:
+    d = np.dtype(dtype)
+    if d not in VALUE_TYPES:
+        raise ValueError(f"{who}: {d} is not a value type ({', '.join(VALUE_TYPES.values())})")
+    return d
+
+
+class _SlicePush:
+    """What both slice streams take: slices in z order (``_stream``, ``dtype``)."""
+
+    @property
+    def slices(self) -> int:
+        """Slices pushed so far."""
+        return int(self._stream.slices)
+
+    def push(self, slices) -> None:
+        """Adds a (ny, nx) slice or a (k, ny, nx) stack, in z order (converted to the
+        stream's dtype only when it holds every value exactly)."""
+        self._stream.push(_slice_stack(slices, self.dtype, type(self).__name__))
+
+
+class SliceStream(_SlicePush):
     """FD curves of a volume that arrives slice by slice (a scanner), memory for a few slices.
 
     The library's ``SpanStream`` (include/clfractal/stream.hpp): ``push`` (ny, nx) slices,
@@ -304,33 +342,10 @@ class SliceStream:
 
     def __init__(self, shape, dtype, isovalues, levels: int = 2, kind: str = "box", device: str | None = None):
         ny, nx = (int(n) for n in shape)
-        self.dtype = np.dtype(dtype)
-        if self.dtype not in VALUE_TYPES:
-            raise ValueError(f"SliceStream: {self.dtype} is not a value type ({', '.join(VALUE_TYPES.values())})")
+        self.dtype = _stream_dtype(dtype, "SliceStream")
         self.kind, self.levels = kind, int(levels)
         self._stream = _clfractal.SliceStream(ny, nx, VALUE_TYPES[self.dtype], _isovalues(isovalues),
                                               self.levels, kind, device)
-
-    @property
-    def slices(self) -> int:
-        """Slices pushed so far."""
-        return int(self._stream.slices)
-
-    def push(self, slices) -> None:
-        """Adds a (ny, nx) slice or a (k, ny, nx) stack, in z order (converted to the
-        stream's dtype only when it holds every value exactly)."""
-        a = np.asarray(slices)
-        if a.ndim == 2:
-            a = a[None]
-        if a.ndim != 3:
-            raise ValueError(f"SliceStream.push: expected a (ny, nx) slice or (k, ny, nx) stack, got shape {a.shape}")
-        if a.dtype != self.dtype:
-            with np.errstate(all="ignore"):
-                b = a.astype(self.dtype)
-            if not np.array_equal(b, a):
-                raise ValueError(f"SliceStream.push: {a.dtype} values do not fit the stream's {self.dtype}")
-            a = b
-        self._stream.push(np.ascontiguousarray(a))
 
     def curve(self) -> FdCurve:
         """The FD curve of the slices so far, as ``fd_curve`` gives it."""
@@ -497,6 +512,50 @@ def components(volume, connectivity: str = "cube", isovalues=None, bins: int = 2
     a, type_name = _volume(volume, uploaded=True)
     iso, counts = _clfractal.components(a, type_name, connectivity, _isovalues(isovalues), int(bins), device)
     return Components(_isovalue_array(iso, a.dtype), np.asarray(counts))
+
+
+class ComponentsStream(_SlicePush):
+    """Isosurface component counts at a few isovalues of a volume that arrives slice by slice
+    (a scanner, a file larger than memory), memory O(slice) an isovalue.
+
+    The library's ``ComponentsAtStream`` (include/clfractal/components.hpp): ``push`` (ny, nx)
+    slices, or (k, ny, nx) stacks of them, in z order; ``counts()`` at any time gives the
+    component counts of the slices so far, equal to ``components(volume, isovalues=...)`` of
+    the volume they make. Each stack is labelled in z-chunks on every core and joined to the
+    slices before it at one seam; runs on the host, no device.
+
+    Parameters
+    ----------
+    shape : (ny, nx)
+        The shape of each slice.
+    dtype : numpy dtype
+        Their value type (a key of ``VALUE_TYPES``).
+    isovalues : array_like
+        Increasing isovalues (integers for integer data), a few: each is labelled on its own.
+    connectivity : {"cube", "freudenthal"}, optional
+        As in ``components``.
+
+    Examples
+    --------
+    >>> import numpy as np, clfractal
+    >>> v = np.random.default_rng(0).integers(0, 9, (9, 10, 11), dtype=np.uint8)
+    >>> stream = clfractal.ComponentsStream(v.shape[1:], v.dtype, isovalues=[3, 4, 5])
+    >>> for z in range(0, 9, 4):
+    ...     stream.push(v[z:z + 4])
+    >>> stream.counts().counts.tolist() == clfractal.components(v, isovalues=[3, 4, 5]).counts.tolist()
+    True
+    """
+
+    def __init__(self, shape, dtype, isovalues, connectivity: str = "cube"):
+        ny, nx = (int(n) for n in shape)
+        self.dtype = _stream_dtype(dtype, "ComponentsStream")
+        self._stream = _clfractal.ComponentsStream(ny, nx, VALUE_TYPES[self.dtype], _isovalues(isovalues),
+                                                   connectivity)
+
+    def counts(self) -> Components:
+        """The component counts of the slices so far, as ``components`` gives them."""
+        iso, counts = self._stream.counts()
+        return Components(_isovalue_array(iso, self.dtype), np.asarray(counts))
 
 
 def median(volume, device: str | None = None) -> np.ndarray:

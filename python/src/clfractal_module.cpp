@@ -331,6 +331,19 @@ nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string&
     return curve_dict(iso, f, kind_name, levels, min_count, description, seconds, compile);
 }
 
+/// (k, ny, nx) C-contiguous slices, in z order, for the streams.
+using Slices = nb::ndarray<nb::ro, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+
+/// InputError unless `slices` are (k, ny, nx) values of `type`.
+void check_slices(const Slices& slices, std::size_t ny, std::size_t nx, ValueType type) {
+    if (slices.shape(1) != ny || slices.shape(2) != nx)
+        throw InputError("slice: shape (" + std::to_string(slices.shape(1)) + ", " + std::to_string(slices.shape(2)) +
+                         "), the stream takes (" + std::to_string(ny) + ", " + std::to_string(nx) + ")");
+    if (slices.itemsize() != value_size(type))
+        throw InputError("slice: " + std::to_string(slices.itemsize()) + "-byte values, the stream takes " +
+                         value_type_name(type));
+}
+
 /// clfractal.SliceStream: SpanStream (stream.hpp) on one device, fed (ny, nx) slices in z
 /// order; the curve of the slices so far at any time.
 struct SliceStream {
@@ -353,14 +366,8 @@ struct SliceStream {
         stream = std::make_unique<SpanStream>(*device.ctx, nx, ny, t, iso.set, levels, std::vector<SpanKind>{k});
     }
     /// Adds (k, ny, nx) C-contiguous slices of the stream's type, in z order.
-    void push(const nb::ndarray<nb::ro, nb::ndim<3>, nb::c_contig, nb::device::cpu>& slices) {
-        if (slices.shape(1) != ny || slices.shape(2) != nx)
-            throw InputError("slice: shape (" + std::to_string(slices.shape(1)) + ", " +
-                             std::to_string(slices.shape(2)) + "), the stream takes (" + std::to_string(ny) + ", " +
-                             std::to_string(nx) + ")");
-        if (slices.itemsize() != value_size(stream->type()))
-            throw InputError("slice: " + std::to_string(slices.itemsize()) + "-byte values, the stream takes " +
-                             value_type_name(stream->type()));
+    void push(const Slices& slices) {
+        check_slices(slices, ny, nx, stream->type());
         const auto* p = static_cast<const unsigned char*>(slices.data());
         const std::size_t bytes = nx * ny * value_size(stream->type());
         nb::gil_scoped_release no_gil;
@@ -381,6 +388,28 @@ struct SliceStream {
         }
         return curve_dict(iso, f, kind_name, levels, 0, description, seconds, compile);
     }
+};
+
+/// clfractal.ComponentsStream: ComponentsAtStream (components.hpp), fed (ny, nx) slices in z
+/// order; the component counts at its isovalues of the slices so far at any time (host only).
+struct ComponentsStream {
+    Isovalues iso;
+    ValueType type;
+    std::size_t nx, ny;
+    std::unique_ptr<ComponentsAtStream> stream;
+    ComponentsStream(std::size_t ny_, std::size_t nx_, const std::string& type_name, const std::vector<double>& isovalues,
+                     const std::string& connectivity)
+        : type(parse_value_type(type_name)), nx(nx_), ny(ny_) {
+        const Connectivity mode = parse_connectivity(connectivity);
+        iso = requested_isovalues(type, isovalues);
+        stream = std::make_unique<ComponentsAtStream>(nx, ny, type, isovalue_list(iso), mode);
+    }
+    void push(const Slices& slices) {
+        check_slices(slices, ny, nx, type);
+        nb::gil_scoped_release no_gil;
+        stream->push_slices(slices.data(), slices.shape(0));
+    }
+    nb::tuple counts() const { return nb::make_tuple(owned(isovalue_list(iso)), owned(stream->counts())); }
 };
 
 /// The LD field of the input (downloaded).
@@ -755,6 +784,23 @@ nb::list devices_call() {
     return out;
 }
 
+// The slice streams' classes (clfractal.SliceStream, clfractal.ComponentsStream).
+void bind_streams(nb::module_& m) {
+    nb::class_<SliceStream>(m, "SliceStream", "A slice stream; see clfractal.SliceStream.")
+        .def(nb::init<std::size_t, std::size_t, const std::string&, const std::vector<double>&, int, const std::string&,
+                      const std::optional<std::string>&>(),
+             "ny"_a, "nx"_a, "type"_a, "isovalues"_a, "levels"_a, "kind"_a, "device"_a.none())
+        .def("push", &SliceStream::push, "slices"_a)
+        .def("curve", &SliceStream::curve)
+        .def_prop_ro("slices", [](const SliceStream& s) { return s.stream->slices(); });
+    nb::class_<ComponentsStream>(m, "ComponentsStream", "A components stream; see clfractal.ComponentsStream.")
+        .def(nb::init<std::size_t, std::size_t, const std::string&, const std::vector<double>&, const std::string&>(),
+             "ny"_a, "nx"_a, "type"_a, "isovalues"_a, "connectivity"_a)
+        .def("push", &ComponentsStream::push, "slices"_a)
+        .def("counts", &ComponentsStream::counts)
+        .def_prop_ro("slices", [](const ComponentsStream& s) { return s.stream->slices(); });
+}
+
 }  // namespace
 
 NB_MODULE(_clfractal, m) {
@@ -783,13 +829,7 @@ NB_MODULE(_clfractal, m) {
         .def(nb::init<const InArray&, const std::string&, const std::optional<std::string>&>(), "volume"_a, "type"_a,
              "device"_a.none())
         .def_prop_ro("zero_copy", [](const Uploaded& u) { return u.on_device.in_host_memory(); });
-    nb::class_<SliceStream>(m, "SliceStream", "A slice stream; see clfractal.SliceStream.")
-        .def(nb::init<std::size_t, std::size_t, const std::string&, const std::vector<double>&, int, const std::string&,
-                      const std::optional<std::string>&>(),
-             "ny"_a, "nx"_a, "type"_a, "isovalues"_a, "levels"_a, "kind"_a, "device"_a.none())
-        .def("push", &SliceStream::push, "slices"_a)
-        .def("curve", &SliceStream::curve)
-        .def_prop_ro("slices", [](const SliceStream& s) { return s.stream->slices(); });
+    bind_streams(m);
     m.def("uploads", [](const std::optional<std::string>& device) {
         return on_device(device, [](Context& ctx) { return ctx.uploads(); });
     }, "device"_a = nb::none(), "Volumes uploaded to the device so far (DeviceVolume counts one).");

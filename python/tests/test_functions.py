@@ -637,6 +637,28 @@ def test_slice_stream_equals_the_whole_volume(volume, kind, levels):
         stream.push(np.full(volume.shape[1:], 1e300))
 
 
+@pytest.mark.parametrize("connectivity", ["cube", "freudenthal"])
+def test_components_stream_equals_scipy_labelling(volume, connectivity):
+    iso = np.unique(volume)[1:][::4][:8]
+    stream = clfractal.ComponentsStream(volume.shape[1:], volume.dtype, iso, connectivity=connectivity)
+    stream.push(volume[:3])  # a stack, then slice by slice
+    part = stream.counts()
+    assert part.counts.tolist() == [ref.components(volume[:3], s, connectivity) for s in part.isovalues]
+    for z in range(3, volume.shape[0]):
+        stream.push(volume[z])
+    assert stream.slices == volume.shape[0]
+    c = stream.counts()
+    np.testing.assert_array_equal(c.isovalues, clfractal.components(volume, connectivity, isovalues=iso).isovalues)
+    assert c.counts.tolist() == [ref.components(volume, s, connectivity) for s in c.isovalues]
+    assert c.counts.tolist() == clfractal.components(volume, connectivity, isovalues=iso).counts.tolist()
+    with pytest.raises(ValueError, match="shape"):
+        stream.push(volume[0, :, :-1])
+    with pytest.raises(ValueError, match="fit"):
+        stream.push(np.full(volume.shape[1:], 1e300))
+    with pytest.raises(ValueError, match="connectivity|cube"):
+        clfractal.ComponentsStream(volume.shape[1:], volume.dtype, iso, connectivity="six")
+
+
 @pytest.mark.parametrize("noise", [4.0, 40.0])
 def test_analyse_matches_the_cli_and_the_reference(noise, cli, tmp_path):
     # A clean ball (noise 4) and one with no clean isovalue (noise 40, the denoising ladder).
