@@ -12,6 +12,7 @@
 #include <string>
 
 #include "clfractal/analysis.hpp"
+#include "clfractal/components.hpp"
 #include "clfractal/version.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/fd4.hpp"
@@ -43,6 +44,11 @@ struct clf_analysis {
 
 struct clf_stream {
     std::unique_ptr<SpanStream> stream;
+};
+
+struct clf_components_stream {
+    std::unique_ptr<ComponentsAtStream> stream;
+    std::size_t isovalues = 0;
 };
 
 namespace {
@@ -336,6 +342,50 @@ clf_status clf_stream_curve(const clf_stream* stream, int kind, clf_curve** out)
         auto c = std::make_unique<clf_curve>();
         c->curve = stream->stream->curve(k);
         *out = c.release();
+    });
+}
+
+clf_status clf_components_stream_create(size_t nx, size_t ny, int type, const double* isovalues, size_t count,
+                                        int connectivity, clf_components_stream** out) {
+    if (!out) return fail(CLF_ERROR_INPUT, "clf_components_stream_create: out is NULL");
+    *out = nullptr;
+    return guarded([&] {
+        require(isovalues != nullptr || count == 0, "clf_components_stream_create: isovalues is NULL");
+        require(connectivity == CLF_COMPONENTS_CUBE || connectivity == CLF_COMPONENTS_FREUDENTHAL,
+                "clf_components_stream_create: connectivity must be CLF_COMPONENTS_CUBE or CLF_COMPONENTS_FREUDENTHAL");
+        const ValueType t = to_value_type(type, "clf_components_stream_create");
+        check_dims(Dims{nx, ny, 1}, "clf_components_stream_create");
+        auto st = std::make_unique<clf_components_stream>();
+        st->stream = std::make_unique<ComponentsAtStream>(
+            nx, ny, t, std::vector<double>(isovalues, isovalues + count),
+            connectivity == CLF_COMPONENTS_CUBE ? Connectivity::cube : Connectivity::freudenthal);
+        st->isovalues = count;
+        *out = st.release();
+    });
+}
+
+void clf_components_stream_destroy(clf_components_stream* stream) {
+    delete stream;
+    last_error.clear();
+}
+
+clf_status clf_components_stream_push(clf_components_stream* stream, const void* slices, size_t count) {
+    return guarded([&] {
+        require(stream && (slices || count == 0), "clf_components_stream_push: stream or slices is NULL");
+        stream->stream->push_slices(slices, count);
+    });
+}
+
+size_t clf_components_stream_slices(const clf_components_stream* stream) {
+    return got<size_t>(stream != nullptr, stream ? stream->stream->slices() : 0, 0,
+                       "clf_components_stream_slices: stream is NULL");
+}
+
+clf_status clf_components_stream_counts(const clf_components_stream* stream, int64_t* out) {
+    return guarded([&] {
+        require(stream && (out || stream->isovalues == 0), "clf_components_stream_counts: stream or out is NULL");
+        const std::vector<std::int64_t> c = stream->stream->counts();
+        std::copy(c.begin(), c.end(), out);
     });
 }
 

@@ -496,6 +496,9 @@ ComponentsAtStream& ComponentsAtStream::operator=(ComponentsAtStream&&) noexcept
 void ComponentsAtStream::push_slices(const void* slices, std::size_t count) {
     if (count == 0) return;
     Impl& m = *impl_;
+    if (!slices) throw InputError("components stream: no slices (NULL)");
+    check_finite(slices, m.type, m.nx * m.ny * count, Dims{m.nx, m.ny, m.nz + count}, m.nz * m.nx * m.ny,
+                 "components stream");
     visit_type(m.type, [&](auto zero) {
         label_planes(static_cast<const decltype(zero)*>(slices), Dims{m.nx, m.ny, count}, m.type, m.isovalues,
                      m.links, m.prefix);

@@ -71,6 +71,7 @@ typedef struct clf_context clf_context; /* an OpenCL device with its compiled ke
 typedef struct clf_volume clf_volume;   /* a host volume */
 typedef struct clf_curve clf_curve;     /* a fractal dimension curve over isovalues */
 typedef struct clf_stream clf_stream;   /* a volume arriving slice by slice */
+typedef struct clf_components_stream clf_components_stream; /* component counts, slice by slice */
 
 /* Options of a curve. Zero-initialise and set what you need; clf_curve_options_default
  * gives box dimension, 2 levels (eq. 2.5), default isovalues (every integer of the value
@@ -161,6 +162,28 @@ size_t clf_stream_slices(const clf_stream* stream);
 /* The curve of the slices pushed so far (at least 2 are needed for a cube), identical to
  * clf_curve_compute on the volume of those slices; the stream goes on afterwards. */
 clf_status clf_stream_curve(const clf_stream* stream, int kind, clf_curve** out);
+
+/* ---- isosurface components at a few isovalues, slice by slice (docs/definitions.md §19) ---- */
+
+/* Connectivity of the component counts: CLF_COMPONENTS_CUBE {f < s} 6- and {f >= s}
+ * 26-connected (marching cubes), CLF_COMPONENTS_FREUDENTHAL both 14-connected (marching
+ * tetrahedra). */
+typedef enum clf_connectivity { CLF_COMPONENTS_CUBE = 0, CLF_COMPONENTS_FREUDENTHAL = 1 } clf_connectivity;
+
+/* A stream of nx * ny slices of `type`, pushed in z order, counting the isosurface components
+ * components(s) = b0({f < s}) + b0({f >= s}) - 1 (0 when either set is empty) at the `count`
+ * finite isovalues (integer data: f >= ceil(s); float32 data: s rounded to float32). Runs on
+ * the host (no context); memory O(slice) an isovalue. */
+clf_status clf_components_stream_create(size_t nx, size_t ny, int type, const double* isovalues, size_t count,
+                                        int connectivity, clf_components_stream** out);
+void clf_components_stream_destroy(clf_components_stream* stream);
+/* Adds the next `count` slices: nx * ny * count values of the stream's type, x fastest, then
+ * y, then z. Float slices with NaN or Inf are CLF_ERROR_INPUT and add nothing. */
+clf_status clf_components_stream_push(clf_components_stream* stream, const void* slices, size_t count);
+size_t clf_components_stream_slices(const clf_components_stream* stream);
+/* components(s) of the slices pushed so far at each isovalue, into out[0 .. count-1]: those
+ * of the volume the slices make; the stream goes on afterwards. */
+clf_status clf_components_stream_counts(const clf_components_stream* stream, int64_t* out);
 
 /* ---- local fractal dimension (eq. 2.6) ---- */
 

@@ -77,7 +77,8 @@ public:
     ComponentsAtStream(ComponentsAtStream&&) noexcept;
     ComponentsAtStream& operator=(ComponentsAtStream&&) noexcept;
 
-    /// The next `count` slices: nx * ny * count values of the type, x fastest, then y, then z.
+    /// The next `count` slices: nx * ny * count values of the type, x fastest, then y, then z
+    /// (InputError, nothing added, when float slices hold NaN or Inf).
     void push_slices(const void* slices, std::size_t count);
     /// The slices pushed so far.
     std::size_t slices() const;

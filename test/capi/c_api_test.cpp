@@ -14,6 +14,7 @@
 #include "clfractal/local.hpp"
 #include "clfractal/version.hpp"
 #include "reference/fd4_reference.hpp"
+#include "reference/mesh_reference.hpp"
 #include "reference/small_components_reference.hpp"
 #include "reference/span_reference.hpp"
 #include "test_util.hpp"
@@ -450,6 +451,63 @@ TEST_CASE("the small-components filter through the C ABI equals the reference, e
     CHECK(clf_small_components_filter(cv, 100, 4, CLF_SMALL_CUBE, nullptr, nullptr) == CLF_ERROR_INPUT);
     CHECK(std::string(clf_last_error()).find("NULL") != std::string::npos);
     clf_volume_destroy(cv);
+}
+
+TEST_CASE("component counts streamed through the C ABI equal breadth-first search after every batch, every type") {
+    std::uint32_t seed = 90;
+    for (const ValueType t : all_value_types)
+        for (const int connectivity : {int(CLF_COMPONENTS_CUBE), int(CLF_COMPONENTS_FREUDENTHAL)}) {
+            CAPTURE(value_type_name(t));
+            CAPTURE(connectivity);
+            const Dims d{11, 8, 10};
+            const Volume v = testutil::random_volume(d, t, 0, 7, ++seed);
+            const std::vector<double> at = {-1, 0.5, 1.75, 3, 4.5, 100};
+            clf_components_stream* st = nullptr;
+            REQUIRE(clf_components_stream_create(d.nx, d.ny, c_type(t), at.data(), at.size(), connectivity, &st) ==
+                    CLF_OK);
+            const auto a = connectivity == CLF_COMPONENTS_CUBE ? ref::Adjacency::six : ref::Adjacency::fourteen;
+            const auto c = connectivity == CLF_COMPONENTS_CUBE ? ref::Adjacency::twenty_six : ref::Adjacency::fourteen;
+            const std::size_t slice = d.nx * d.ny * value_size(t);
+            for (std::size_t z = 0; z < d.nz; z += 3) {
+                const std::size_t n = std::min<std::size_t>(3, d.nz - z);
+                REQUIRE(clf_components_stream_push(st, static_cast<const unsigned char*>(v.data()) + z * slice, n) ==
+                        CLF_OK);
+                CHECK(clf_components_stream_slices(st) == z + n);
+                Volume part(Dims{d.nx, d.ny, z + n}, t);
+                std::memcpy(part.data(), v.data(), part.size_bytes());
+                std::vector<std::int64_t> got(at.size(), -7);
+                REQUIRE(clf_components_stream_counts(st, got.data()) == CLF_OK);
+                for (std::size_t j = 0; j < at.size(); ++j) {
+                    // Compared as the stream compares: at the isovalue the data's type holds.
+                    const double s = is_integer(t) ? std::ceil(at[j]) : t == ValueType::float32 ? double(float(at[j])) : at[j];
+                    const std::size_t na = ref::components(part, s, false, a), nc = ref::components(part, s, true, c);
+                    CHECK(got[j] == (na && nc ? std::int64_t(na + nc) - 1 : 0));
+                }
+            }
+            clf_components_stream_destroy(st);
+        }
+    // NaN slices add nothing; bad arguments are input errors.
+    clf_components_stream* st = nullptr;
+    const double s[1] = {0.5};
+    REQUIRE(clf_components_stream_create(2, 2, CLF_FLOAT32, s, 1, CLF_COMPONENTS_CUBE, &st) == CLF_OK);
+    const float bad[4] = {0, 1, std::nanf(""), 1};
+    CHECK(clf_components_stream_push(st, bad, 1) == CLF_ERROR_INPUT);
+    CHECK(std::string(clf_last_error()).find("NaN") != std::string::npos);
+    CHECK(clf_components_stream_slices(st) == 0);
+    CHECK(clf_components_stream_push(st, nullptr, 1) == CLF_ERROR_INPUT);
+    CHECK(clf_components_stream_counts(st, nullptr) == CLF_ERROR_INPUT);
+    clf_components_stream_destroy(st);
+    clf_components_stream* none = reinterpret_cast<clf_components_stream*>(1);
+    CHECK(clf_components_stream_create(2, 2, CLF_UINT8, s, 1, 2, &none) == CLF_ERROR_INPUT);
+    CHECK(none == nullptr);
+    CHECK(std::string(clf_last_error()).find("CLF_COMPONENTS_CUBE") != std::string::npos);
+    const double inf[1] = {std::numeric_limits<double>::infinity()};
+    CHECK(clf_components_stream_create(2, 2, CLF_UINT8, inf, 1, CLF_COMPONENTS_CUBE, &none) == CLF_ERROR_INPUT);
+    CHECK(clf_components_stream_create(0, 2, CLF_UINT8, s, 1, CLF_COMPONENTS_CUBE, &none) == CLF_ERROR_INPUT);
+    CHECK(clf_components_stream_create(2, 2, 9, s, 1, CLF_COMPONENTS_CUBE, &none) == CLF_ERROR_INPUT);
+    CHECK(clf_components_stream_create(2, 2, CLF_UINT8, nullptr, 1, CLF_COMPONENTS_CUBE, &none) == CLF_ERROR_INPUT);
+    CHECK(clf_components_stream_create(2, 2, CLF_UINT8, s, 1, CLF_COMPONENTS_CUBE, nullptr) == CLF_ERROR_INPUT);
+    CHECK(clf_components_stream_slices(nullptr) == 0);
 }
 
 }  // TEST_SUITE
