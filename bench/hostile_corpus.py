@@ -814,6 +814,7 @@ COMMANDS = collections.OrderedDict([
     ("fd", lambda v, o: ["fd", v, "--csv", o + "/a.csv", "--json", o + "/a.json", "--plot", o + "/a.png"]),
     ("fd-stream", lambda v, o: ["fd", v, "--stream", "--csv", o + "/a.csv", "--json", o + "/a.json"]),
     ("components", lambda v, o: ["components", v, "--csv", o + "/c.csv", "--plot", o + "/c.png"]),
+    ("components-stream", lambda v, o: ["components", v, "--stream", "--isovalues", "100:101:1", "--csv", o + "/c.csv"]),
     ("local", lambda v, o: ["local", v, "--iso", "100", "-o", o + "/l.nrrd", "--mesh", o + "/l.ply"]),
     ("local-stream", lambda v, o: ["local", v, "--iso", "100", "--stream", "-o", o + "/l.nrrd"]),
     ("filter", lambda v, o: ["filter", v, "--median", "-o", o + "/f.nrrd", "--json", o + "/f.json"]),
