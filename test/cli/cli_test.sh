@@ -289,6 +289,24 @@ for spec in "ns40.nrrd 2:9:1" "st_21x17x29_uint8.raw 38:42:1" "st.nrrd 85:95:1" 
   expect 0 'read and labelled \(streamed' -- "$bin" -q components "$1" --isovalues "$2" --stream --csv comp_stream.csv
   cmp -s comp_whole.csv comp_stream.csv && pass || fail "components --stream on $1 at $2 differs from in core"
 done
+# components in z-parts (--slab N, or by itself when the in-core sweep does not fit): the
+# in-core curve exactly, every isovalue.
+for f in ns40.nrrd st.nrrd torus18.nrrd; do
+  "$bin" -q components "$f" --csv comp_whole.csv >/dev/null 2>&1 || fail "components $f"
+  for k in 2 5 41; do
+    expect 0 'swept in [0-9]+ z-parts' -- "$bin" -q components "$f" --slab "$k" --csv comp_slab.csv
+    cmp -s comp_whole.csv comp_slab.csv && pass || fail "components --slab $k on $f differs from in core"
+  done
+done
+python3 -c "
+import random; random.seed(5)
+open('big_64x64x512_uint16.raw', 'wb').write(bytes(b for _ in range(64 * 64 * 512) for b in (random.randrange(40), 0)))"
+"$bin" -q components big_64x64x512_uint16.raw --csv comp_whole.csv >/dev/null 2>&1 || fail "components big"
+expect 0 'counting in z-parts' -- env CLFRACTAL_MEMORY_LIMIT=266M "$bin" components big_64x64x512_uint16.raw --csv comp_slab.csv
+cmp -s comp_whole.csv comp_slab.csv && pass || fail "components in z-parts by itself differs from in core"
+expect 2 'needs about .* \(z-parts of 2 slices' -- env CLFRACTAL_MEMORY_LIMIT=200M "$bin" components big_64x64x512_uint16.raw
+expect 2 'clfractal: error: --slab 1: z-parts share a slice' -- "$bin" components ns40.nrrd --slab 1
+expect 2 'clfractal: error: --verify: not with slabs' -- "$bin" components ns40.nrrd --slab 4 --verify
 expect 2 'clfractal: error: --stream: give the isovalues' -- "$bin" components ns40.nrrd --stream
 expect 2 'clfractal: error: --stream: 33 isovalues; at most 32' -- "$bin" components ns40.nrrd --stream --isovalues 0:32:1
 expect 2 'clfractal: error: --verify: not with --stream' -- "$bin" components ns40.nrrd --stream --isovalues 3:4:1 --verify

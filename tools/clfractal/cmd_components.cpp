@@ -10,8 +10,11 @@
 #include <sstream>
 
 #include "clfractal/components.hpp"
+#include "clfractal/memory.hpp"
+#include "clfractal/slice_reader.hpp"
 #include "cli.hpp"
 #include "components_labelling.hpp"
+#include "measures/components_slab.hpp"
 #include "output.hpp"
 #include "plots.hpp"
 
@@ -24,6 +27,7 @@ namespace {
 struct ComponentsArgs {
     std::string volume, csv, plot, connectivity = "cube", isovalues;
     std::size_t bins = 0;
+    std::size_t slab = 0;
     bool verify = false, stream = false;
     RawArgs raw;
 };
@@ -100,9 +104,95 @@ int run_components_stream(const ComponentsArgs& a, Connectivity mode) {
     return 0;
 }
 
+// Memory of the slab path with z-parts of `slices` slices, each sharing its last with the
+// next: one part in core as `components` takes it (4x + 256 MiB), and every part's boundary
+// links, kept until the join (per sweep at most one link a boundary vertex, 12 bytes; two
+// boundary slices; the bins of a shared slice; the join's copy: 104 bytes a slice vertex).
+std::uint64_t slab_bytes(const Dims& d, std::size_t value_bytes, std::size_t slices) {
+    const std::uint64_t slice = std::uint64_t(d.nx) * d.ny;
+    const std::uint64_t parts = slices >= d.nz ? 1 : (d.nz + slices - 3) / (slices - 1);
+    return 4 * slices * slice * value_bytes + (std::uint64_t(256) << 20) + parts * 104 * slice;
+}
+
+// The slices of a part: `requested` (at most nz), or with 0 the most the memory available
+// allows (at least 2); an InputError naming the file when the parts would not fit.
+std::size_t slab_slices(const std::string& volume, const Dims& d, ValueType type, std::size_t requested) {
+    const std::optional<std::uint64_t> avail = available_memory();
+    const std::size_t vb = value_size(type), slice = d.nx * d.ny * vb;
+    std::size_t p = std::min(requested ? requested : d.nz, std::max<std::size_t>(d.nz, 2));
+    if (avail && !requested) {
+        const std::uint64_t room = *avail > (std::uint64_t(256) << 20) ? *avail - (std::uint64_t(256) << 20) : 0;
+        p = std::clamp<std::size_t>(std::size_t(room / (4 * std::uint64_t(slice))), 2, d.nz);
+        while (p > 2 && slab_bytes(d, vb, p) > *avail) p -= std::max<std::size_t>(1, p / 16);
+    }
+    MemoryRequest r;
+    r.need = slab_bytes(d, vb, p), r.file = volume, r.what = "clfractal components";
+    r.basis = "z-parts of " + std::to_string(p) + " slices: 4x a part + 256 MiB, and 104 bytes a slice vertex a part";
+    r.hint = "clfractal components --stream --isovalues A,B,... labels a few isovalues within 512 MiB; "
+             "CLFRACTAL_MEMORY_LIMIT=off runs it anyway";
+    require_memory(r);
+    return p;
+}
+
+// The whole curve of a volume too large to sort in core: z-parts of at most `slices` slices
+// (0: as many as the memory allows), each read and counted in turn (count_slab_components) and
+// joined by their boundary links (join_slab_components): exactly the in-core curve.
+int run_components_slabs(const ComponentsArgs& a, Connectivity mode, std::size_t slices) {
+    if (a.verify) throw InputError("--verify: not with slabs (the check labels the whole volume)");
+    if (!a.plot.empty()) throw InputError("--plot: not with slabs (the plot counts the whole volume's spans)");
+    if (a.slab == 1) throw InputError("--slab 1: z-parts share a slice, so they need at least 2");
+    SliceReader reader(a.volume, a.raw.options());
+    const Dims d = reader.dims();
+    slices = slab_slices(a.volume, d, reader.type(), slices);
+    if (a.bins && is_integer(reader.type()) && !is_wide(reader.type()))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    IsovalueSet iso;
+    if (!a.isovalues.empty()) {
+        iso = parse_isovalues(a.isovalues, reader.type());
+    } else {
+        progress("reading the value range of " + a.volume + " (" + reader.method() + ")");
+        const ValueRange r = value_range(reader);
+        iso = IsovalueSet::for_range(reader.type(), r.min, r.max, a.bins ? a.bins : 256);
+    }
+    const auto parts = split_slices(d.nz, 1, d.nz < 2 ? 1 : (d.nz + slices - 3) / (slices - 1));
+    progress("components of " + dims_string(d) + " " + value_type_name(reader.type()) + " for " +
+             std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity, in " +
+             std::to_string(parts.size()) + " z-parts of up to " + std::to_string(slices) + " slices");
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<std::int64_t> sum(iso.size(), 0);
+    std::vector<SlabLinks> links;
+    for (std::size_t r = 0; r < parts.size(); ++r) {
+        Volume part(Dims{d.nx, d.ny, parts[r].second - parts[r].first}, reader.type());
+        reader.seek(parts[r].first);
+        reader.read(part.data(), part.dims().nz);
+        SlabComponents c = count_slab_components(Context::shared(), part, iso, mode, r > 0, r + 1 < parts.size());
+        for (std::size_t j = 0; j < sum.size(); ++j) sum[j] += c.components[j];
+        links.push_back(std::move(c.links));
+    }
+    const std::vector<std::int64_t> curve = join_slab_components(std::move(sum), links, d.nx * d.ny);
+    const double seconds = seconds_since(t0);
+    print_components(std::cout, a.volume, d, reader.type(), mode, iso, curve);
+    std::cout << std::setprecision(4) << "time          " << seconds << " s read, sorted and swept in "
+              << parts.size() << " z-parts (" << double(d.vertices()) / seconds / 1e6 << " Mvoxel/s)\n";
+    if (!a.csv.empty()) write_file_atomic(a.csv, components_csv(iso, curve));
+    return 0;
+}
+
+// Whether the in-core sweep (4x the volume + 256 MiB) fits where the header states the shape.
+bool in_core_fits(const ComponentsArgs& a) {
+    const std::optional<VolumeShape> shape = peek_volume(a.volume, a.raw.options());
+    const std::optional<std::uint64_t> avail = available_memory();
+    return !shape || !avail || MemoryNeed{"clfractal components"}.bytes(shape->bytes()) <= *avail;
+}
+
 int run_components(const ComponentsArgs& a) {
     const Connectivity mode = parse_connectivity(a.connectivity);
     if (a.stream) return run_components_stream(a, mode);
+    if (a.slab) return run_components_slabs(a, mode, a.slab);
+    if (!in_core_fits(a)) {
+        progress(a.volume + ": the in-core sweep does not fit the memory available; counting in z-parts");
+        return run_components_slabs(a, mode, 0);
+    }
     Volume v = read_volume_within(a.volume, a.raw.options(),
                                   {"clfractal components", 4.0,
                                    "clfractal components --stream --isovalues A,B,... labels a few isovalues within "
@@ -153,6 +243,9 @@ void setup_components(CLI::App* c, ComponentsArgs& a) {
     c->add_option("--csv", a.csv, "write isovalue,components");
     c->add_option("--plot", a.plot, "draw the curve (log scale) to a PNG with gnuplot");
     c->add_flag("--verify", a.verify, "check every isovalue against per-isovalue labelling (slow); exit 1 on a mismatch");
+    c->add_option("--slab", a.slab,
+                  "count z-parts of at most this many slices in turn, joined exactly (0: in core, or parts "
+                  "when the volume does not fit the memory)");
     c->add_flag("--stream", a.stream,
                 "read the file slice by slice and label up to 32 --isovalues (memory: a few slices; same numbers)");
     a.raw.add(c);
