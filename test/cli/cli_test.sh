@@ -304,7 +304,9 @@ open('big_64x64x512_uint16.raw', 'wb').write(bytes(b for _ in range(64 * 64 * 51
 "$bin" -q components big_64x64x512_uint16.raw --csv comp_whole.csv >/dev/null 2>&1 || fail "components big"
 expect 0 'counting in z-parts' -- env CLFRACTAL_MEMORY_LIMIT=266M "$bin" components big_64x64x512_uint16.raw --csv comp_slab.csv
 cmp -s comp_whole.csv comp_slab.csv && pass || fail "components in z-parts by itself differs from in core"
-expect 2 'needs about .* \(z-parts of 2 slices' -- env CLFRACTAL_MEMORY_LIMIT=200M "$bin" components big_64x64x512_uint16.raw
+# Neither in core nor in parts: the in-core check's one line; --slab N that does not fit: its own.
+expect 2 'components needs about .* \(4x the 4.0 MiB volume \+ 256 MiB\), but 200.0 MiB' -- env CLFRACTAL_MEMORY_LIMIT=200M "$bin" components big_64x64x512_uint16.raw
+expect 2 'components needs about .* \(z-parts of 2 slices' -- env CLFRACTAL_MEMORY_LIMIT=200M "$bin" components big_64x64x512_uint16.raw --slab 2
 expect 2 'clfractal: error: --slab 1: z-parts share a slice' -- "$bin" components ns40.nrrd --slab 1
 expect 2 'clfractal: error: --verify: not with slabs' -- "$bin" components ns40.nrrd --slab 4 --verify
 expect 2 'clfractal: error: --stream: give the isovalues' -- "$bin" components ns40.nrrd --stream

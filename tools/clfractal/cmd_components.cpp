@@ -115,23 +115,32 @@ std::uint64_t slab_bytes(const Dims& d, std::size_t value_bytes, std::size_t sli
 }
 
 // The slices of a part: `requested` (at most nz), or with 0 the most the memory available
-// allows (at least 2); an InputError naming the file when the parts would not fit.
-std::size_t slab_slices(const std::string& volume, const Dims& d, ValueType type, std::size_t requested) {
+// allows (at least 2).
+std::size_t plan_slices(const Dims& d, ValueType type, std::size_t requested) {
     const std::optional<std::uint64_t> avail = available_memory();
     const std::size_t vb = value_size(type), slice = d.nx * d.ny * vb;
     std::size_t p = std::min(requested ? requested : d.nz, std::max<std::size_t>(d.nz, 2));
     if (avail && !requested) {
         const std::uint64_t room = *avail > (std::uint64_t(256) << 20) ? *avail - (std::uint64_t(256) << 20) : 0;
-        p = std::clamp<std::size_t>(std::size_t(room / (4 * std::uint64_t(slice))), 2, d.nz);
+        p = std::clamp<std::size_t>(std::size_t(room / (4 * std::uint64_t(slice))), 2, std::max<std::size_t>(d.nz, 2));
         while (p > 2 && slab_bytes(d, vb, p) > *avail) p -= std::max<std::size_t>(1, p / 16);
     }
-    MemoryRequest r;
-    r.need = slab_bytes(d, vb, p), r.file = volume, r.what = "clfractal components";
-    r.basis = "z-parts of " + std::to_string(p) + " slices: 4x a part + 256 MiB, and 104 bytes a slice vertex a part";
-    r.hint = "clfractal components --stream --isovalues A,B,... labels a few isovalues within 512 MiB; "
-             "CLFRACTAL_MEMORY_LIMIT=off runs it anyway";
-    require_memory(r);
     return p;
+}
+
+// Whether parts of `slices` slices fit the memory available.
+bool slabs_fit(const Dims& d, ValueType type, std::size_t slices) {
+    const std::optional<std::uint64_t> avail = available_memory();
+    return !avail || slab_bytes(d, value_size(type), slices) <= *avail;
+}
+
+// An InputError naming the file when parts of `slices` slices do not fit.
+void require_slabs(const std::string& volume, const Dims& d, ValueType type, std::size_t slices) {
+    MemoryRequest r;
+    r.need = slab_bytes(d, value_size(type), slices), r.file = volume, r.what = "clfractal components";
+    r.basis = "z-parts of " + std::to_string(slices) + " slices: 4x a part + 256 MiB, and 104 bytes a slice vertex a part";
+    r.hint = "CLFRACTAL_MEMORY_LIMIT=off runs it anyway";
+    require_memory(r);
 }
 
 // The whole curve of a volume too large to sort in core: z-parts of at most `slices` slices
@@ -143,7 +152,8 @@ int run_components_slabs(const ComponentsArgs& a, Connectivity mode, std::size_t
     if (a.slab == 1) throw InputError("--slab 1: z-parts share a slice, so they need at least 2");
     SliceReader reader(a.volume, a.raw.options());
     const Dims d = reader.dims();
-    slices = slab_slices(a.volume, d, reader.type(), slices);
+    slices = plan_slices(d, reader.type(), slices);
+    require_slabs(a.volume, d, reader.type(), slices);
     if (a.bins && is_integer(reader.type()) && !is_wide(reader.type()))
         throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
     IsovalueSet iso;
@@ -178,20 +188,24 @@ int run_components_slabs(const ComponentsArgs& a, Connectivity mode, std::size_t
     return 0;
 }
 
-// Whether the in-core sweep (4x the volume + 256 MiB) fits where the header states the shape.
-bool in_core_fits(const ComponentsArgs& a) {
+// The slices of the z-parts to count when the header states a shape for which the in-core
+// sweep (4x the volume + 256 MiB) does not fit but parts do; 0 otherwise (in core, or refused
+// by the in-core check with one line).
+std::size_t parts_instead(const ComponentsArgs& a) {
     const std::optional<VolumeShape> shape = peek_volume(a.volume, a.raw.options());
     const std::optional<std::uint64_t> avail = available_memory();
-    return !shape || !avail || MemoryNeed{"clfractal components"}.bytes(shape->bytes()) <= *avail;
+    if (!shape || !avail || MemoryNeed{"clfractal components"}.bytes(shape->bytes()) <= *avail) return 0;
+    const std::size_t slices = plan_slices(shape->dims, shape->type, 0);
+    return slabs_fit(shape->dims, shape->type, slices) ? slices : 0;
 }
 
 int run_components(const ComponentsArgs& a) {
     const Connectivity mode = parse_connectivity(a.connectivity);
     if (a.stream) return run_components_stream(a, mode);
     if (a.slab) return run_components_slabs(a, mode, a.slab);
-    if (!in_core_fits(a)) {
+    if (const std::size_t slices = parts_instead(a)) {
         progress(a.volume + ": the in-core sweep does not fit the memory available; counting in z-parts");
-        return run_components_slabs(a, mode, 0);
+        return run_components_slabs(a, mode, slices);
     }
     Volume v = read_volume_within(a.volume, a.raw.options(),
                                   {"clfractal components", 4.0,
