@@ -294,7 +294,7 @@ done
 for f in ns40.nrrd st.nrrd torus18.nrrd; do
   "$bin" -q components "$f" --csv comp_whole.csv >/dev/null 2>&1 || fail "components $f"
   for k in 2 5 41; do
-    expect 0 'swept in [0-9]+ z-parts' -- "$bin" -q components "$f" --slab "$k" --csv comp_slab.csv
+    expect 0 'sort and sweep [0-9]+ z-parts' -- "$bin" -q components "$f" --slab "$k" --csv comp_slab.csv
     cmp -s comp_whole.csv comp_slab.csv && pass || fail "components --slab $k on $f differs from in core"
   done
 done
