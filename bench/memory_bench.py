@@ -5,7 +5,9 @@ The phantom: air (20..60, uniform noise), a body ellipsoid (1000 +- 150 structur
 noise) and a bone shell (1800..3500): a wide 16-bit value range, as a CT scan has. Each
 command runs alone under /usr/bin/time -v; its peak RSS is compared with the bounds of a
 volume of B bytes: in-core commands 4 B + 256 MiB, fd 1.25 B + 256 MiB, streamed commands
-512 MiB. Exit 1 when a command fails or passes its bound.
+512 MiB, `components --slab` (z-parts of about a quarter of the volume, P bytes each) what its
+plan budgets, 4 P + 256 MiB + 104 bytes a slice vertex a part. Exit 1 when a command fails or
+passes its bound.
 
 Each command first runs once on a 16^3 phantom of the same type, so the measured run finds
 its kernels in the program cache: PoCL's in-process compiler takes up to ~180 MiB more on a
@@ -42,13 +44,14 @@ def phantom(n, path):
             f.write(np.clip(np.rint(v), 0, 65535).astype("<u2").tobytes())
 
 
-def commands(vol, out):
-    """(name, arguments, bound kind)."""
+def commands(vol, out, n):
+    """(name, arguments, bound kind) for the n^3 volume `vol`."""
     return [
         ("fd", ["fd", vol], "fd"),
         ("fd --stream", ["fd", "--stream", vol], "stream"),
         ("components", ["components", vol], "in-core"),
         ("components --stream", ["components", "--stream", vol, "--isovalues", "499:502:1"], "stream"),
+        ("components --slab", ["components", vol, "--slab", str(slab_slices(n))], "slab"),
         ("smooth", ["smooth", vol, "--iso", "500", "--threshold", "2.3", "-o", out + "/smooth.nrrd"], "in-core"),
         ("local", ["local", vol, "--iso", "500", "-o", out + "/local.nrrd"], "in-core"),
         ("local --stream", ["local", "--stream", vol, "--iso", "500", "-o", out + "/local_s.nrrd"], "stream"),
@@ -58,9 +61,18 @@ def commands(vol, out):
     ]
 
 
-def bound(kind, volume_bytes):
+def slab_slices(n):
+    """The slices of each z-part `components --slab` is given: about a quarter of the volume."""
+    return max(2, n // 4 + 1)
+
+
+def bound(kind, volume_bytes, n):
     if kind == "stream":
         return 512 * MIB
+    if kind == "slab":  # what components plans for its z-parts: 4x a part + 256 MiB + their links
+        p = slab_slices(n)
+        parts = 1 if p >= n else -(-(n - 1) // (p - 1))
+        return 4 * p * n * n * 2 + 256 * MIB + parts * 104 * n * n
     return (1.25 if kind == "fd" else 4.0) * volume_bytes + 256 * MIB
 
 
@@ -100,12 +112,12 @@ def main():
     small = os.path.join(warm, "ct_16.nrrd")
     phantom(16, small)
     rows, failed = [], False
-    for (name, args, kind), (_, warm_args, _) in zip(commands(vol, work), commands(small, warm)):
+    for (name, args, kind), (_, warm_args, _) in zip(commands(vol, work, a.size), commands(small, warm, 16)):
         if a.only and name not in a.only:
             continue
         peak_rss(a.cli, warm_args)  # compiles and caches the command's kernels
         rc, rss, wall = peak_rss(a.cli, args)
-        limit = bound(kind, volume_bytes)
+        limit = bound(kind, volume_bytes, a.size)
         ok = rc == 0 and rss <= limit
         failed |= not ok
         status = "yes" if ok else ("NO (exit %d)" % rc if rc else "NO")
