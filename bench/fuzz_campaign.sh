@@ -14,7 +14,7 @@ build=${1:-build-fuzz}
 seconds=${2:-600}
 shift $(( $# < 2 ? $# : 2 ))
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(nrrd raw_name capi nifti dicom tiff metaimage detect)
+[ ${#targets[@]} -eq 0 ] && targets=(nrrd raw_name capi nifti dicom tiff metaimage detect components)
 total_cpu=0 total_execs=0 total_findings=0
 printf '%-10s %10s %14s %8s %9s\n' target cpu_s executions corpus findings
 for t in "${targets[@]}"; do
