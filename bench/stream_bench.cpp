@@ -2,7 +2,9 @@
 // generated N^3 uint8 volume (noisy sphere, made slice by slice) is counted (cubes and edges,
 // levels 0..L-1) by SpanStream fed one slice at a time, and by count_spans on the whole volume.
 // Prints time, throughput and the process's peak resident memory after each phase, and the
-// stream/in-core time ratio; exits 1 if the counts differ.
+// stream/in-core time ratio; exits 1 if the counts differ. With --mode both, the same for the
+// isosurface components at three isovalues: ComponentsAtStream fed one slice at a time
+// against count_components_at on the whole volume.
 //
 //   clfractal_stream_bench [--size N] [--levels L] [--mode both|stream|incore] [--repeats R]
 //   clfractal_stream_bench --size N --write FILE.raw     (the same volume to disk, slice by slice)
@@ -22,6 +24,7 @@
 #include <vector>
 
 #include "bench_harness.hpp"
+#include "clfractal/components.hpp"
 #include "clfractal/span.hpp"
 #include "clfractal/stream.hpp"
 
@@ -54,6 +57,43 @@ void make_slice(std::size_t n, std::size_t z, std::uint8_t* out) {
 }
 
 using clock_type = std::chrono::steady_clock;
+
+// Components at three isovalues: ComponentsAtStream fed one slice at a time against
+// count_components_at on the whole volume (best of `repeats` each, slice generation not
+// timed); returns whether the counts are identical.
+bool components_phase(std::size_t n, int repeats) {
+    const std::vector<double> at = {64, 128, 192};
+    const std::size_t plane = n * n;
+    std::vector<std::uint8_t> slice(plane);
+    std::vector<std::int64_t> streamed, whole;
+    double stream_s = 0, incore_s = 0;
+    for (int r = 0; r < repeats; ++r) {
+        ComponentsAtStream stream(n, n, ValueType::uint8, at);
+        double push = 0;
+        for (std::size_t z = 0; z < n; ++z) {
+            make_slice(n, z, slice.data());
+            const auto t = clock_type::now();
+            stream.push_slices(slice.data(), 1);
+            push += seconds_since(t);
+        }
+        streamed = stream.counts();
+        if (r == 0 || push < stream_s) stream_s = push;
+    }
+    std::printf("components    stream of slices: %.3f s (3 isovalues, %.2f Gvoxel/s a pass); peak RSS %.0f MiB\n",
+                stream_s, 3.0 * double(plane * n) / stream_s / 1e9, peak_rss_mib());
+    Volume v(Dims{n, n, n}, ValueType::uint8);
+    for (std::size_t z = 0; z < n; ++z) make_slice(n, z, v.as<std::uint8_t>() + z * plane);
+    for (int r = 0; r < repeats; ++r) {
+        const auto t = clock_type::now();
+        whole = count_components_at(v, at);
+        const double s = seconds_since(t);
+        if (r == 0 || s < incore_s) incore_s = s;
+    }
+    std::printf("components    in core: %.3f s; stream / in-core time = %.2f; counts %lld %lld %lld, %s\n", incore_s,
+                stream_s / incore_s, (long long)whole[0], (long long)whole[1], (long long)whole[2],
+                streamed == whole ? "identical" : "DIFFERENT");
+    return streamed == whole;
+}
 
 }  // namespace
 
@@ -138,6 +178,7 @@ int main(int argc, char** argv) {
             std::printf("ratio         stream / in-core time = %.2f\ncounts        %s\n", stream_s / incore_s,
                         same ? "identical" : "DIFFERENT");
             if (!same) return 1;
+            if (!components_phase(n, repeats)) return 1;
         }
         return 0;
     } catch (const std::exception& e) {
