@@ -294,6 +294,11 @@ std::vector<double> parse_list(const std::string& option, const std::string& spe
     return out;
 }
 
+void check_bins(std::size_t bins, ValueType type) {
+    if (bins && is_integer(type) && !is_wide(type))
+        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+}
+
 IsovalueSet parse_isovalues(const std::string& spec, ValueType type) {
     if (spec.find(':') != std::string::npos) return IsovalueSet::parse_range(spec, type);
     std::vector<double> v = parse_list("--isovalues", spec);

@@ -118,6 +118,9 @@ std::vector<double> parse_list(const std::string& option, const std::string& spe
 /// list A,B,... (8/16-bit integer data: consecutive integers, as every integer of a range is
 /// counted at once).
 clfractal::IsovalueSet parse_isovalues(const std::string& spec, clfractal::ValueType type);
+/// --bins N for `type`: an InputError for 8/16-bit integer data, whose isovalues are every
+/// integer of the range (--isovalues A:B:1 selects some).
+void check_bins(std::size_t bins, clfractal::ValueType type);
 
 /// --isovalues for the commands that take several: A:B:STEP or A,B,...
 CLI::Option* add_isovalues_option(CLI::App* app, std::string& spec);

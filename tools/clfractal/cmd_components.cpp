@@ -155,8 +155,7 @@ int run_components_slabs(const ComponentsArgs& a, Connectivity mode, std::size_t
     const Dims d = reader.dims();
     slices = plan_slices(d, reader.type(), slices);
     require_slabs(a.volume, d, reader.type(), slices);
-    if (a.bins && is_integer(reader.type()) && !is_wide(reader.type()))
-        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    check_bins(a.bins, reader.type());
     IsovalueSet iso;
     if (!a.isovalues.empty()) {
         iso = parse_isovalues(a.isovalues, reader.type());
@@ -218,8 +217,7 @@ int run_components(const ComponentsArgs& a) {
                                   {"clfractal components", 4.0,
                                    "clfractal components --stream --isovalues A,B,... labels a few isovalues within "
                                    "512 MiB"});
-    if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
-        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    check_bins(a.bins, v.type());
     IsovalueSet iso = !a.isovalues.empty() ? parse_isovalues(a.isovalues, v.type())
                                            : IsovalueSet::for_volume(v, a.bins ? a.bins : 256);
     Context& ctx = Context::shared();

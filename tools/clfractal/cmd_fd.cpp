@@ -110,8 +110,7 @@ FdRun count_fd(const FdArgs& a) {
         if (stats.nan + stats.inf) check_finite(v, a.volume);
         r.dims = v.dims();
         r.type = v.type();
-        if (a.bins && is_integer(r.type) && !is_wide(r.type))
-            throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+        check_bins(a.bins, r.type);
         AnalysisOptions o = analysis_options(a, r.type);
         Context& ctx = Context::shared();
         // fd stays within a quarter of the volume + 256 MiB beyond it; --components asks for more.

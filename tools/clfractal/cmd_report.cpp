@@ -440,8 +440,7 @@ explore::Choice make_choice(const Pictures& p, const Analysis& an, std::size_t k
 int run_report(const ReportArgs& a) {
     const auto t0 = clock_type::now();
     Volume v = read_volume_within(a.volume, a.raw.options(), {"clfractal report"});
-    if (a.bins && is_integer(v.type()) && !is_wide(v.type()))
-        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue");
+    check_bins(a.bins, v.type());
     Context& ctx = Context::shared();
     progress("report on " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description() +
              ": curve, components, noise, 4D dimension");

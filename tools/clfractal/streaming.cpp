@@ -23,8 +23,7 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
                            std::size_t bins, int levels, SpanKind kind) {
     SliceReader reader(volume, raw);
     const Dims d = reader.dims();
-    if (bins && is_integer(reader.type()) && !is_wide(reader.type()))
-        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    check_bins(bins, reader.type());
     StreamedSpans out{d, reader.type(), {}, reader.method(), {}};
     IsovalueSet iso;
     // uint8 without --isovalues: one pass, counting every value 0..255 and cropping the

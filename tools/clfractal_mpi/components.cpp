@@ -149,8 +149,7 @@ int run_components(const ComponentsArgs& a, int rank, int size) {
     const Dims dims = reader.dims();
     const ValueType type = reader.type();
     const Connectivity mode = parse_connectivity(a.connectivity);
-    if (a.bins && is_integer(type) && !is_wide(type))
-        throw InputError("--bins: 8/16-bit integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    cli::check_bins(a.bins, type);
     const auto parts = split_slices(dims.nz, 1, std::size_t(size));
     const std::uint64_t part_slices =
         std::size_t(rank) < parts.size() ? parts[std::size_t(rank)].second - parts[std::size_t(rank)].first : 0;

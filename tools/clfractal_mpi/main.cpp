@@ -141,8 +141,7 @@ int run(const Args& a, int rank, int size) {
     const Dims dims = reader.dims();
     const ValueType type = reader.type();
     if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
-    if (a.bins && is_integer(type) && !is_wide(type))
-        throw InputError("--bins: integer data uses every integer isovalue; use --isovalues A:B:1 to select");
+    cli::check_bins(a.bins, type);
     const auto parts = split_slices(dims.nz, a.levels, std::size_t(size));
     const bool has_part = std::size_t(rank) < parts.size();
     const std::size_t z_begin = has_part ? parts[rank].first : 0, z_end = has_part ? parts[rank].second : 0;
