@@ -217,8 +217,9 @@ private:
     std::optional<clfractal::DeviceVolume> device_;
 };
 
-/// The span counts of one kind of a volume file read slice by slice (fd --stream), with
-/// the isovalues given (A:B:STEP), or the default set from a first pass over the file.
+/// The span counts of one kind of the file `reader` reads (`volume`, for messages), slice by
+/// slice (fd --stream), with the isovalues given (A:B:STEP), or the default set from a first
+/// pass over the file; the reader is left at the end of the file.
 struct StreamedSpans {
     clfractal::Dims dims;
     clfractal::ValueType type;
@@ -226,9 +227,10 @@ struct StreamedSpans {
     std::string method;  ///< how the file was read: mmap, gzip, memory
     std::vector<std::uint64_t> histogram;  ///< isovalue_histogram at the spans' isovalues
 };
-StreamedSpans stream_spans(const std::string& volume, const clfractal::RawOptions& raw, const std::string& isovalues,
+StreamedSpans stream_spans(clfractal::SliceReader& reader, const std::string& volume, const std::string& isovalues,
                            std::size_t bins, int levels, clfractal::SpanKind kind);
-/// components(s) at a few isovalues of a volume file read slice by slice (ComponentsAtStream):
+/// components(s) at a few isovalues of the file `reader` reads, from its next slice to its
+/// last, slice by slice (ComponentsAtStream):
 /// memory a batch of slices (32 MiB) and O(slice) an isovalue, whatever the file size.
 std::vector<std::int64_t> stream_components_at(clfractal::SliceReader& reader, const std::vector<double>& isovalues,
                                                clfractal::Connectivity mode);

@@ -80,7 +80,8 @@ FdRun count_fd(const FdArgs& a) {
     FdRun r;
     if (a.stream) {
         const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
-        StreamedSpans streamed = stream_spans(a.volume, a.raw.options(), a.isovalues, a.bins, a.levels, kind);
+        SliceReader reader(a.volume, a.raw.options());
+        StreamedSpans streamed = stream_spans(reader, a.volume, a.isovalues, a.bins, a.levels, kind);
         r.stream_method = streamed.method;
         r.dims = streamed.dims;
         r.type = streamed.type;
@@ -92,7 +93,7 @@ FdRun count_fd(const FdArgs& a) {
         fill_entry_components(r.an, [&](const std::vector<double>& at) {
             progress("labelling the components at " + std::to_string(at.size()) + " isovalues (" + a.volume +
                      " read once more, slice by slice)");
-            SliceReader reader(a.volume, a.raw.options());
+            reader.rewind();
             return stream_components_at(reader, at, Connectivity::cube);
         });
         r.an.seconds = seconds_since(t0);

@@ -19,9 +19,8 @@ using namespace clfractal;
 
 namespace cli {
 
-StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, const std::string& isovalues,
+StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const std::string& isovalues,
                            std::size_t bins, int levels, SpanKind kind) {
-    SliceReader reader(volume, raw);
     const Dims d = reader.dims();
     check_bins(bins, reader.type());
     StreamedSpans out{d, reader.type(), {}, reader.method(), {}};
@@ -43,6 +42,7 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
     progress("streaming " + std::to_string(iso.size()) + " isovalues of " + dims_string(d) + " " +
              value_type_name(reader.type()) + " slice by slice (" + out.method + ") on " + ctx.description());
     SpanStream stream(ctx, d.nx, d.ny, reader.type(), iso, levels, {kind});
+    out.histogram.assign(iso.size(), 0);
     // Slices are read straight into the stream's batch buffer, as many as it has room for.
     double lo = 255, hi = 0;
     for (std::size_t z = 0; z < d.nz;) {
@@ -53,7 +53,6 @@ StreamedSpans stream_spans(const std::string& volume, const RawOptions& raw, con
         // The vertices at each isovalue (boundary strength), batch by batch, as in core.
         const std::vector<std::uint64_t> h =
             isovalue_histogram(Volume::wrap(slices, Dims{d.nx, d.ny, n}, reader.type()), iso);
-        if (out.histogram.empty()) out.histogram.assign(h.size(), 0);
         for (std::size_t k = 0; k < h.size(); ++k) out.histogram[k] += h[k];
         if (crop) {
             const ValueStats s = value_stats(slices, ValueType::uint8, n * reader.slice_bytes());
@@ -83,7 +82,7 @@ std::vector<std::int64_t> stream_components_at(SliceReader& reader, const std::v
     // Batches of up to 32 MiB, read into one reused buffer.
     const std::size_t batch = std::clamp<std::size_t>((std::size_t(32) << 20) / reader.slice_bytes(), 1, d.nz);
     std::vector<unsigned char> slices(batch * reader.slice_bytes());
-    for (std::size_t z = 0; z < d.nz; z += batch) {
+    for (std::size_t z = reader.next_slice(); z < d.nz; z += batch) {
         const std::size_t n = std::min(batch, d.nz - z);
         reader.read(slices.data(), n);
         stream.push_slices(slices.data(), n);
