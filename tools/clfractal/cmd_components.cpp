@@ -76,6 +76,19 @@ int verify_components(const Volume& v, const IsovalueSet& iso, Connectivity mode
     return bad;
 }
 
+// The isovalues of `iso`, in order, as count_components_at takes them.
+std::vector<double> values_of(const IsovalueSet& iso) {
+    std::vector<double> at(iso.size());
+    for (std::size_t j = 0; j < at.size(); ++j) at[j] = iso.value(j);
+    return at;
+}
+
+// The z-parts of nz slices with at most `slices` each (>= 2), each sharing its last slice with
+// the next: ceil((nz - 1) / (slices - 1)), at least 1.
+std::size_t part_count(std::size_t nz, std::size_t slices) {
+    return slices >= nz ? 1 : (nz + slices - 3) / (slices - 1);
+}
+
 // --stream: a few isovalues labelled as the file is read slice by slice (ComponentsAtStream),
 // for volumes larger than memory; the whole curve needs the volume in memory.
 int run_components_stream(const ComponentsArgs& a, Connectivity mode) {
@@ -93,9 +106,7 @@ int run_components_stream(const ComponentsArgs& a, Connectivity mode) {
              std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity, slice by slice (" +
              reader.method() + ")");
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<double> at(iso.size());
-    for (std::size_t j = 0; j < at.size(); ++j) at[j] = iso.value(j);
-    const std::vector<std::int64_t> c = stream_components_at(reader, at, mode);
+    const std::vector<std::int64_t> c = stream_components_at(reader, values_of(iso), mode);
     const double seconds = seconds_since(t0);
     print_components(std::cout, a.volume, reader.dims(), reader.type(), mode, iso, c);
     const double vertices = double(reader.dims().nx) * double(reader.dims().ny) * double(reader.dims().nz);
@@ -111,8 +122,7 @@ int run_components_stream(const ComponentsArgs& a, Connectivity mode) {
 // boundary slices; the bins of a shared slice; the join's copy: 104 bytes a slice vertex).
 std::uint64_t slab_bytes(const Dims& d, std::size_t value_bytes, std::size_t slices) {
     const std::uint64_t slice = std::uint64_t(d.nx) * d.ny;
-    const std::uint64_t parts = slices >= d.nz ? 1 : (d.nz + slices - 3) / (slices - 1);
-    return 4 * slices * slice * value_bytes + (std::uint64_t(256) << 20) + parts * 104 * slice;
+    return 4 * slices * slice * value_bytes + (std::uint64_t(256) << 20) + part_count(d.nz, slices) * 104 * slice;
 }
 
 // The slices of a part: `requested` (at most nz), or with 0 the most the memory available
@@ -164,7 +174,7 @@ int run_components_slabs(const ComponentsArgs& a, Connectivity mode, std::size_t
         const ValueRange r = value_range(reader);
         iso = IsovalueSet::for_range(reader.type(), r.min, r.max, a.bins ? a.bins : 256);
     }
-    const auto parts = split_slices(d.nz, 1, d.nz < 2 ? 1 : (d.nz + slices - 3) / (slices - 1));
+    const auto parts = split_slices(d.nz, 1, part_count(d.nz, slices));
     progress("components of " + dims_string(d) + " " + value_type_name(reader.type()) + " for " +
              std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity, in " +
              std::to_string(parts.size()) + " z-parts of up to " + std::to_string(slices) + " slices");
@@ -227,10 +237,8 @@ int run_components(const ComponentsArgs& a) {
     if (iso.size() <= few_isovalues) {
         // A few isovalues: each labelled directly (count_components_at), no sort of the volume.
         const auto t0 = std::chrono::steady_clock::now();
-        std::vector<double> at(iso.size());
-        for (std::size_t j = 0; j < at.size(); ++j) at[j] = iso.value(j);
         c.isovalues = iso;
-        c.components = count_components_at(v, at, mode);
+        c.components = count_components_at(v, values_of(iso), mode);
         c.seconds = seconds_since(t0);
     } else {
         c = count_components(ctx, v, iso, mode);
