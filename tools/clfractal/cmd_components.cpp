@@ -181,10 +181,10 @@ int run_components_slabs(const ComponentsArgs& a, Connectivity mode, std::size_t
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<std::int64_t> sum(iso.size(), 0);
     std::vector<SlabLinks> links;
-    // The file is read once, in order: a part begins with the slice the one before ended with.
+    // The file is read once, in order (value_range leaves the reader rewound): a part begins
+    // with the slice the one before ended with.
     const std::size_t slice = reader.slice_bytes();
     std::vector<unsigned char> shared(slice);
-    reader.rewind();
     for (std::size_t r = 0; r < parts.size(); ++r) {
         Volume part(Dims{d.nx, d.ny, parts[r].second - parts[r].first}, reader.type());
         auto* bytes = static_cast<unsigned char*>(part.data());
