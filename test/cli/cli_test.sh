@@ -155,6 +155,14 @@ open('st.nrrd', 'wb').write(hdr + gzip.compress(data))
 open('st_cut.nrrd', 'wb').write(hdr + gzip.compress(data)[:300])
 open('st_plain.nrrd', 'wb').write(hdr + data)
 open('st2_13x11x9_uint8.raw', 'wb').write(bytes(random.randint(30, 90) for _ in range(13 * 11 * 9)))
+# Signed 8- and 16-bit data, streamed in one counting pass over every value of the type and
+# cropped to the value range (-100 .. 90 and -1500 .. 2500 here, both ends present).
+import struct
+def signed(fmt, lo, hi, n):
+    v = [random.choice([lo, hi, random.randint(lo, hi), random.randint(lo, hi) // 8]) for _ in range(n)]
+    return struct.pack('<%d%s' % (n, fmt), *v)
+open('st8_19x15x13_int8.raw', 'wb').write(signed('b', -100, 90, 19 * 15 * 13))
+open('st16_19x15x13_int16.raw', 'wb').write(signed('h', -1500, 2500, 19 * 15 * 13))
 PY
 expect 0 'mean FD' -- "$bin" -q fd st_21x17x29_uint8.raw --levels 3 --csv whole.csv
 expect 0 'streamed, mmap' -- "$bin" -q fd st_21x17x29_uint8.raw --levels 3 --stream --csv streamed.csv
@@ -170,7 +178,7 @@ cmp -s st2_whole.csv st2_stream.csv && pass || fail "fd --stream (one pass, crop
 # pass over the file) and the boundary strength from the streamed histogram; the same text and
 # JSON but for the times (the in-core run without the denoising a stream cannot try).
 "$bin" -q gen noisy-sphere --size 40 --noise 6 -o ns40.nrrd >/dev/null 2>&1 || fail "gen noisy-sphere"
-for f in st_21x17x29_uint8.raw st.nrrd ns40.nrrd; do
+for f in st_21x17x29_uint8.raw st.nrrd ns40.nrrd st8_19x15x13_int8.raw st16_19x15x13_int16.raw; do
   "$bin" -q fd "$f" --no-denoise --json whole.json 2>&1 | grep -v '^time' > whole.txt
   "$bin" -q fd "$f" --stream --json streamed.json 2>&1 | grep -v '^time' > streamed.txt
   grep -q '^recommended.* [0-9][0-9]* components' streamed.txt && cmp -s whole.txt streamed.txt && pass ||

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <vector>
 
 #include "clfractal/analysis.hpp"
@@ -25,13 +26,18 @@ StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const
     check_bins(bins, reader.type());
     StreamedSpans out{d, reader.type(), {}, reader.method(), {}};
     IsovalueSet iso;
-    // uint8 without --isovalues: one pass, counting every value 0..255 and cropping the
-    // curves to the value range afterwards (the count at s does not depend on the set).
-    const bool crop = isovalues.empty() && reader.type() == ValueType::uint8;
+    // 8- and 16-bit integers without --isovalues: one pass, counting every value of the type
+    // and cropping the curves to the value range afterwards (the count at s does not depend
+    // on the set); the value range then costs no pass of its own over the file.
+    const bool crop = isovalues.empty() && is_integer(reader.type()) && value_size(reader.type()) <= 2;
+    std::int64_t type_min = 0;
     if (!isovalues.empty()) {
         iso = parse_isovalues(isovalues, reader.type());
     } else if (crop) {
-        iso = IsovalueSet::integers(0, 255);
+        const bool is_signed = reader.type() == ValueType::int8 || reader.type() == ValueType::int16;
+        const std::int64_t values = std::int64_t(1) << (8 * value_size(reader.type()));
+        type_min = is_signed ? -values / 2 : 0;
+        iso = IsovalueSet::integers(type_min, type_min + values - 1);
     } else {
         // The default set needs the value range: one more pass over the file.
         progress("reading the value range of " + volume + " (" + out.method + ")");
@@ -44,7 +50,7 @@ StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const
     SpanStream stream(ctx, d.nx, d.ny, reader.type(), iso, levels, {kind});
     out.histogram.assign(iso.size(), 0);
     // Slices are read straight into the stream's batch buffer, as many as it has room for.
-    double lo = 255, hi = 0;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (std::size_t z = 0; z < d.nz;) {
         std::size_t room = 0;
         void* slices = stream.next_slices(room);
@@ -55,7 +61,7 @@ StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const
             isovalue_histogram(Volume::wrap(slices, Dims{d.nx, d.ny, n}, reader.type()), iso);
         for (std::size_t k = 0; k < h.size(); ++k) out.histogram[k] += h[k];
         if (crop) {
-            const ValueStats s = value_stats(slices, ValueType::uint8, n * reader.slice_bytes());
+            const ValueStats s = value_stats(slices, reader.type(), n * d.nx * d.ny);
             lo = std::min(lo, s.min);
             hi = std::max(hi, s.max);
         }
@@ -63,13 +69,14 @@ StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const
         z += n;
     }
     out.spans = stream.counts();
-    if (crop) {
+    if (crop && d.vertices()) {
         const auto first = std::int64_t(lo), last = std::int64_t(hi);
         out.spans.isovalues = IsovalueSet::integers(first, last);
+        const auto from = std::ptrdiff_t(first - type_min), to = std::ptrdiff_t(last - type_min + 1);
         for (SpanCurves& c : out.spans.curves)
-            for (auto& level : c.counts) level = std::vector<std::uint64_t>(level.begin() + first, level.begin() + last + 1);
+            for (auto& level : c.counts) level = std::vector<std::uint64_t>(level.begin() + from, level.begin() + to);
         // No value lies outside [first, last], so the cropped bins are the whole histogram.
-        out.histogram = std::vector<std::uint64_t>(out.histogram.begin() + first, out.histogram.begin() + last + 1);
+        out.histogram = std::vector<std::uint64_t>(out.histogram.begin() + from, out.histogram.begin() + to);
     }
     return out;
 }
