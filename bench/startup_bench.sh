@@ -11,10 +11,11 @@
 # and once, R times, bench/cl_start (a bare C program that creates an OpenCL context and queue
 # on the first device: what any OpenCL program pays before its first byte of work).
 # Walls from bash's EPOCHREALTIME around /usr/bin/time (which gives the peak RSS); medians of
-# the runs. The rest of fd (read, context, value range, output, exit) is fd's wall less the
-# devices wall and the analysis; fd reads its input while the platform starts (on another
-# thread), so the read counts there only for what outlasts the start. The counts of fd and
-# the peer must be equal (exit 1 otherwise).
+# the runs. The rest of fd (read, context, output, exit) is fd's wall less the devices wall
+# and the analysis; fd reads its input and computes the value range and isovalue histogram
+# while the platform starts (on another thread), so the read counts there only for what
+# outlasts the start, and the range and histogram count in seconds_analysis though they
+# overlap it. The counts of fd and the peer must be equal (exit 1 otherwise).
 #
 #   bench/startup_bench.sh [--build DIR] [--runs R] [--data DIR] [--work DIR]
 #                          [--volume PATH [--dims XxYxZ] [--type T]]... [--smoke]

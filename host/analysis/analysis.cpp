@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <type_traits>
 #include <chrono>
 #include <cstring>
@@ -291,13 +292,20 @@ struct Advice {
     bool clean = false;
 };
 
-Advice advise(Context& ctx, const Volume& v, const IsovalueSet& iso, const AnalysisOptions& o, bool edges_too) {
+void check_analysis(const AnalysisOptions& o) {
+    check_advice(o.advice);
+    if (o.levels < 2 || o.levels > 16) throw InputError("levels " + std::to_string(o.levels) + ": must be 2..16");
+}
+
+// `histogram`: isovalue_histogram(v, iso) when the caller has it; empty: computed here.
+Advice advise(Context& ctx, const Volume& v, const IsovalueSet& iso, const AnalysisOptions& o, bool edges_too,
+              std::vector<std::uint64_t> histogram = {}) {
     Advice a;
     SpanOptions so{{o.kind}, o.levels, o.slab_slices};
     if (edges_too && o.kind != SpanKind::edges) so.kinds.push_back(SpanKind::edges);
     a.spans = count_spans(ctx, v, iso, so);
     a.curve = fd_curve(ctx, a.spans, o.kind);
-    a.histogram = isovalue_histogram(v, iso);
+    a.histogram = histogram.empty() ? isovalue_histogram(v, iso) : std::move(histogram);
     a.bands = clean_bands(a.curve, BandOptions{o.advice.clean_fd, o.advice.clean_share});
     a.recommended = recommend(a.curve, a.histogram, o.advice);
     a.clean = has_clean_isovalue(a.curve, o.advice);
@@ -550,22 +558,38 @@ Analysis analyse_curve(const FdCurve& f, const AnalysisOptions& o, std::vector<s
     return a;
 }
 
-Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o) {
+AnalysisInput prepare_analysis(const Volume& v, const AnalysisOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
-    check_advice(o.advice);
-    if (o.levels < 2 || o.levels > 16) throw InputError("levels " + std::to_string(o.levels) + ": must be 2..16");
+    AnalysisInput in;
+    in.stats = value_stats(v);
+    if (o.isovalues && !o.isovalues->matches(v.type()))
+        throw InputError("analyse: the isovalue set does not match " + std::string(value_type_name(v.type())) + " data");
+    in.isovalues = o.isovalues ? *o.isovalues : IsovalueSet::for_range(v.type(), in.stats.min, in.stats.max, o.bins ? o.bins : 256);
+    in.histogram = isovalue_histogram(v, in.isovalues);
+    in.seconds = seconds_since(t0);
+    in.data = v.data();
+    return in;
+}
+
+Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o) {
+    check_analysis(o);
+    return analyse(ctx, v, o, prepare_analysis(v, o));
+}
+
+Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, AnalysisInput input) {
+    const auto t0 = std::chrono::steady_clock::now();
+    check_analysis(o);
+    if (input.data != v.data() || !input.isovalues.matches(v.type()) || input.histogram.size() != input.isovalues.size())
+        throw std::invalid_argument("analyse: the prepared input is not that of this volume");
     Analysis a;
     a.options = o;
     a.dims = v.dims();
     a.type = v.type();
-    const ValueRange range = value_range(v);
-    a.vmin = range.min;
-    a.vmax = range.max;
-    if (o.isovalues && !o.isovalues->matches(v.type()))
-        throw InputError("analyse: the isovalue set does not match " + std::string(value_type_name(v.type())) + " data");
-    a.isovalues = o.isovalues ? *o.isovalues : IsovalueSet::for_volume(v, o.bins ? o.bins : 256);
+    a.vmin = input.stats.min;
+    a.vmax = input.stats.max;
+    a.isovalues = std::move(input.isovalues);
 
-    Advice adv = advise(ctx, v, a.isovalues, o, o.edge_counts);
+    Advice adv = advise(ctx, v, a.isovalues, o, o.edge_counts, std::move(input.histogram));
     a.spans = std::move(adv.spans);
     a.curve = std::move(adv.curve);
     a.histogram = std::move(adv.histogram);
@@ -595,7 +619,7 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o) {
                                 " beyond the volume, above the memory budget of " + mib(o.memory_budget) +
                                 " (report runs it)");
     }
-    a.seconds = seconds_since(t0);
+    a.seconds = input.seconds + seconds_since(t0);
     return a;
 }
 

@@ -146,16 +146,35 @@ struct Analysis {
     std::optional<Fd4Result> fd4;
     std::vector<DenoiseAttempt> denoise;    ///< tried in order until one is clean; empty if clean
     std::vector<std::string> skipped;       ///< steps left out by the memory budget, and why
-    double seconds = 0;                     ///< wall time of analyse()
+    double seconds = 0;                     ///< wall time of analyse() (and of its prepare_analysis)
     /// The first entry of `recommended`: the isovalue to use (`recommended` must not be empty).
     const Recommendation& best() const { return recommended.front(); }
 };
+
+/// What analyse() computes on the host before it needs the device: one pass for the value
+/// statistics, the isovalue set and one pass for the isovalue histogram. A program that
+/// creates its context on another thread (Context::start_shared) computes it meanwhile and
+/// hands it to analyse(); its `stats` also tell it whether the volume holds NaN or Inf.
+struct AnalysisInput {
+    ValueStats stats;                      ///< value_stats of the volume
+    IsovalueSet isovalues;                 ///< AnalysisOptions::isovalues, or the default set of the range
+    std::vector<std::uint64_t> histogram;  ///< isovalue_histogram at `isovalues`
+    double seconds = 0;                    ///< wall time of prepare_analysis()
+    const void* data = nullptr;            ///< the volume's values it was prepared from (analyse checks)
+};
+/// The host part of analyse(v, o), for analyse(ctx, v, o, input). Throws InputError for an
+/// isovalue set that does not match the volume's type.
+AnalysisInput prepare_analysis(const Volume& v, const AnalysisOptions& o = {});
 
 /// Everything above for `v`. Throws InputError for options out of range (clean_fd not
 /// finite, clean_share outside [0, 1], levels outside 2..16, an isovalue set that does not
 /// match the volume's type). `recommended` is empty only when no cube is intersected at any
 /// isovalue (a constant volume, a grid with fewer than 2 vertices on an axis).
 Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o = {});
+/// The same with the host part already computed: `input` must be prepare_analysis(v, o) for
+/// this volume and these options (std::invalid_argument when it was prepared from other
+/// values). Analysis::seconds includes input.seconds.
+Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, AnalysisInput input);
 
 /// Counts components(s) at isovalues given sorted, each once; one count each.
 using EntryCounter = std::function<std::vector<std::int64_t>(const std::vector<double>&)>;

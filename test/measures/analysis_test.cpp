@@ -203,6 +203,51 @@ TEST_CASE("isovalue histogram: vertices per isovalue bin, against a plain count"
     }
 }
 
+// `j` without its wall times (every key "seconds" or "seconds_*", at any depth).
+nlohmann::json without_seconds(nlohmann::json j) {
+    if (j.is_object()) {
+        for (auto it = j.begin(); it != j.end();)
+            if (it.key().rfind("seconds", 0) == 0) it = j.erase(it);
+            else *it = without_seconds(*it), ++it;
+    } else if (j.is_array()) {
+        for (auto& e : j) e = without_seconds(e);
+    }
+    return j;
+}
+
+TEST_CASE("prepare_analysis: the host part by plain loops; analyse with it gives analyse's answer") {
+    AnalysisOptions o;
+    o.noise_level = o.surface_noise = false;
+    for (const ValueType type : {ValueType::int16, ValueType::float32}) {
+        CAPTURE(value_type_name(type));
+        const Volume v = testutil::random_volume(Dims{19, 13, 11}, type, -40, 90, 5);
+        const AnalysisInput in = prepare_analysis(v, o);
+        double lo = INFINITY, hi = -INFINITY;
+        for (std::size_t i = 0; i < v.vertices(); ++i) lo = std::min(lo, v.value(i)), hi = std::max(hi, v.value(i));
+        CHECK(in.stats.min == lo);
+        CHECK(in.stats.max == hi);
+        CHECK(in.stats.nan + in.stats.inf == 0);
+        const IsovalueSet want = IsovalueSet::for_range(type, lo, hi, o.bins);
+        REQUIRE(in.isovalues.size() == want.size());
+        for (std::size_t k = 0; k < want.size(); ++k) CHECK(in.isovalues.value(k) == want.value(k));
+        CHECK(in.histogram == isovalue_histogram(v, want));
+        CHECK(in.seconds >= 0);
+        nlohmann::json a = nlohmann::json::parse(to_json(analyse(ctx(), v, o)));
+        const Analysis prepared = analyse(ctx(), v, o, in);
+        CHECK(prepared.seconds >= in.seconds);
+        nlohmann::json b = nlohmann::json::parse(to_json(prepared));
+        CHECK(without_seconds(a) == without_seconds(b));
+    }
+    // The input of other values is refused, not trusted: another volume of the same shape and
+    // type, and a copy of the same values.
+    const Volume one = testutil::random_volume(Dims{5, 4, 3}, ValueType::uint8, 0, 9, 2);
+    const Volume other = testutil::random_volume(Dims{5, 4, 3}, ValueType::uint8, 0, 9, 3);
+    const Volume copy = one;
+    CHECK_THROWS_AS(analyse(ctx(), other, o, prepare_analysis(one, o)), std::invalid_argument);
+    CHECK_THROWS_AS(analyse(ctx(), copy, o, prepare_analysis(one, o)), std::invalid_argument);
+    CHECK_NOTHROW(analyse(ctx(), one, o, prepare_analysis(one, o)));
+}
+
 TEST_CASE("analyse: a recommendation between each pair of nested materials, all clean by the reference") {
     for (double noise : {0.0, 3.0}) {
         CAPTURE(noise);

@@ -101,25 +101,25 @@ FdRun count_fd(const FdArgs& a) {
         r.an.dims = r.dims;
         r.an.type = r.type;
     } else {
-        // The finite check and the value range in one pass (read_volume checks by itself
-        // only before a --as conversion).
         const bool convert = a.raw.options().as.has_value();
         const Volume v = read_volume_within(a.volume, a.raw.options(),
                                            {"clfractal fd", 1.25, "clfractal fd --stream counts within 512 MiB"},
                                            convert ? FiniteCheck::reject : FiniteCheck::keep);
-        const ValueStats stats = value_stats(v);
-        if (stats.nan + stats.inf) check_finite(v, a.volume);
         r.dims = v.dims();
         r.type = v.type();
         check_bins(a.bins, r.type);
         AnalysisOptions o = analysis_options(a, r.type);
-        Context& ctx = Context::shared();
         // fd stays within a quarter of the volume + 256 MiB beyond it; --components asks for more.
         if (!a.components) o.memory_budget = (std::size_t(256) << 20) + v.size_bytes() / 4;
-        const std::size_t n = o.isovalues ? o.isovalues->size() : IsovalueSet::for_volume(v, o.bins).size();
-        progress("counting " + std::to_string(n) + " isovalues of " + dims_string(r.dims) + " " +
+        // The host part of the analysis (value range, finite check, isovalue histogram) while
+        // the OpenCL platform starts; read_volume_within checks by itself only before a --as
+        // conversion.
+        AnalysisInput input = prepare_analysis(v, o);
+        if (input.stats.nan + input.stats.inf) check_finite(v, a.volume);
+        Context& ctx = Context::shared();
+        progress("counting " + std::to_string(input.isovalues.size()) + " isovalues of " + dims_string(r.dims) + " " +
                  value_type_name(r.type) + " on " + ctx.description());
-        r.an = analyse(ctx, v, o);
+        r.an = analyse(ctx, v, o, std::move(input));
         // --components: the correlation of D with the component curve (cube connectivity).
         if (a.components)
             r.corr = correlate_components(ctx, r.an.curve.fd, r.an.spans.get(SpanKind::edges).counts[0],
