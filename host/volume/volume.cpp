@@ -57,11 +57,14 @@ HostBytes::HostBytes(std::size_t n) : n_(n) {
         std::memset(p_, 0, n);
         return;
     }
-    // (No MADV_HUGEPAGE: where the kernel defragments for madvised regions, faulting in
-    // huge pages stalls for seconds on a busy machine. No MAP_NORESERVE: the kernel's
-    // overcommit check then refuses absurd sizes up front, as malloc's would.)
+    // The pages are mapped at once (MAP_POPULATE): every byte is written next (a read, a
+    // copy, a kernel's output), and one call maps them faster than a fault a page (a hot
+    // 768^3 file reads in 0.18-0.25 s instead of 0.25-0.34 s). (No MADV_HUGEPAGE: where the
+    // kernel defragments for madvised regions, faulting in huge pages stalls for seconds on a
+    // busy machine. No MAP_NORESERVE: the kernel's overcommit check then refuses absurd sizes
+    // up front, as malloc's would.)
     const std::size_t len = round_up(n, page);
-    void* m = mmap(nullptr, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    void* m = mmap(nullptr, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_POPULATE, -1, 0);
     if (m == MAP_FAILED) throw std::bad_alloc();
     p_ = static_cast<unsigned char*>(m);
     mapped_ = len;

@@ -84,8 +84,9 @@ void check_dims(const Dims& d, const std::string& what);
 
 /// Host memory for the values of a volume: page-aligned, so that CPU OpenCL devices wrap
 /// it in place (CL_MEM_USE_HOST_PTR). Blocks of 1 MiB and more are fresh anonymous
-/// mappings, zero because the kernel hands out zero pages, not because a pass fills them:
-/// a reader that overwrites every byte pays no zero-fill of its own.
+/// mappings with every page mapped at once, zero because the kernel hands out zero pages,
+/// not because a pass fills them: a reader that overwrites every byte pays no zero-fill of
+/// its own.
 class HostBytes {
 public:
     HostBytes() = default;
