@@ -45,7 +45,10 @@ StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const
         iso = IsovalueSet::for_range(reader.type(), r.min, r.max, bins ? bins : 256);
     }
     Context& ctx = Context::shared();
-    progress("streaming " + std::to_string(iso.size()) + " isovalues of " + dims_string(d) + " " +
+    progress("streaming " + std::to_string(iso.size()) + " isovalues" +
+             (crop ? " (every " + std::string(value_type_name(reader.type())) + " value, cropped to the range at the end)"
+                   : std::string()) +
+             " of " + dims_string(d) + " " +
              value_type_name(reader.type()) + " slice by slice (" + out.method + ") on " + ctx.description());
     SpanStream stream(ctx, d.nx, d.ny, reader.type(), iso, levels, {kind});
     out.histogram.assign(iso.size(), 0);
