@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <numeric>
 #include <type_traits>
@@ -369,7 +370,12 @@ void extend(Prefix& p, std::vector<ChunkResult>& chunks, const std::vector<RowLi
         chunks.insert(chunks.begin(), std::move(front));
     }
     std::vector<std::uint32_t> base(chunks.size() + 1, 0);
-    for (std::size_t t = 0; t < chunks.size(); ++t) base[t + 1] = base[t] + chunks[t].labels;
+    std::uint64_t labels = 0;  // the chunks' labels side by side must stay below `none`
+    for (std::size_t t = 0; t < chunks.size(); ++t) {
+        labels += chunks[t].labels;
+        if (labels >= none) throw InputError("components at an isovalue: more than 2^32 - 1 runs at the seams of a batch");
+        base[t + 1] = std::uint32_t(labels);
+    }
     Forest forest;
     forest.truncate(0, base.back());
     std::int64_t merges[2] = {0, 0};
@@ -400,10 +406,9 @@ std::int64_t components_of(const Prefix& p) { return p.b0[0] > 0 && p.b0[1] > 0 
 // (IsovalueSet::single(type, s)): integer data f < ceil(s), float data f < s in the data's type
 // (the set holds s in that type), each as one comparison in the data's own type. Returns false,
 // without calling f, when every value or none of the type is below s (A or C is the whole grid).
-template <class T, class F> bool with_less(ValueType type, double isovalue, F&& f) {
-    const IsovalueSet iso = IsovalueSet::single(type, isovalue);
+template <class T, class F> bool with_less(ValueType type, double s, F&& f) {
     if constexpr (std::is_integral_v<T>) {
-        const std::int64_t c = iso.first();
+        const std::int64_t c = IsovalueSet::single(type, s).first();
         if (sizeof(T) < 8 || std::is_signed_v<T>) {
             if (c > std::int64_t(std::numeric_limits<T>::max()) || c <= std::int64_t(std::numeric_limits<T>::min()))
                 return false;
@@ -413,7 +418,10 @@ template <class T, class F> bool with_less(ValueType type, double isovalue, F&& 
             f([c](T x) { return std::int64_t(x) < c; });
         }
     } else {
-        const T t = T(iso.list().front());
+        // s beyond the type's range holds as +-Inf: every finite value is below +Inf, none
+        // below -Inf (the volumes hold finite values only).
+        if (std::abs(s) > double(std::numeric_limits<T>::max()) && std::isinf(T(s))) return false;
+        const T t = T(IsovalueSet::single(type, s).list().front());
         f([t](T x) { return x < t; });
     }
     return true;
@@ -428,14 +436,23 @@ void label_planes(const T* f, const Dims& d, ValueType type, const std::vector<d
     const std::size_t chunks = std::min<std::size_t>(d.nz, 2 * std::size_t(omp_get_max_threads()));
     std::vector<std::vector<ChunkResult>> r(n, std::vector<ChunkResult>(chunks));
     std::vector<char> whole(n, 0);  // A or C is every vertex: no surface
+    // An exception cannot leave the parallel loop (the process would end): the first is
+    // kept and thrown after it (host memory running out, an isovalue the type refuses).
+    std::exception_ptr failed;
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::size_t k = 0; k < n * chunks; ++k) {
         const std::size_t j = k / chunks, t = k % chunks;
-        const bool some = with_less<T>(type, isovalues[j], [&](auto less) {
-            r[j][t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, links);
-        });
-        if (!some && t == 0) whole[j] = 1;
+        try {
+            const bool some = with_less<T>(type, isovalues[j], [&](auto less) {
+                r[j][t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, links);
+            });
+            if (!some && t == 0) whole[j] = 1;
+        } catch (...) {
+#pragma omp critical(components_at_failure)
+            if (!failed) failed = std::current_exception();
+        }
     }
+    if (failed) std::rethrow_exception(failed);
     for (std::size_t j = 0; j < n; ++j)
         if (!whole[j]) extend(prefix[j], r[j], links, d.nx, d.ny);
 }
@@ -445,7 +462,9 @@ std::vector<RowLink> links_of(Connectivity mode) {
 }
 
 void check_slice(std::size_t nx, std::size_t ny) {
-    if (nx >= (std::size_t(1) << 31) || nx * ny >= (std::size_t(1) << 30))
+    // (Each axis first, so that nx * ny cannot wrap.)
+    constexpr std::size_t most = std::size_t(1) << 30;
+    if (nx >= most || ny >= most || nx * ny >= most)
         throw InputError("components at an isovalue: at most 2^30 vertices a slice");
 }
 

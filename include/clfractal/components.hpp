@@ -54,7 +54,8 @@ ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet
 ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, Connectivity mode = Connectivity::cube);
 
 /// components(s) at each of a few isovalues (each as IsovalueSet::single makes it: integer
-/// data ceil(s), float32 data s rounded to float32, float64 data s), equal to the curve of
+/// data ceil(s), float32 data s rounded to float32, float64 data s; 0 where that leaves A or C
+/// the whole grid, as for s beyond the type's range), equal to the curve of
 /// count_components there (finite data). Labels A = {f < s} and C = {f >= s} directly, one pass over the
 /// volume per isovalue: runs of vertices along x joined by union-find plane by plane, in
 /// z-chunks on every core joined at their seams. Memory O(slice); cheaper than the curve for

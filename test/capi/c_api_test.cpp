@@ -494,6 +494,19 @@ TEST_CASE("component counts streamed through the C ABI equal breadth-first searc
     CHECK(clf_components_stream_push(st, bad, 1) == CLF_ERROR_INPUT);
     CHECK(std::string(clf_last_error()).find("NaN") != std::string::npos);
     CHECK(clf_components_stream_slices(st) == 0);
+    // An isovalue beyond float32's range: every value below it, so no surface there.
+    {
+        clf_components_stream* far = nullptr;
+        const double at[2] = {0.5, 1e39};
+        REQUIRE(clf_components_stream_create(2, 2, CLF_FLOAT32, at, 2, CLF_COMPONENTS_CUBE, &far) == CLF_OK);
+        const float two[8] = {0, 1, 0, 1, 1, 0, 1, 0};
+        REQUIRE(clf_components_stream_push(far, two, 2) == CLF_OK);
+        std::int64_t got[2] = {-1, -1};
+        REQUIRE(clf_components_stream_counts(far, got) == CLF_OK);
+        CHECK(got[0] > 0);
+        CHECK(got[1] == 0);
+        clf_components_stream_destroy(far);
+    }
     CHECK(clf_components_stream_push(st, nullptr, 1) == CLF_ERROR_INPUT);
     CHECK(clf_components_stream_counts(st, nullptr) == CLF_ERROR_INPUT);
     clf_components_stream_destroy(st);

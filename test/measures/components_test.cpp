@@ -339,6 +339,29 @@ TEST_CASE("the components stream: count_components_at of the slices so far, any 
     CHECK_THROWS_AS(ComponentsAtStream(4, 4, ValueType::uint8, {NAN}), InputError);
     CHECK_THROWS_AS(ComponentsAtStream(0, 4, ValueType::uint8, {1}), InputError);
     CHECK_THROWS_AS(ComponentsAtStream(std::size_t(1) << 15, std::size_t(1) << 15, ValueType::uint8, {1}), InputError);
+    // nx * ny would wrap to 0 in 64 bits: still refused.
+    CHECK_THROWS_AS(ComponentsAtStream(std::size_t(1) << 20, std::size_t(1) << 44, ValueType::uint8, {1}), InputError);
+}
+
+TEST_CASE("direct labelling at float isovalues beyond the type's range: 0, as the whole grid is A or C") {
+    // 1e39 and -1e39 are finite doubles but +-Inf as float32: every value below, or none. The
+    // float64 ones are the same for a double volume. Once such an isovalue threw inside the
+    // parallel labelling and ended the process.
+    const Volume f = testutil::random_volume({9, 7, 8}, ValueType::float32, 0, 2, 77);
+    const Volume g = testutil::random_volume({9, 7, 8}, ValueType::float64, 0, 2, 78);
+    for (const Volume* v : {&f, &g}) {
+        CAPTURE(value_type_name(v->type()));
+        const double big = v->type() == ValueType::float32 ? 1e39 : 1e308;
+        const std::vector<double> at = {1.0, big, -big, 3.5e38};
+        const std::int64_t want = identity(*v, 1.0, Connectivity::cube);
+        REQUIRE(want > 0);
+        const std::vector<std::int64_t> c = count_components_at(*v, at);
+        CHECK(c == std::vector<std::int64_t>{want, 0, 0, v->type() == ValueType::float32 ? 0 : identity(*v, 3.5e38, Connectivity::cube)});
+        ComponentsAtStream stream(9, 7, v->type(), at);
+        stream.push_slices(v->data(), 3);
+        stream.push_slices(static_cast<const unsigned char*>(v->data()) + 3 * 9 * 7 * value_size(v->type()), 5);
+        CHECK(stream.counts() == c);
+    }
 }
 
 TEST_CASE("direct labelling on structured shapes: nested shells, a torus, a checkerboard") {
