@@ -10,6 +10,8 @@ source "$here/cli_lib.sh"
 
 expect 0 '\*' -- "$bin" devices
 expect 0 'mean FD' -- "$bin" -q fd synthetic:noisy-sphere:48
+# The denoising's suggested output is named after the synthetic volume, with no "synthetic:".
+expect 0 'run: clfractal filter synthetic:noisy-sphere .* -o noisy-sphere-denoised\.nrrd$' -- "$bin" -q fd synthetic:noisy-sphere
 expect 0 'dims +40x40x40' -- "$bin" info synthetic:sphere:40
 
 # fd outputs: exact CSV header, JSON fields, plot.

@@ -68,6 +68,22 @@ std::string entry_line(const Analysis& an, const Recommendation& e) {
 
 }  // namespace
 
+namespace {
+
+// The output name `run:` suggests for `volume`: its file name without the extension (".nii.gz"
+// whole), or the synthetic volume's name ("synthetic:noisy-sphere:64": "noisy-sphere_64"),
+// then "-denoised.nrrd".
+std::string denoised_name(const std::string& volume) {
+    const std::string synthetic = "synthetic:";
+    std::string stem = volume.rfind(synthetic, 0) == 0 ? volume.substr(synthetic.size())
+                                                        : std::filesystem::path(volume).stem().string();
+    if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ".nii") == 0) stem.resize(stem.size() - 4);
+    std::replace(stem.begin(), stem.end(), ':', '_');
+    return stem + "-denoised.nrrd";
+}
+
+}  // namespace
+
 void print_advice(std::ostream& out, const Analysis& an, const std::string& volume) {
     const IsovalueSet& iso = an.isovalues;
     for (std::size_t i = 0; i < an.recommended.size(); ++i) {
@@ -97,7 +113,7 @@ void print_advice(std::ostream& out, const Analysis& an, const std::string& volu
             const Recommendation& e = d.recommended.front();
             out << "then clean at " << iso_string(iso, e.first) << " .. " << iso_string(iso, e.last) << " (use "
                 << iso_string(iso, e.index) << ", D " << fd_string(e.fd).substr(0, 6) << ")\n"
-                << "            run: " << d.command(volume, std::filesystem::path(volume).stem().string() + "-denoised.nrrd")
+                << "            run: " << d.command(volume, denoised_name(volume))
                 << "\n";
         } else {
             out << "still not clean (mean D " << fd_string(d.summary.mean).substr(0, 6) << ")\n";
