@@ -5,7 +5,6 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
-#include <limits>
 #include <vector>
 
 #include "clfractal/analysis.hpp"
@@ -28,16 +27,13 @@ StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const
     IsovalueSet iso;
     // 8- and 16-bit integers without --isovalues: one pass, counting every value of the type
     // and cropping the curves to the value range afterwards (the count at s does not depend
-    // on the set); the value range then costs no pass of its own over the file.
-    const bool crop = isovalues.empty() && is_integer(reader.type()) && value_size(reader.type()) <= 2;
-    std::int64_t type_min = 0;
+    // on the set); the range is where the histogram of every value is not 0, so it costs no
+    // pass of its own over the file.
+    const bool crop = isovalues.empty() && is_integer(reader.type()) && !is_wide(reader.type());
     if (!isovalues.empty()) {
         iso = parse_isovalues(isovalues, reader.type());
     } else if (crop) {
-        const bool is_signed = reader.type() == ValueType::int8 || reader.type() == ValueType::int16;
-        const std::int64_t values = std::int64_t(1) << (8 * value_size(reader.type()));
-        type_min = is_signed ? -values / 2 : 0;
-        iso = IsovalueSet::integers(type_min, type_min + values - 1);
+        iso = IsovalueSet::integers(std::int64_t(type_min(reader.type())), std::int64_t(type_max(reader.type())));
     } else {
         // The default set needs the value range: one more pass over the file.
         progress("reading the value range of " + volume + " (" + out.method + ")");
@@ -53,7 +49,6 @@ StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const
     SpanStream stream(ctx, d.nx, d.ny, reader.type(), iso, levels, {kind});
     out.histogram.assign(iso.size(), 0);
     // Slices are read straight into the stream's batch buffer, as many as it has room for.
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (std::size_t z = 0; z < d.nz;) {
         std::size_t room = 0;
         void* slices = stream.next_slices(room);
@@ -63,23 +58,20 @@ StreamedSpans stream_spans(SliceReader& reader, const std::string& volume, const
         const std::vector<std::uint64_t> h =
             isovalue_histogram(Volume::wrap(slices, Dims{d.nx, d.ny, n}, reader.type()), iso);
         for (std::size_t k = 0; k < h.size(); ++k) out.histogram[k] += h[k];
-        if (crop) {
-            const ValueStats s = value_stats(slices, reader.type(), n * d.nx * d.ny);
-            lo = std::min(lo, s.min);
-            hi = std::max(hi, s.max);
-        }
         stream.push_filled(n);
         z += n;
     }
     out.spans = stream.counts();
     if (crop && d.vertices()) {
-        const auto first = std::int64_t(lo), last = std::int64_t(hi);
-        out.spans.isovalues = IsovalueSet::integers(first, last);
-        const auto from = std::ptrdiff_t(first - type_min), to = std::ptrdiff_t(last - type_min + 1);
+        const std::vector<std::uint64_t>& hist = out.histogram;
+        const auto nonzero = [](std::uint64_t c) { return c != 0; };
+        const auto from = std::find_if(hist.begin(), hist.end(), nonzero) - hist.begin();
+        const auto to = hist.rend() - std::find_if(hist.rbegin(), hist.rend(), nonzero);
+        out.spans.isovalues = IsovalueSet::integers(iso.first() + from, iso.first() + to - 1);
         for (SpanCurves& c : out.spans.curves)
             for (auto& level : c.counts) level = std::vector<std::uint64_t>(level.begin() + from, level.begin() + to);
-        // No value lies outside [first, last], so the cropped bins are the whole histogram.
-        out.histogram = std::vector<std::uint64_t>(out.histogram.begin() + from, out.histogram.begin() + to);
+        // No value lies outside the range, so the cropped bins are the whole histogram.
+        out.histogram = std::vector<std::uint64_t>(hist.begin() + from, hist.begin() + to);
     }
     return out;
 }
