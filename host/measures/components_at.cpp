@@ -418,9 +418,10 @@ template <class T, class F> bool with_less(ValueType type, double s, F&& f) {
             f([c](T x) { return std::int64_t(x) < c; });
         }
     } else {
-        // s beyond the type's range holds as +-Inf: every finite value is below +Inf, none
-        // below -Inf (the volumes hold finite values only).
-        if (std::abs(s) > double(std::numeric_limits<T>::max()) && std::isinf(T(s))) return false;
+        // An s that rounds to +-Inf in float32 (from half an ulp above its largest value on):
+        // every finite value is below +Inf, none below -Inf (the volumes hold finite values
+        // only). Converting it would be undefined behaviour; float64 holds every finite s.
+        if (std::is_same_v<T, float> && std::abs(s) >= 0x1.ffffffp127) return false;
         const T t = T(IsovalueSet::single(type, s).list().front());
         f([t](T x) { return x < t; });
     }
