@@ -103,7 +103,9 @@ TEST_CASE("Volume: zero-filled, typed access, values, range") {
 }
 
 TEST_CASE("host storage: page-aligned, zero, copies are deep") {
-    for (std::size_t n : {std::size_t(1), std::size_t(4095), std::size_t(1) << 20, (std::size_t(3) << 20) + 5}) {
+    // (From 32 MiB on the pages are mapped by every core.)
+    for (std::size_t n : {std::size_t(1), std::size_t(4095), std::size_t(1) << 20, (std::size_t(3) << 20) + 5,
+                          std::size_t(32) << 20, (std::size_t(41) << 20) + 4097}) {
         CAPTURE(n);
         HostBytes b(n);
         REQUIRE(b.size() == n);
