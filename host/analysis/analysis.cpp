@@ -537,7 +537,6 @@ std::string DenoiseAttempt::command(const std::string& volume, const std::string
 void fill_entry_components(Analysis& a, const EntryCounter& count) {
     std::vector<Recommendation*> es;
     for (Recommendation& e : a.recommended) es.push_back(&e);
-    if (a.noisiest) es.push_back(&*a.noisiest);
     fill_components(es, count);
 }
 

@@ -99,7 +99,7 @@ struct DenoiseAttempt {
 
 enum class ComponentsScope {
     none,         ///< no components
-    recommended,  ///< components at the recommended and noisiest isovalues only
+    recommended,  ///< components at the recommended isovalues only (the noisiest's: with `curve`)
     curve         ///< the whole component curve
 };
 
@@ -178,7 +178,7 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, Analys
 
 /// Counts components(s) at isovalues given sorted, each once; one count each.
 using EntryCounter = std::function<std::vector<std::int64_t>(const std::vector<double>&)>;
-/// Sets the components of the recommended and noisiest entries of `a`, calling `count` once
+/// Sets the components of the recommended entries of `a`, calling `count` once
 /// with their isovalues: count_components_at on the volume (what analyse does), or a pass
 /// over a file slice by slice (ComponentsAtStream; what `fd --stream` does after analyse_curve).
 void fill_entry_components(Analysis& a, const EntryCounter& count);

@@ -270,6 +270,17 @@ TEST_CASE("analyse: a recommendation between each pair of nested materials, all 
         // Components: the curve's, which the components suite checks against BFS labelling.
         const ComponentCurve c = count_components(ctx(), v, a.isovalues);
         for (const Recommendation& e : a.recommended) CHECK(e.components == c.components[e.index]);
+        // The noisiest entry's only with the whole curve (-1: not computed).
+        REQUIRE(a.noisiest.has_value());
+        CHECK(a.noisiest->components == -1);
+        AnalysisOptions oc = o;
+        oc.components = ComponentsScope::curve;
+        oc.denoise = false;
+        const Analysis ac = analyse(ctx(), v, oc);
+        REQUIRE(ac.noisiest.has_value());
+        CHECK(ac.noisiest->index == a.noisiest->index);
+        CHECK(ac.noisiest->components == c.components[a.noisiest->index]);
+        for (std::size_t i = 0; i < a.recommended.size(); ++i) CHECK(ac.recommended[i].components == a.recommended[i].components);
     }
 }
 
