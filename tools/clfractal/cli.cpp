@@ -10,6 +10,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "clfractal/device.hpp"
 #include "clfractal/error.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/memory.hpp"
@@ -248,11 +249,46 @@ void require_volume_memory(const std::string& volume, const MemoryNeed& need, st
 
 }  // namespace
 
+namespace {
+
+// From this file size on the library reads raw data on every core (io::read_file_data).
+constexpr std::uintmax_t big_read_bytes = std::uintmax_t(32) << 20;
+
+// Whether start_device_for left the start of the device context to read_volume_within.
+bool device_after_read = false;
+
+// Whether `volume`'s data is stored raw (read by the library's pread loop), not compressed.
+bool stored_raw(const std::string& volume, const RawOptions& raw) {
+    try {
+        return std::string(SliceReader(volume, raw).method()) == "mmap";
+    } catch (const std::exception&) {
+        return false;  // read_volume reports the problem
+    }
+}
+
+}  // namespace
+
+void start_device_for(const CLI::App& command) {
+    const CLI::Option* volume = command.get_option_no_throw("VOLUME");
+    const CLI::Option* stream = command.get_option_no_throw("--stream");
+    if (volume && volume->count() == 1 && !(stream && stream->count() > 0)) {
+        const std::string path = volume->as<std::string>();
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) >= big_read_bytes && !ec) {
+            device_after_read = true;
+            return;
+        }
+    }
+    Context::start_shared();
+}
+
 Volume read_volume_within(const std::string& volume, const RawOptions& raw, const MemoryNeed& need,
                           FiniteCheck finite) {
     const std::optional<VolumeShape> shape = peek_volume(volume, raw);
     if (shape) require_volume_memory(volume, need, shape->bytes(), 0);
+    if (device_after_read && !stored_raw(volume, raw)) Context::start_shared();
     Volume v = read_volume(volume, raw, finite);
+    if (device_after_read) Context::start_shared();  // (once: a second call does nothing)
     if (!shape) require_volume_memory(volume, need, v.size_bytes(), v.size_bytes());
     return v;
 }

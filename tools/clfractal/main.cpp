@@ -129,8 +129,8 @@ int main(int argc, char** argv) {
     if (parsed >= 0) return parsed;
     for (const Chosen& c : commands)
         if (app.got_subcommand(c.app)) {
-            // The commands that use the device begin creating it now, while they read their input.
-            if (c.uses_device) Context::start_shared();
+            // The commands that use the device begin creating it while they read their input.
+            if (c.uses_device) cli::start_device_for(*c.app);
             const int status = run(app, c);
             Context::wait_shared();  // a command that failed before it needed the device
             release_blas_caches();  // before the OpenCL runtime's exit handlers
