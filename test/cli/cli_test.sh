@@ -13,6 +13,14 @@ expect 0 'mean FD' -- "$bin" -q fd synthetic:noisy-sphere:48
 # The denoising's suggested output is named after the synthetic volume, with no "synthetic:".
 expect 0 'run: clfractal filter synthetic:noisy-sphere .* -o noisy-sphere-denoised\.nrrd$' -- "$bin" -q fd synthetic:noisy-sphere
 expect 0 'dims +40x40x40' -- "$bin" info synthetic:sphere:40
+# OpenMP waits passively in the tool unless the user chose otherwise: libgomp, which prints
+# its spin count with OMP_DISPLAY_ENV=verbose, counts 0 (another OpenMP runtime: not checked).
+if OMP_DISPLAY_ENV=verbose "$bin" --version 2>&1 | grep -q 'GOMP_SPINCOUNT'; then
+  OMP_DISPLAY_ENV=verbose "$bin" --version 2>&1 | grep -q "GOMP_SPINCOUNT = '0'" && pass ||
+    fail "libgomp spins in clfractal: $(OMP_DISPLAY_ENV=verbose "$bin" --version 2>&1 | grep SPINCOUNT)"
+  OMP_WAIT_POLICY=active OMP_DISPLAY_ENV=verbose "$bin" --version 2>&1 | grep -q "GOMP_SPINCOUNT = '0'" &&
+    fail "OMP_WAIT_POLICY=active is not kept" || pass
+fi
 
 # fd outputs: exact CSV header, JSON fields, plot.
 expect 0 'mean FD' -- "$bin" -q fd synthetic:sphere:40 --csv fd.csv --json fd.json --plot fd.png

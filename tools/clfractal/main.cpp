@@ -106,16 +106,6 @@ int run(const CLI::App& app, const Chosen& chosen) {
 
 }  // namespace
 
-// OpenMP's threads spin for a while after each parallel region (libgomp's default policy);
-// on a CPU device they take the cores from the OpenCL runtime's own worker threads, which run
-// the kernels next. Passive waiting, unless the user chose a policy: set before any library's
-// initialiser runs (libgomp reads the environment in its own), so from .preinit_array.
-namespace {
-void passive_openmp(int, char**, char**) { setenv("OMP_WAIT_POLICY", "passive", 0); }
-}  // namespace
-__attribute__((section(".preinit_array"), used)) static void (*const preinit_openmp)(int, char**, char**) =
-    passive_openmp;
-
 int main(int argc, char** argv) {
     CLI::App app{"clfractal: isosurface fractal dimension of 3D scalar grids, for every isovalue at once"};
     add_shared_options(app);
