@@ -159,9 +159,12 @@ def uploads(device: str | None = None) -> int:
 
 def _volume(volume, uploaded: bool = False):
     """The array as the extension takes it: 3D, native byte order, a supported dtype. With
-    ``uploaded``, a DeviceVolume is passed on as it is; else its array."""
+    ``uploaded``, a DeviceVolume is passed on as it is; else its array. A VolumeFile (what
+    ``read_volume`` returns) gives its volume (the measures use the stored grid)."""
     if isinstance(volume, DeviceVolume):
         return (volume if uploaded else volume._array), volume._type_name
+    if isinstance(volume, VolumeFile):
+        volume = volume.volume
     a = np.asarray(volume)
     if a.ndim != 3:
         raise ValueError(f"volume: expected a 3D array in (z, y, x) order, got shape {a.shape}")
@@ -1137,7 +1140,7 @@ def read_volume(path, dims=None, dtype=None, endian: str = "little", spacing=Non
     Returns
     -------
     VolumeFile
-        ``(volume, spacing)``.
+        ``(volume, spacing)``; the computing calls take it as they take its ``volume``.
 
     Raises
     ------

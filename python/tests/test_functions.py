@@ -387,6 +387,11 @@ def test_read_volume(tmp_path):
     assert spacing == (2.0, 1.0, 0.5)
     s, _ = clfractal.read_volume("synthetic:sphere:16")
     assert s.shape == (16, 16, 16)
+    # What read_volume returns goes to the measures as it is: its volume.
+    f = clfractal.read_volume(str(tmp_path / "w.nrrd"))
+    a, b = (clfractal.analyse(x, noise_level=False).json for x in (f, f.volume))
+    del a["seconds_analysis"], b["seconds_analysis"]
+    assert a == b
     with pytest.raises(ValueError, match="missing_4x4x4_uint8.raw: no such file"):
         clfractal.read_volume(tmp_path / "missing_4x4x4_uint8.raw")
     (tmp_path / "short_4x4x4_uint8.raw").write_bytes(b"\0" * 10)
