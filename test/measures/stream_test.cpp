@@ -407,6 +407,17 @@ TEST_CASE("slice readers equal read_volume: raw, big-endian raw, NRRD raw/gzip, 
     CHECK(same_bytes(read_by_slices("synthetic:sphere:12", 5), read_volume("synthetic:sphere:12")));
 }
 
+TEST_CASE("slice readers: batches of 8 MiB and more, copied from the mapping on every core, byte for byte") {
+    TempDir dir;
+    const Volume v = testutil::random_volume(Dims{1024, 512, 40}, ValueType::uint16, 0, 65535, 5);  // 40 MiB
+    const std::string nrrd = dir.file("big.nrrd");  // data at an odd offset
+    write_nrrd(v, nrrd);
+    for (std::size_t chunk : {std::size_t(9), std::size_t(40)}) {  // 9 MiB batches, one of 40 MiB
+        CAPTURE(chunk);
+        CHECK(same_bytes(read_by_slices(nrrd, chunk), v));
+    }
+}
+
 TEST_CASE("slice readers: bad inputs are input errors") {
     TempDir dir;
     CHECK_THROWS_AS(SliceReader(dir.file("missing.raw")), InputError);
