@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# End to end: `clfractal fd FILE` against bench/fd_peer_omp (a plain OpenMP program that
-# reads the file and counts levels 0 and 1 once), interleaved A B A B, on a hot uint8 file;
-# process wall time and peak RSS from /usr/bin/time, medians of the runs; the two programs'
-# counts must be equal (exit 1 otherwise).
+# End to end: `clfractal fd FILE` and `clfractal fd FILE --stream` against bench/fd_peer_omp
+# (a plain OpenMP program that reads the file and counts levels 0 and 1 once), interleaved
+# A B C A B C, on a hot uint8 file; process wall time and peak RSS from /usr/bin/time, medians
+# of the runs; the programs' counts must be equal (exit 1 otherwise).
 #
 #   bench/fd_bench.sh [--build DIR] [--size N] [--runs R] [--file F.nrrd]
 #
@@ -31,19 +31,24 @@ cat "$file" >/dev/null  # hot: in the page cache
 # One timed run: prints "wall_s rss_kib".
 timed() { /usr/bin/time -f "%e %M" -o "$work/time.txt" "$@" >/dev/null 2>"$work/stderr.txt" || {
   cat "$work/stderr.txt" >&2; exit 1; }; cat "$work/time.txt"; }
-declare -a cw cr pw pr
+declare -a cw cr sw sr pw pr
 for ((i = 0; i < runs; i++)); do
   read -r w r < <(timed "$clf" fd "$file" --csv "$work/clfractal.csv"); cw+=("$w"); cr+=("$r")
+  read -r w r < <(timed "$clf" fd "$file" --stream --csv "$work/stream.csv"); sw+=("$w"); sr+=("$r")
   read -r w r < <(timed "$peer" "$file" --csv "$work/peer.csv"); pw+=("$w"); pr+=("$r")
 done
 # The counts of both programs, isovalue by isovalue.
 cut -d, -f1-3 "$work/clfractal.csv" | tail -n +2 > "$work/a.txt"
 tail -n +2 "$work/peer.csv" > "$work/b.txt"
 if ! cmp -s "$work/a.txt" "$work/b.txt"; then echo "fd_bench: the counts differ" >&2; exit 1; fi
+if ! cmp -s "$work/clfractal.csv" "$work/stream.csv"; then echo "fd_bench: fd --stream's CSV differs from fd's" >&2; exit 1; fi
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
-mcw=$(median "${cw[@]}") mcr=$(median "${cr[@]}") mpw=$(median "${pw[@]}") mpr=$(median "${pr[@]}")
-echo "file           $file ($bytes bytes), $runs runs each, interleaved; counts equal"
-echo "clfractal fd   wall ${cw[*]} s (median $mcw), peak RSS median $((mcr / 1024)) MiB"
-echo "fd_peer_omp    wall ${pw[*]} s (median $mpw), peak RSS median $((mpr / 1024)) MiB"
-awk -v a="$mcw" -v b="$mpw" -v r="$mcr" -v f="$bytes" 'BEGIN {
-  printf "peer / clfractal wall: %.2fx (>= 1: clfractal at least as fast); clfractal peak RSS / file: %.2f\n", b / a, r * 1024 / f }'
+mcw=$(median "${cw[@]}") mcr=$(median "${cr[@]}") msw=$(median "${sw[@]}") msr=$(median "${sr[@]}")
+mpw=$(median "${pw[@]}") mpr=$(median "${pr[@]}")
+echo "file               $file ($bytes bytes), $runs runs each, interleaved; counts equal"
+echo "clfractal fd       wall ${cw[*]} s (median $mcw), peak RSS median $((mcr / 1024)) MiB"
+echo "clfractal --stream wall ${sw[*]} s (median $msw), peak RSS median $((msr / 1024)) MiB"
+echo "fd_peer_omp        wall ${pw[*]} s (median $mpw), peak RSS median $((mpr / 1024)) MiB"
+awk -v a="$mcw" -v s="$msw" -v b="$mpw" -v r="$mcr" -v q="$msr" -v f="$bytes" 'BEGIN {
+  printf "peer / clfractal wall: fd %.2fx, fd --stream %.2fx (>= 1: clfractal at least as fast)\n", b / a, b / s
+  printf "peak RSS: fd %.2fx the file, fd --stream %d MiB\n", r * 1024 / f, q / 1024 }'
