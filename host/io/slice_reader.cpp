@@ -307,7 +307,7 @@ SliceReader::SliceReader(const std::string& spec, const RawOptions& raw) : impl_
 std::optional<VolumeShape> peek_volume(const std::string& spec, const RawOptions& raw) {
     const SliceReader::Impl header(spec, raw, true);
     if (header.method == "memory") return {};
-    return VolumeShape{header.dims, header.type};
+    return VolumeShape{header.dims, header.type, header.method};
 }
 SliceReader::~SliceReader() = default;
 const Dims& SliceReader::dims() const { return impl_->dims; }

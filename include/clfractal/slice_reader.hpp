@@ -21,6 +21,9 @@ namespace clfractal {
 struct VolumeShape {
     Dims dims;
     ValueType type = ValueType::uint8;
+    /// How the data is stored, as SliceReader::method() names it: "mmap" (uncompressed, read
+    /// as it lies), "gzip", "dicom" or "tiff".
+    std::string method;
     std::uint64_t bytes() const { return std::uint64_t(dims.vertices()) * value_size(type); }
 };
 

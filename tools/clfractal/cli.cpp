@@ -257,15 +257,6 @@ constexpr std::uintmax_t big_read_bytes = std::uintmax_t(32) << 20;
 // Whether start_device_for left the start of the device context to read_volume_within.
 bool device_after_read = false;
 
-// Whether `volume`'s data is stored raw (read by the library's pread loop), not compressed.
-bool stored_raw(const std::string& volume, const RawOptions& raw) {
-    try {
-        return std::string(SliceReader(volume, raw).method()) == "mmap";
-    } catch (const std::exception&) {
-        return false;  // read_volume reports the problem
-    }
-}
-
 }  // namespace
 
 void start_device_for(const CLI::App& command) {
@@ -286,7 +277,8 @@ Volume read_volume_within(const std::string& volume, const RawOptions& raw, cons
                           FiniteCheck finite) {
     const std::optional<VolumeShape> shape = peek_volume(volume, raw);
     if (shape) require_volume_memory(volume, need, shape->bytes(), 0);
-    if (device_after_read && !stored_raw(volume, raw)) Context::start_shared();
+    // Data stored uncompressed is read on every core: the platform starts after it.
+    if (device_after_read && !(shape && shape->method == "mmap")) Context::start_shared();
     Volume v = read_volume(volume, raw, finite);
     if (device_after_read) Context::start_shared();  // (once: a second call does nothing)
     if (!shape) require_volume_memory(volume, need, v.size_bytes(), v.size_bytes());

@@ -87,11 +87,12 @@ struct MemoryNeed {
 };
 /// Begins creating the shared device context (Context::start_shared) for `command`, on another
 /// thread while the command reads its VOLUME. When VOLUME is a file of 32 MiB or more read
-/// whole (no --stream), read_volume_within begins it instead: before its read when the data is
-/// compressed (one core decompresses, the other starts the platform), after it otherwise
-/// (such a read maps its pages and copies on every core, and the loading of the OpenCL
+/// whole (no --stream), read_volume_within begins it instead: after its read when the header
+/// says the data is stored uncompressed (peek_volume's method "mmap": such a read maps its
+/// pages and copies on every core, and the loading of the OpenCL
 /// libraries beside it slows both: `fd` on a hot 768^3 file, medians of 9 interleaved runs,
-/// 0.90-0.94 s with the start beside the read, 0.88-0.89 s after it).
+/// 0.90-0.94 s with the start beside the read, 0.88-0.89 s after it), else before it (one
+/// core decompresses or decodes, the other starts the platform).
 void start_device_for(const CLI::App& command);
 
 /// read_volume, refused with an InputError naming the file and the size `need` asks for when
