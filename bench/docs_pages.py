@@ -41,7 +41,7 @@ def sections(b, py, data, tmp):
         "memory": ("performance.md", [py, "bench/memory_bench.py", f"{b}/clfractal", "--markdown"], "markdown"),
         "stream_memory": ("performance.md", ["bash", "bench/stream_memory.sh", "--build", b, "--work",
                                              os.path.join(tmp, "stream_memory")], "text"),
-        "fd768": ("performance.md", ["bash", "bench/fd_bench.sh", "--build", b, "--runs", "5"], "text"),
+        "fd768": ("performance.md", ["bash", "bench/fd_bench.sh", "--build", b, "--runs", "9"], "text"),
         "startup": ("performance.md", ["bash", "bench/startup_bench.sh", "--build", b, "--data", data, "--work",
                                        os.path.join(tmp, "startup")], "text"),
         "hostile": ("reliability.md", ["/usr/bin/python3", "bench/hostile_corpus.py", "--clfractal", f"{b}/clfractal",
