@@ -89,11 +89,6 @@ template <class T> void byte_swap(T* p, std::size_t n) {
     }
 }
 
-/// teem's error stack for NRRD as one line: biff writes one "[nrrd] function: reason"
-}  // namespace
-
-namespace {
-
 // Reads [offset, offset + bytes) of `fd` into `out`; "" or what went wrong.
 std::string read_range(int fd, std::uint64_t offset, unsigned char* out, std::size_t bytes) {
     std::size_t done = 0;
@@ -108,15 +103,8 @@ std::string read_range(int fd, std::uint64_t offset, unsigned char* out, std::si
     return {};
 }
 
-// From this size on, the data is read in one part a core: one thread copying a big file out of
-// the page cache is bound by the copy (453 MB: 0.045 s alone, 0.03 s on two cores).
-constexpr std::size_t parallel_read_bytes = std::size_t(32) << 20;
-
 }  // namespace
 
-/// Reads exactly `bytes` bytes of `file` from `offset` into `dst` (pread: no buffering, no
-/// copy beyond the kernel's; big reads in parts on every core); a short file is an InputError
-/// naming `name`.
 void io::read_file_data(const std::string& file, std::uint64_t offset, void* dst, std::size_t bytes,
                     const std::string& name) {
     const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
@@ -127,15 +115,12 @@ void io::read_file_data(const std::string& file, std::uint64_t offset, void* dst
     if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && std::uint64_t(st.st_size) < offset + bytes)
         problem = "truncated: " + std::to_string(std::uint64_t(st.st_size) > offset ? std::uint64_t(st.st_size) - offset : 0) +
                   " of " + std::to_string(bytes) + " data bytes";
-    const int parts = problem.empty() && bytes >= parallel_read_bytes ? std::max(1, omp_get_max_threads()) : 1;
+    const int parts = problem.empty() ? (bytes >= io::parallel_read_bytes ? std::max(1, omp_get_max_threads()) : 1) : 0;
     std::vector<std::string> problems(static_cast<std::size_t>(parts));
-    if (problem.empty() && parts == 1) problems[0] = read_range(fd, offset, out, bytes);
-    else if (problem.empty()) {
-#pragma omp parallel for num_threads(parts) schedule(static, 1)
-        for (int t = 0; t < parts; ++t) {
-            const std::size_t a = bytes * std::size_t(t) / std::size_t(parts), b = bytes * std::size_t(t + 1) / std::size_t(parts);
-            problems[std::size_t(t)] = read_range(fd, offset + a, out + a, b - a);
-        }
+#pragma omp parallel for num_threads(std::max(parts, 1)) schedule(static, 1) if (parts > 1)
+    for (int t = 0; t < parts; ++t) {
+        const std::size_t a = bytes * std::size_t(t) / std::size_t(parts), b = bytes * std::size_t(t + 1) / std::size_t(parts);
+        problems[std::size_t(t)] = read_range(fd, offset + a, out + a, b - a);
     }
     ::close(fd);
     for (const std::string& p : problems)

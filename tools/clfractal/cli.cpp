@@ -16,6 +16,7 @@
 #include "clfractal/memory.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "device/slab_plan.hpp"
+#include "io/formats.hpp"
 #include "clfractal/volume.hpp"
 
 using namespace clfractal;
@@ -251,9 +252,6 @@ void require_volume_memory(const std::string& volume, const MemoryNeed& need, st
 
 namespace {
 
-// From this file size on the library reads raw data on every core (io::read_file_data).
-constexpr std::uintmax_t big_read_bytes = std::uintmax_t(32) << 20;
-
 // Whether start_device_for left the start of the device context to read_volume_within.
 bool device_after_read = false;
 
@@ -265,7 +263,7 @@ void start_device_for(const CLI::App& command) {
     if (volume && volume->count() == 1 && !(stream && stream->count() > 0)) {
         const std::string path = volume->as<std::string>();
         std::error_code ec;
-        if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) >= big_read_bytes && !ec) {
+        if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) >= io::parallel_read_bytes && !ec) {
             device_after_read = true;
             return;
         }
