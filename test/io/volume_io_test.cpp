@@ -286,14 +286,9 @@ TEST_CASE("NRRD: hand-written gzip, space directions, float64") {
 TEST_CASE("big files are read in parts on every core, byte for byte") {
     // 40 MiB: above the size from which the data is read in one part a core.
     TempDir dir;
-    Volume v({1024, 1024, 20}, ValueType::uint16, "pattern");
-    std::uint16_t* p = v.as<std::uint16_t>();
-    for (std::size_t i = 0; i < v.vertices(); ++i) p[i] = std::uint16_t((i * 2654435761u) >> 13);
+    const Volume v = testutil::random_volume(Dims{1024, 1024, 20}, ValueType::uint16, 0, 65535, 3);
     const std::string raw = dir.file("big_1024x1024x20_uint16.raw");
-    {
-        std::ofstream out(raw, std::ios::binary);
-        out.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size_bytes()));
-    }
+    write_file(raw, bytes_of(v.data(), v.size_bytes()));
     const Volume r = read_volume(raw);
     REQUIRE(r.size_bytes() == v.size_bytes());
     CHECK(std::memcmp(r.data(), v.data(), v.size_bytes()) == 0);
