@@ -94,14 +94,8 @@ void quiet_gdcm() {
     gdcm::Trace::SetError(false);
 }
 
-enum class Walk { complete, truncated, no_preamble, bad_vr, bad_meta };
+enum class Walk { complete, truncated, no_preamble, bad_vr, bad_meta, bad_recognition };
 
-/// A walk over the element headers of a DICOM Part 10 file (tag, VR, length; nested items
-/// and undefined lengths followed to their delimiters): complete when every data element
-/// lies within the file and every explicit VR is one DICOM defines. GDCM asserts (aborts)
-/// on cut files, on unknown VRs and on data sets without the "DICM" preamble that are not
-/// what it guesses, and reads other cut files short without failing, so only files this
-/// walk accepts reach it. Deflated data sets are left to GDCM.
 /// A DICOM file read a few bytes at a time into h.
 struct ElementReader {
     explicit ElementReader(const std::string& file) : in(file, std::ios::binary) {}
@@ -124,6 +118,14 @@ struct ElementReader {
         std::string text(uid, std::strlen(uid));
         while (!text.empty() && text.back() == ' ') text.pop_back();
         return text;
+    }
+    /// Whether the value of `length` bytes at `at` starts with `prefix`.
+    bool starts_with(std::uint64_t at, std::uint64_t length, const std::string& prefix) {
+        char text[16] = {};
+        if (length < prefix.size() || prefix.size() > sizeof text) return false;
+        in.clear();
+        in.seekg(std::streamoff(at));
+        return bool(in.read(text, std::streamsize(prefix.size()))) && prefix == std::string(text, prefix.size());
     }
     std::ifstream in;
     unsigned char h[12];
@@ -156,7 +158,9 @@ Walk explicit_length(ElementReader& r, std::uint64_t p, std::uint64_t size, bool
 /// lies within the file and every explicit VR is one DICOM defines. GDCM asserts (aborts)
 /// on cut files, on unknown VRs and on data sets without the "DICM" preamble that are not
 /// what it guesses, and reads other cut files short without failing, so only files this
-/// walk accepts reach it. Deflated data sets are left to GDCM. The file meta information
+/// walk accepts reach it. Deflated data sets are left to GDCM. GDCM reads a data set with a
+/// Recognition Code (0008,0010) as a mixture of ACR-NEMA and DICOM and asserts unless the
+/// code is a value that starts "ACR-NEMA", "ACRNEMA" or "MIPS 2.0". The file meta information
 /// (group 0002, explicit VR, no sequences) must come first and name the transfer syntax:
 /// GDCM guesses the encoding of a file without it, and a wrong guess reads values as
 /// lengths (a 900-byte file made its scanner allocate 0.8 GB) or asserts.
@@ -195,6 +199,14 @@ Walk walk_elements(const std::string& file, Layout& layout) {
             p += header;
             continue;
         }
+        const bool cut = length != 0xffffffffu && size - p - header < length;  // told as truncated below
+        if (!meta && depth == 0 && group == 0x0008 && element == 0x0010 && length != 0 && !cut) {
+            const bool sequence = length == 0xffffffffu || (header == 12 && r.h[4] == 'S' && r.h[5] == 'Q');
+            const std::uint64_t at = p + header;
+            if (sequence || !(r.starts_with(at, length, "ACR-NEMA") || r.starts_with(at, length, "ACRNEMA") ||
+                              r.starts_with(at, length, "MIPS 2.0")))
+                return Walk::bad_recognition;
+        }
         const bool pixels = group == 0x7fe0 && element == 0x0010 && depth == 0;
         if (pixels) layout = length == 0xffffffffu ? Layout{Layout::encapsulated, size - p} : Layout{Layout::native, length};
         if (length == 0xffffffffu) {  // the content follows as elements or items up to a delimiter
@@ -202,7 +214,7 @@ Walk walk_elements(const std::string& file, Layout& layout) {
             p += header;
             continue;
         }
-        if (size - p - header < length) return Walk::truncated;
+        if (cut) return Walk::truncated;
         if (meta && element == 0x0000 && length == 4) {  // the group length: the data set follows it
             if (!r.read_at(p + header, 4)) return Walk::truncated;
             const std::uint64_t data_set = p + header + 4 + r.u32(0, false);
@@ -234,6 +246,8 @@ void scan(Scan& s, const std::string& path) {
         case Walk::bad_meta:
             throw InputError(f + ": malformed DICOM file (the file meta information, group 0002 with the transfer "
                                  "syntax, must come first and hold no sequences)");
+        case Walk::bad_recognition:
+            throw InputError(f + ": unsupported DICOM file (a Recognition Code (0008,0010) that is not ACR-NEMA's)");
         case Walk::no_preamble:
             // README, LICENSE, DIRFILE, ...: not DICOM, not ours. A .dcm that is not DICOM is.
             if (dicom_extension(f))

@@ -198,6 +198,11 @@ TEST_CASE("every class of hostile DICOM, NIfTI, TIFF and MetaImage input: refuse
         {"DICOM: SamplesPerPixel 5 (GDCM asserts on it)",
          put("spp/a.dcm", patch_after(dcm, std::string("\x28\x00\x02\x00\x02\x00\x00\x00", 8), le(std::uint16_t(5)))),
          "5 samples per pixel; only greyscale DICOM is supported"},
+        // The Study Time element (0008,0030) renamed 0008,0010: a Recognition Code holding a
+        // time, not an ACR-NEMA code.
+        {"DICOM: a Recognition Code that is not ACR-NEMA's (GDCM asserts on it)",
+         put("recognition/a.dcm", replace(dcm, std::string("\x08\x00\x30\x00", 4), std::string("\x08\x00\x10\x00", 4))),
+         "a Recognition Code (0008,0010) that is not ACR-NEMA's"},
         {"DICOM: BitsAllocated 0", put("bits0/a.dcm", patch_after(dcm, bits_tag, le(std::uint16_t(0)))),
          "BitsAllocated 0.000000 is not 1 to 64"},
         {"DICOM: cut in the pixel data", put("cut/a.dcm", dcm.substr(0, dcm.size() - 7)), "truncated DICOM file"},
@@ -261,6 +266,21 @@ TEST_CASE("every class of hostile DICOM, NIfTI, TIFF and MetaImage input: refuse
     // Describing a FIFO (clfractal info) refuses it too, without opening it (it would block).
     CHECK(refusal([&] { describe_volume_file((root() / "fifo.nii").string()); }).find("not a regular file") !=
           std::string::npos);
+
+    // A DICOM file with an ACR-NEMA Recognition Code (as some scanners write) still reads.
+    {
+        const std::string tag("\x08\x00\x30\x00", 4);
+        const std::size_t at = dcm.find(tag);
+        REQUIRE(at != std::string::npos);
+        std::uint32_t length = 0;
+        std::memcpy(&length, dcm.data() + at + 4, 4);
+        REQUIRE(length >= 12);
+        std::string acr = set(dcm, at, std::string("\x08\x00\x10\x00", 4));
+        acr = set(acr, at + 8, ("ACR-NEMA 2.0" + std::string(length - 12, ' ')));
+        const Volume a = read_volume(put("acr_nema/a.dcm", acr));
+        CHECK(a.dims().nx == 4);
+        CHECK(a.value(11) == 111);
+    }
 
     // A FIFO among a series' files is passed over, not opened (it would block): the series reads.
     const Volume v = read_volume(dicom_dir);
