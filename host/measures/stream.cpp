@@ -39,7 +39,8 @@ struct SpanStream::Impl {
     std::size_t slice_bytes;
     std::unique_ptr<SpanCounter> main;  // the full batches, as inner slabs of an open-ended volume
     std::size_t batch = 0;              // slices per batch, one shared with the next
-    std::vector<unsigned char> buf;     // the open batch: slices base .. base + fill - 1
+    HostBytes buf;                      // the open batch: slices base .. base + fill - 1 (aligned:
+                                        // a CPU device counts it in place, without a copy)
     std::size_t base = 0, fill = 0, n = 0, batches = 0, max_slices = 0;
 
     Impl(Context& c, std::size_t x, std::size_t y, ValueType t, IsovalueSet i, int l, std::vector<SpanKind> k)
@@ -56,7 +57,7 @@ struct SpanStream::Impl {
         main = std::make_unique<SpanCounter>(ctx, iso, type, Dims{nx, ny, max_slices},
                                              SpanOptions{kinds, levels, steps * align + 1});
         batch = main->slab_slices();
-        buf.resize(batch * slice_bytes);
+        buf = HostBytes(batch * slice_bytes);
     }
 
     void push(const void* slice) {

@@ -71,7 +71,7 @@ double count_part(const Args& a, SliceReader& reader, const IsovalueSet& iso, Sp
     opt.z_end = z_end;
     SpanCounter counter(Context::shared(), iso, reader.type(), reader.dims(), opt);
     const std::size_t depth = counter.slab_slices();
-    std::vector<unsigned char> buf(depth * reader.slice_bytes());
+    HostBytes buf(depth * reader.slice_bytes());  // aligned: a CPU device counts it in place
     // Slabs share their last slice with the next one: read it once, keep it in front.
     reader.seek(z_begin);
     std::size_t z0 = z_begin, have = 0;
