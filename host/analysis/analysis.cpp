@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <type_traits>
 #include <chrono>
@@ -385,10 +386,76 @@ Verdict verdict_of(double fd, const AdviceOptions& o) {
     return fd <= o.clean_fd ? Verdict::clean : fd >= o.noisy_fd ? Verdict::noisy : Verdict::rough;
 }
 
+namespace {
+
+// How many of the m bytes at p hold each of the 256 byte values, on every core. Each thread
+// reads a word of 8 bytes at a time into four tables of 32-bit counts (4 KiB, in L1): the
+// increments of one table follow each other a quarter as often as with one, so runs of
+// equal values wait less on the store before. The tables go into 64-bit counts every 2^31
+// bytes, before a count can overflow.
+std::array<std::uint64_t, 256> byte_counts(const unsigned char* p, std::size_t m) {
+    constexpr std::size_t block = std::size_t(1) << 20, flush_every = 2048;
+    const std::size_t blocks = (m + block - 1) / block;
+    const int threads = int(std::max<std::size_t>(1, std::min<std::size_t>(std::size_t(omp_get_max_threads()), blocks)));
+    std::vector<std::array<std::uint64_t, 256>> part(std::size_t(threads), std::array<std::uint64_t, 256>{});
+#pragma omp parallel num_threads(threads)
+    {
+        std::uint32_t c[4][256] = {};
+        std::array<std::uint64_t, 256>& out = part[std::size_t(omp_get_thread_num())];
+        const auto flush = [&] {
+            for (std::size_t b = 0; b < 256; ++b) {
+                out[b] += std::uint64_t(c[0][b]) + c[1][b] + c[2][b] + c[3][b];
+                c[0][b] = c[1][b] = c[2][b] = c[3][b] = 0;
+            }
+        };
+        std::size_t since = 0;
+#pragma omp for schedule(static)
+        for (std::size_t k = 0; k < blocks; ++k) {
+            const unsigned char* q = p + k * block;
+            const std::size_t len = std::min(block, m - k * block);
+            std::size_t i = 0;
+            for (; i + 8 <= len; i += 8) {
+                std::uint64_t w;
+                std::memcpy(&w, q + i, 8);
+                ++c[0][w & 255];
+                ++c[1][(w >> 8) & 255];
+                ++c[2][(w >> 16) & 255];
+                ++c[3][(w >> 24) & 255];
+                ++c[0][(w >> 32) & 255];
+                ++c[1][(w >> 40) & 255];
+                ++c[2][(w >> 48) & 255];
+                ++c[3][w >> 56];
+            }
+            for (; i < len; ++i) ++c[0][q[i]];
+            if (++since == flush_every) {  // at most 2^31 increments of a table's count
+                flush();
+                since = 0;
+            }
+        }
+        flush();
+    }
+    std::array<std::uint64_t, 256> total{};
+    for (const auto& h : part)
+        for (std::size_t b = 0; b < 256; ++b) total[b] += h[b];
+    return total;
+}
+
+}  // namespace
+
 std::vector<std::uint64_t> isovalue_histogram(const Volume& v, const IsovalueSet& iso) {
     const std::size_t n = iso.size();
     std::vector<std::uint64_t> hist(n, 0);
     if (n == 0) return hist;
+    if (iso.integer() && (v.type() == ValueType::uint8 || v.type() == ValueType::int8)) {
+        // 8-bit data, integer isovalues: the count of each byte value, then the isovalues' own.
+        const std::array<std::uint64_t, 256> bytes = byte_counts(static_cast<const unsigned char*>(v.data()), v.vertices());
+        const long long lo = v.type() == ValueType::int8 ? -128 : 0;
+        for (std::size_t k = 0; k < n; ++k) {
+            const long long value = iso.first() + (long long)k;
+            if (value >= lo && value <= lo + 255) hist[k] = bytes[std::size_t(value & 255)];
+        }
+        return hist;
+    }
     const int threads = omp_get_max_threads();
     std::vector<std::vector<std::uint64_t>> part(std::size_t(threads), std::vector<std::uint64_t>(n, 0));
     visit(v, [&](const auto* data) {

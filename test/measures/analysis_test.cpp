@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <random>
 #include <tuple>
 
@@ -190,6 +191,24 @@ TEST_CASE("isovalue histogram: vertices per isovalue bin, against a plain count"
             std::uint64_t want = 0;
             for (std::size_t i = 0; i < v.vertices(); ++i) want += v.value(i) == ints.value(k);
             CHECK(h[k] == want);
+        }
+    }
+    // 8-bit data counted by byte value: volumes of several 1 MiB blocks and an odd tail, sets
+    // within the type, cut by it, and beyond it.
+    for (const auto& [type, lo, hi, first, last] :
+         {std::tuple{ValueType::uint8, 0, 255, 0, 255}, std::tuple{ValueType::uint8, 20, 90, -5, 300},
+          std::tuple{ValueType::int8, -128, 127, -128, 127}, std::tuple{ValueType::int8, -50, 60, -200, 10}}) {
+        CAPTURE(value_type_name(type));
+        CAPTURE(first);
+        const Volume v = testutil::random_volume(Dims{131, 67, 241}, type, lo, hi, 9);
+        std::map<double, std::uint64_t> count;
+        for (std::size_t i = 0; i < v.vertices(); ++i) ++count[v.value(i)];
+        const IsovalueSet ints = IsovalueSet::integers(first, last);
+        const std::vector<std::uint64_t> h = isovalue_histogram(v, ints);
+        REQUIRE(h.size() == ints.size());
+        for (std::size_t k = 0; k < ints.size(); ++k) {
+            const auto it = count.find(ints.value(k));
+            CHECK(h[k] == (it == count.end() ? 0 : it->second));
         }
     }
     const Volume f = testutil::random_volume(Dims{11, 6, 4}, ValueType::float32, -10, 10, 8);
