@@ -667,6 +667,12 @@ TEST_CASE("slices read into the stream's own buffer count as pushed slices") {
         ++chunks;
     }
     CHECK(filled.slices() == d.nz);
+    // The batch starts on the device's base alignment: a CPU device counts it in place.
+    {
+        std::size_t room0 = 0;
+        SpanStream fresh(ctx(), d.nx, d.ny, ValueType::uint16, iso, 3);
+        CHECK(reinterpret_cast<std::uintptr_t>(fresh.next_slices(room0)) % ctx().mem_base_align() == 0);
+    }
     const SpanResult a = pushed.counts(), b = filled.counts();
     for (std::size_t k = 0; k < a.curves.size(); ++k) CHECK(a.curves[k].counts == b.curves[k].counts);
     std::size_t room = 0;
