@@ -427,7 +427,7 @@ std::array<std::uint64_t, 256> byte_counts(const unsigned char* p, std::size_t m
                 ++c[3][w >> 56];
             }
             for (; i < len; ++i) ++c[0][q[i]];
-            if (++since == flush_every) {  // at most 2^31 increments of a table's count
+            if (++since == flush_every) {  // 2^31 bytes: at most 2^29 increments of a count
                 flush();
                 since = 0;
             }
