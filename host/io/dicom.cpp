@@ -94,7 +94,7 @@ void quiet_gdcm() {
     gdcm::Trace::SetError(false);
 }
 
-enum class Walk { complete, truncated, no_preamble, bad_vr, bad_meta, bad_recognition };
+enum class Walk { complete, truncated, no_preamble, bad_vr, bad_meta, bad_recognition, bad_overlay };
 
 /// A DICOM file read a few bytes at a time into h.
 struct ElementReader {
@@ -129,6 +129,44 @@ struct ElementReader {
     }
     std::ifstream in;
     unsigned char h[12];
+};
+
+/// The overlay planes of a data set (even groups 60xx at its top level) as GDCM reads them:
+/// it asserts on an element it does not know (Overlay Activation Layer, 60xx,1001, among
+/// them), on a retired Overlay Compression Code other than "NONE" or Overlay Format other
+/// than "RECT", and, for a plane without Overlay Data (60xx,3000) whose bits would lie in the
+/// pixel data's unused ones (retired), on sizes that do not fill whole bytes, reading the
+/// pixel data as far as the plane's size claims. So only planes with their Overlay Data and
+/// known attributes pass.
+struct OverlayCheck {
+    struct Plane {
+        bool data = false;
+        std::uint32_t rows = 0, columns = 0;
+    };
+    std::map<unsigned, Plane> planes;
+
+    static bool is_overlay(unsigned group) { return group >= 0x6000 && group <= 0x60ff && group % 2 == 0; }
+
+    /// False for an element GDCM would assert on.
+    bool element(ElementReader& r, unsigned group, unsigned element, std::uint64_t at, std::uint64_t length, bool big,
+                 bool sequence) {
+        static const unsigned known[] = {0x0000, 0x0010, 0x0011, 0x0015, 0x0022, 0x0040, 0x0045, 0x0050, 0x0051, 0x0060,
+                                         0x0100, 0x0102, 0x0110, 0x0200, 0x1301, 0x1302, 0x1303, 0x1500, 0x3000};
+        if (sequence || std::find(std::begin(known), std::end(known), element) == std::end(known)) return false;
+        Plane& p = planes[group];
+        if (length == 0) return true;  // GDCM passes over empty elements
+        if (element == 0x0060) return length == 4 && r.starts_with(at, length, "NONE");
+        if (element == 0x0110) return length == 4 && r.starts_with(at, length, "RECT");
+        if (element == 0x3000) p.data = true;
+        if ((element == 0x0010 || element == 0x0011) && length >= 2 && r.read_at(at, 2))
+            (element == 0x0010 ? p.rows : p.columns) = r.u16(0, big);
+        return true;
+    }
+    /// False when a plane without Overlay Data claims a size.
+    bool complete() const {
+        return std::all_of(planes.begin(), planes.end(),
+                           [](const auto& g) { return g.second.data || g.second.rows * g.second.columns == 0; });
+    }
 };
 
 /// The header size and value length of the explicit-VR element at p (its first 8 bytes
@@ -172,6 +210,7 @@ Walk walk_elements(const std::string& file, Layout& layout) {
     if (size < 132 || !r.read_at(128, 4) || std::memcmp(r.h, "DICM", 4) != 0) return Walk::no_preamble;
     std::uint64_t p = 132;
     std::string syntax;
+    OverlayCheck overlays;
     int depth = 0;  // open undefined-length sequences and items
     bool data_set = false;
     while (p < size) {
@@ -207,6 +246,10 @@ Walk walk_elements(const std::string& file, Layout& layout) {
                               r.starts_with(at, length, "MIPS 2.0")))
                 return Walk::bad_recognition;
         }
+        if (!meta && depth == 0 && OverlayCheck::is_overlay(group) && !cut &&
+            !overlays.element(r, group, element, p + header, length, big,
+                              length == 0xffffffffu || (header == 12 && r.h[4] == 'S' && r.h[5] == 'Q')))
+            return Walk::bad_overlay;
         const bool pixels = group == 0x7fe0 && element == 0x0010 && depth == 0;
         if (pixels) layout = length == 0xffffffffu ? Layout{Layout::encapsulated, size - p} : Layout{Layout::native, length};
         if (length == 0xffffffffu) {  // the content follows as elements or items up to a delimiter
@@ -224,7 +267,8 @@ Walk walk_elements(const std::string& file, Layout& layout) {
             syntax = r.uid_at(p + header, length);
         p += header + length;  // a defined-length value (an item too) lies within the file: skip it
     }
-    return data_set && depth <= 0 ? Walk::complete : Walk::truncated;
+    if (!(data_set && depth <= 0)) return Walk::truncated;
+    return overlays.complete() ? Walk::complete : Walk::bad_overlay;
 }
 
 void scan(Scan& s, const std::string& path) {
@@ -248,6 +292,9 @@ void scan(Scan& s, const std::string& path) {
                                  "syntax, must come first and hold no sequences)");
         case Walk::bad_recognition:
             throw InputError(f + ": unsupported DICOM file (a Recognition Code (0008,0010) that is not ACR-NEMA's)");
+        case Walk::bad_overlay:
+            throw InputError(f + ": unsupported DICOM file (an overlay plane, group 60xx, without its Overlay Data "
+                                 "or with attributes GDCM does not read)");
         case Walk::no_preamble:
             // README, LICENSE, DIRFILE, ...: not DICOM, not ours. A .dcm that is not DICOM is.
             if (dicom_extension(f))

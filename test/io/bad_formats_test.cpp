@@ -80,6 +80,21 @@ template <class T> std::string le(T v) {
     return s;
 }
 
+/// An implicit-VR little-endian element (group, element, value).
+std::string implicit_element(std::uint16_t group, std::uint16_t element, const std::string& value) {
+    return le(group) + le(element) + le(std::uint32_t(value.size())) + value;
+}
+/// Overlay Rows and Columns of plane 6000.
+std::string overlay(std::uint16_t rows, std::uint16_t columns) {
+    return implicit_element(0x6000, 0x0010, le(rows)) + implicit_element(0x6000, 0x0011, le(columns));
+}
+/// A DICOM file with elements put before its pixel data (where groups 60xx belong).
+std::string before_pixels(const std::string& dcm, const std::string& elements) {
+    const std::size_t at = dcm.find(std::string("\xe0\x7f\x10\x00", 4));
+    REQUIRE(at != std::string::npos);
+    return dcm.substr(0, at) + elements + dcm.substr(at);
+}
+
 /// A valid 4x3x2 uint8 NIfTI-1 file written by the library.
 std::string nifti_bytes() {
     Volume v(Dims{4, 3, 2}, ValueType::uint8, "v");
@@ -203,6 +218,14 @@ TEST_CASE("every class of hostile DICOM, NIfTI, TIFF and MetaImage input: refuse
         {"DICOM: a Recognition Code that is not ACR-NEMA's (GDCM asserts on it)",
          put("recognition/a.dcm", replace(dcm, std::string("\x08\x00\x30\x00", 4), std::string("\x08\x00\x10\x00", 4))),
          "a Recognition Code (0008,0010) that is not ACR-NEMA's"},
+        // GDCM asserts on an overlay attribute it does not know and on a plane without its data.
+        {"DICOM: an overlay with Overlay Activation Layer (60xx,1001)",
+         put("overlay1001/a.dcm", before_pixels(dcm, overlay(3, 4) + implicit_element(0x6000, 0x1001, "1 ") +
+                                                         implicit_element(0x6000, 0x3000, std::string(2, '\xff')))),
+         "an overlay plane, group 60xx, without its Overlay Data or with attributes GDCM does not read"},
+        {"DICOM: an overlay in the pixel data's unused bits (retired)",
+         put("overlaybits/a.dcm", before_pixels(dcm, overlay(3, 4) + implicit_element(0x6000, 0x0100, le(std::uint16_t(16))))),
+         "an overlay plane, group 60xx, without its Overlay Data"},
         {"DICOM: BitsAllocated 0", put("bits0/a.dcm", patch_after(dcm, bits_tag, le(std::uint16_t(0)))),
          "BitsAllocated 0.000000 is not 1 to 64"},
         {"DICOM: cut in the pixel data", put("cut/a.dcm", dcm.substr(0, dcm.size() - 7)), "truncated DICOM file"},
@@ -267,6 +290,16 @@ TEST_CASE("every class of hostile DICOM, NIfTI, TIFF and MetaImage input: refuse
     CHECK(refusal([&] { describe_volume_file((root() / "fifo.nii").string()); }).find("not a regular file") !=
           std::string::npos);
 
+    // An overlay plane with its Overlay Data, in two groups, still reads.
+    {
+        const std::string planes = overlay(3, 4) + implicit_element(0x6000, 0x0040, "G ") +
+                                   implicit_element(0x6000, 0x3000, std::string(2, '\xff')) +
+                                   implicit_element(0x6002, 0x0010, le(std::uint16_t(3))) +
+                                   implicit_element(0x6002, 0x0011, le(std::uint16_t(4))) +
+                                   implicit_element(0x6002, 0x3000, std::string(2, '\x01'));
+        const Volume o = read_volume(put("overlay/a.dcm", before_pixels(dcm, planes)));
+        CHECK(o.value(11) == 111);
+    }
     // A DICOM file with an ACR-NEMA Recognition Code (as some scanners write) still reads.
     {
         const std::string tag("\x08\x00\x30\x00", 4);
