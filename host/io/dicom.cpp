@@ -131,41 +131,37 @@ struct ElementReader {
     unsigned char h[12];
 };
 
-/// The overlay planes of a data set (even groups 60xx at its top level) as GDCM reads them:
-/// it asserts on an element it does not know (Overlay Activation Layer, 60xx,1001, among
-/// them), on a retired Overlay Compression Code other than "NONE" or Overlay Format other
-/// than "RECT", and, for a plane without Overlay Data (60xx,3000) whose bits would lie in the
-/// pixel data's unused ones (retired), on sizes that do not fill whole bytes, reading the
-/// pixel data as far as the plane's size claims. So only planes with their Overlay Data and
-/// known attributes pass.
+/// The overlay planes (even groups 60xx) and curves (even groups 50xx, retired) at the top
+/// level of a data set, as GDCM reads them. GDCM asserts on an overlay element it does not
+/// know (Overlay Activation Layer, 60xx,1001, among them), on a retired Overlay Compression
+/// Code other than "NONE" or Overlay Format other than "RECT", on a plane without Overlay
+/// Data (60xx,3000) whose size does not fill whole bytes (its bits would lie in the pixel
+/// data's unused ones, retired; read as far as the size claims), and on curves whose groups
+/// it counts one way and reads another. So only planes with their Overlay Data and known
+/// attributes pass, and no curve.
 struct OverlayCheck {
-    struct Plane {
-        bool data = false;
-        std::uint32_t rows = 0, columns = 0;
-    };
-    std::map<unsigned, Plane> planes;
+    std::map<unsigned, bool> planes;  // group: whether it holds Overlay Data
 
     static bool is_overlay(unsigned group) { return group >= 0x6000 && group <= 0x60ff && group % 2 == 0; }
+    static bool is_curve(unsigned group) { return group >= 0x5000 && group <= 0x50ff && group % 2 == 0; }
 
     /// False for an element GDCM would assert on.
-    bool element(ElementReader& r, unsigned group, unsigned element, std::uint64_t at, std::uint64_t length, bool big,
+    bool element(ElementReader& r, unsigned group, unsigned element, std::uint64_t at, std::uint64_t length,
                  bool sequence) {
         static const unsigned known[] = {0x0000, 0x0010, 0x0011, 0x0015, 0x0022, 0x0040, 0x0045, 0x0050, 0x0051, 0x0060,
                                          0x0100, 0x0102, 0x0110, 0x0200, 0x1301, 0x1302, 0x1303, 0x1500, 0x3000};
+        if (is_curve(group)) return false;
         if (sequence || std::find(std::begin(known), std::end(known), element) == std::end(known)) return false;
-        Plane& p = planes[group];
+        bool& data = planes[group];
         if (length == 0) return true;  // GDCM passes over empty elements
         if (element == 0x0060) return length == 4 && r.starts_with(at, length, "NONE");
         if (element == 0x0110) return length == 4 && r.starts_with(at, length, "RECT");
-        if (element == 0x3000) p.data = true;
-        if ((element == 0x0010 || element == 0x0011) && length >= 2 && r.read_at(at, 2))
-            (element == 0x0010 ? p.rows : p.columns) = r.u16(0, big);
+        if (element == 0x3000) data = true;
         return true;
     }
-    /// False when a plane without Overlay Data claims a size.
+    /// False when a plane has no Overlay Data.
     bool complete() const {
-        return std::all_of(planes.begin(), planes.end(),
-                           [](const auto& g) { return g.second.data || g.second.rows * g.second.columns == 0; });
+        return std::all_of(planes.begin(), planes.end(), [](const auto& g) { return g.second; });
     }
 };
 
@@ -246,8 +242,8 @@ Walk walk_elements(const std::string& file, Layout& layout) {
                               r.starts_with(at, length, "MIPS 2.0")))
                 return Walk::bad_recognition;
         }
-        if (!meta && depth == 0 && OverlayCheck::is_overlay(group) && !cut &&
-            !overlays.element(r, group, element, p + header, length, big,
+        if (!meta && depth == 0 && (OverlayCheck::is_overlay(group) || OverlayCheck::is_curve(group)) && !cut &&
+            !overlays.element(r, group, element, p + header, length,
                               length == 0xffffffffu || (header == 12 && r.h[4] == 'S' && r.h[5] == 'Q')))
             return Walk::bad_overlay;
         const bool pixels = group == 0x7fe0 && element == 0x0010 && depth == 0;
@@ -293,8 +289,8 @@ void scan(Scan& s, const std::string& path) {
         case Walk::bad_recognition:
             throw InputError(f + ": unsupported DICOM file (a Recognition Code (0008,0010) that is not ACR-NEMA's)");
         case Walk::bad_overlay:
-            throw InputError(f + ": unsupported DICOM file (an overlay plane, group 60xx, without its Overlay Data "
-                                 "or with attributes GDCM does not read)");
+            throw InputError(f + ": unsupported DICOM file (a curve, group 50xx, or an overlay plane, group 60xx, "
+                                 "without its Overlay Data or with attributes GDCM does not read)");
         case Walk::no_preamble:
             // README, LICENSE, DIRFILE, ...: not DICOM, not ours. A .dcm that is not DICOM is.
             if (dicom_extension(f))

@@ -218,7 +218,8 @@ TEST_CASE("every class of hostile DICOM, NIfTI, TIFF and MetaImage input: refuse
         {"DICOM: a Recognition Code that is not ACR-NEMA's (GDCM asserts on it)",
          put("recognition/a.dcm", replace(dcm, std::string("\x08\x00\x30\x00", 4), std::string("\x08\x00\x10\x00", 4))),
          "a Recognition Code (0008,0010) that is not ACR-NEMA's"},
-        // GDCM asserts on an overlay attribute it does not know and on a plane without its data.
+        // GDCM asserts on an overlay attribute it does not know, on a plane without its data and
+        // on curves.
         {"DICOM: an overlay with Overlay Activation Layer (60xx,1001)",
          put("overlay1001/a.dcm", before_pixels(dcm, overlay(3, 4) + implicit_element(0x6000, 0x1001, "1 ") +
                                                          implicit_element(0x6000, 0x3000, std::string(2, '\xff')))),
@@ -226,6 +227,10 @@ TEST_CASE("every class of hostile DICOM, NIfTI, TIFF and MetaImage input: refuse
         {"DICOM: an overlay in the pixel data's unused bits (retired)",
          put("overlaybits/a.dcm", before_pixels(dcm, overlay(3, 4) + implicit_element(0x6000, 0x0100, le(std::uint16_t(16))))),
          "an overlay plane, group 60xx, without its Overlay Data"},
+        {"DICOM: a curve (50xx, retired; GDCM asserts when it counts its groups otherwise than it reads them)",
+         put("curve/a.dcm", before_pixels(dcm, implicit_element(0x5000, 0x3000, std::string(4, '\0')) +
+                                                   implicit_element(0x5002, 0x0005, le(std::uint16_t(2))))),
+         "a curve, group 50xx"},
         {"DICOM: BitsAllocated 0", put("bits0/a.dcm", patch_after(dcm, bits_tag, le(std::uint16_t(0)))),
          "BitsAllocated 0.000000 is not 1 to 64"},
         {"DICOM: cut in the pixel data", put("cut/a.dcm", dcm.substr(0, dcm.size() - 7)), "truncated DICOM file"},
