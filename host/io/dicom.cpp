@@ -137,8 +137,8 @@ struct ElementReader {
 /// Code other than "NONE" or Overlay Format other than "RECT", on a plane without Overlay
 /// Data (60xx,3000) whose size does not fill whole bytes (its bits would lie in the pixel
 /// data's unused ones, retired; read as far as the size claims), and on curves whose groups
-/// it counts one way and reads another. So only planes with their Overlay Data and known
-/// attributes pass, and no curve.
+/// it counts one way and reads another (it counts overlay planes by their Overlay Data). So
+/// only planes with their Overlay Data and known attributes pass, and no curve.
 struct OverlayCheck {
     std::map<unsigned, bool> planes;  // group: whether it holds Overlay Data
 
