@@ -440,22 +440,123 @@ std::array<std::uint64_t, 256> byte_counts(const unsigned char* p, std::size_t m
     return total;
 }
 
+// How many of the m 16-bit values at p hold each of the 65,536 values (indexed by their bits),
+// on every core: four tables of 32-bit counts a thread (1 MiB, in L2), the values taken in
+// turn, so that runs of equal values wait less on the store before (as byte_counts); into
+// 64-bit counts every 2^31 values, before a count can overflow.
+std::vector<std::uint64_t> word_counts(const std::uint16_t* p, std::size_t m) {
+    constexpr std::size_t values = std::size_t(1) << 16, block = std::size_t(1) << 20, flush_every = 2048;
+    const std::size_t blocks = (m + block - 1) / block;
+    const int threads = int(std::max<std::size_t>(1, std::min<std::size_t>(std::size_t(omp_get_max_threads()), blocks)));
+    std::vector<std::uint64_t> total(values, 0);
+#pragma omp parallel num_threads(threads)
+    {
+        std::vector<std::uint32_t> tables(4 * values, 0);
+        std::uint32_t* __restrict c0 = tables.data();
+        std::uint32_t* __restrict c1 = c0 + values;
+        std::uint32_t* __restrict c2 = c1 + values;
+        std::uint32_t* __restrict c3 = c2 + values;
+        std::vector<std::uint64_t> out(values, 0);
+        const auto flush = [&] {
+            for (std::size_t b = 0; b < values; ++b) out[b] += std::uint64_t(c0[b]) + c1[b] + c2[b] + c3[b];
+            std::fill(tables.begin(), tables.end(), 0u);
+        };
+        std::size_t since = 0;
+#pragma omp for schedule(static)
+        for (std::size_t k = 0; k < blocks; ++k) {
+            const std::uint16_t* q = p + k * block;
+            const std::size_t len = std::min(block, m - k * block);
+            std::size_t i = 0;
+            for (; i + 4 <= len; i += 4) {
+                ++c0[q[i]];
+                ++c1[q[i + 1]];
+                ++c2[q[i + 2]];
+                ++c3[q[i + 3]];
+            }
+            for (; i < len; ++i) ++c0[q[i]];
+            if (++since == flush_every) {  // 2^31 values: at most 2^29 increments of a count
+                flush();
+                since = 0;
+            }
+        }
+        flush();
+#pragma omp critical
+        for (std::size_t b = 0; b < values; ++b) total[b] += out[b];
+    }
+    return total;
+}
+
+// 8- and 16-bit integer data: the count of every value of the type, indexed by the value's
+// bits (a signed value's two's complement). One pass gives the value range and the isovalue
+// histogram of any isovalue set. 16-bit data from 2^23 values on: below, the tables' set-up
+// costs more than the second pass saves (4 Mi values: 1.3 ms against 1.1 ms for the range and
+// then the histogram of its isovalues; 16 Mi: 3.1 ms against 4.6 ms; 2-core Xeon).
+bool counted_by_value(const Volume& v) {
+    const ValueType t = v.type();
+    if (t == ValueType::uint8 || t == ValueType::int8) return true;
+    return (t == ValueType::uint16 || t == ValueType::int16) && v.vertices() >= (std::size_t(1) << 23);
+}
+
+std::vector<std::uint64_t> value_counts(const Volume& v) {
+    if (value_size(v.type()) == 1) {
+        const std::array<std::uint64_t, 256> b = byte_counts(static_cast<const unsigned char*>(v.data()), v.vertices());
+        return std::vector<std::uint64_t>(b.begin(), b.end());
+    }
+    return word_counts(static_cast<const std::uint16_t*>(v.data()), v.vertices());
+}
+
+// The value whose bits are u, in type t (8 or 16 bits).
+long long value_of_bits(std::size_t u, ValueType t) {
+    switch (t) {
+    case ValueType::int8: return (long long)std::int8_t(std::uint8_t(u));
+    case ValueType::int16: return (long long)std::int16_t(std::uint16_t(u));
+    default: return (long long)u;
+    }
+}
+
+// The smallest and largest value counted ({} when none is).
+ValueStats stats_of_counts(const std::vector<std::uint64_t>& counts, ValueType t) {
+    ValueStats s;
+    bool any = false;
+    for (std::size_t u = 0; u < counts.size(); ++u) {
+        if (!counts[u]) continue;
+        const double x = double(value_of_bits(u, t));
+        s.min = any ? std::min(s.min, x) : x;
+        s.max = any ? std::max(s.max, x) : x;
+        any = true;
+    }
+    return s;
+}
+
+// The isovalue histogram from the count of every value: a value x counts at isovalue k when
+// x - first == k (integer sets), else at the last isovalue <= x.
+std::vector<std::uint64_t> histogram_of_counts(const std::vector<std::uint64_t>& counts, ValueType t,
+                                               const IsovalueSet& iso) {
+    const std::size_t n = iso.size();
+    std::vector<std::uint64_t> hist(n, 0);
+    const std::vector<double>& s = iso.list();
+    for (std::size_t u = 0; u < counts.size(); ++u) {
+        if (!counts[u]) continue;
+        const long long x = value_of_bits(u, t);
+        if (iso.integer()) {
+            const unsigned long long k = (unsigned long long)(x - iso.first());
+            if (k < n) hist[k] += counts[u];
+        } else {
+            const std::size_t k = std::size_t(std::upper_bound(s.begin(), s.end(), double(x)) - s.begin());
+            if (k > 0) hist[k - 1] += counts[u];
+        }
+    }
+    return hist;
+}
+
 }  // namespace
 
 std::vector<std::uint64_t> isovalue_histogram(const Volume& v, const IsovalueSet& iso) {
     const std::size_t n = iso.size();
     std::vector<std::uint64_t> hist(n, 0);
     if (n == 0) return hist;
-    if (iso.integer() && (v.type() == ValueType::uint8 || v.type() == ValueType::int8)) {
-        // 8-bit data, integer isovalues: the count of each byte value, then the isovalues' own.
-        const std::array<std::uint64_t, 256> bytes = byte_counts(static_cast<const unsigned char*>(v.data()), v.vertices());
-        const long long lo = v.type() == ValueType::int8 ? -128 : 0;
-        for (std::size_t k = 0; k < n; ++k) {
-            const long long value = iso.first() + (long long)k;
-            if (value >= lo && value <= lo + 255) hist[k] = bytes[std::size_t(value & 255)];
-        }
-        return hist;
-    }
+    // 8-bit and large 16-bit integer data: the count of each value, then the isovalues' own.
+    if (counted_by_value(v)) return histogram_of_counts(value_counts(v), v.type(), iso);
     const int threads = omp_get_max_threads();
     std::vector<std::vector<std::uint64_t>> part(std::size_t(threads), std::vector<std::uint64_t>(n, 0));
     visit(v, [&](const auto* data) {
@@ -627,11 +728,15 @@ Analysis analyse_curve(const FdCurve& f, const AnalysisOptions& o, std::vector<s
 AnalysisInput prepare_analysis(const Volume& v, const AnalysisOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     AnalysisInput in;
-    in.stats = value_stats(v);
     if (o.isovalues && !o.isovalues->matches(v.type()))
         throw InputError("analyse: the isovalue set does not match " + std::string(value_type_name(v.type())) + " data");
+    // 8-bit and large 16-bit data: one pass counts every value, which gives the range and the
+    // histogram.
+    std::vector<std::uint64_t> counts;
+    if (counted_by_value(v)) counts = value_counts(v);
+    in.stats = counts.empty() ? value_stats(v) : stats_of_counts(counts, v.type());
     in.isovalues = o.isovalues ? *o.isovalues : IsovalueSet::for_range(v.type(), in.stats.min, in.stats.max, o.bins ? o.bins : 256);
-    in.histogram = isovalue_histogram(v, in.isovalues);
+    in.histogram = counts.empty() ? isovalue_histogram(v, in.isovalues) : histogram_of_counts(counts, v.type(), in.isovalues);
     in.seconds = seconds_since(t0);
     in.data = v.data();
     return in;

@@ -151,8 +151,10 @@ struct Analysis {
     const Recommendation& best() const { return recommended.front(); }
 };
 
-/// What analyse() computes on the host before it needs the device: one pass for the value
-/// statistics, the isovalue set and one pass for the isovalue histogram. A program that
+/// What analyse() computes on the host before it needs the device: the value statistics, the
+/// isovalue set and the isovalue histogram, in one pass counting every value for 8-bit data
+/// and 16-bit data of 2^23 values or more, else one pass for the statistics and one for the
+/// histogram. A program that
 /// creates its context on another thread (Context::start_shared) computes it meanwhile and
 /// hands it to analyse(); its `stats` also tell it whether the volume holds NaN or Inf.
 struct AnalysisInput {

@@ -193,14 +193,18 @@ TEST_CASE("isovalue histogram: vertices per isovalue bin, against a plain count"
             CHECK(h[k] == want);
         }
     }
-    // 8-bit data counted by byte value: volumes of several 1 MiB blocks and an odd tail, sets
-    // within the type, cut by it, and beyond it.
+    // 8- and 16-bit data counted by value: volumes of several blocks of 2^20 values and an odd
+    // tail (16-bit: from 2^23 values on, the size counted by value), sets within the type, cut by
+    // it, and beyond it.
     for (const auto& [type, lo, hi, first, last] :
          {std::tuple{ValueType::uint8, 0, 255, 0, 255}, std::tuple{ValueType::uint8, 20, 90, -5, 300},
-          std::tuple{ValueType::int8, -128, 127, -128, 127}, std::tuple{ValueType::int8, -50, 60, -200, 10}}) {
+          std::tuple{ValueType::int8, -128, 127, -128, 127}, std::tuple{ValueType::int8, -50, 60, -200, 10},
+          std::tuple{ValueType::uint16, 0, 65535, 0, 65535}, std::tuple{ValueType::uint16, 900, 4000, 3000, 70000},
+          std::tuple{ValueType::int16, -32768, 32767, -32768, 32767}, std::tuple{ValueType::int16, -300, 200, -40000, -100}}) {
         CAPTURE(value_type_name(type));
         CAPTURE(first);
-        const Volume v = testutil::random_volume(Dims{131, 67, 241}, type, lo, hi, 9);
+        const Dims d = value_size(type) == 1 ? Dims{131, 67, 241} : Dims{259, 177, 183};
+        const Volume v = testutil::random_volume(d, type, lo, hi, 9);
         std::map<double, std::uint64_t> count;
         for (std::size_t i = 0; i < v.vertices(); ++i) ++count[v.value(i)];
         const IsovalueSet ints = IsovalueSet::integers(first, last);
@@ -211,14 +215,18 @@ TEST_CASE("isovalue histogram: vertices per isovalue bin, against a plain count"
             CHECK(h[k] == (it == count.end() ? 0 : it->second));
         }
     }
-    const Volume f = testutil::random_volume(Dims{11, 6, 4}, ValueType::float32, -10, 10, 8);
+    // A list of isovalues: the values from each to the next, on float data and on 16-bit data.
     const IsovalueSet list = IsovalueSet::floats({-3.f, -0.5f, 0.f, 2.5f, 4.f});
-    const std::vector<std::uint64_t> hf = isovalue_histogram(f, list);
-    for (std::size_t k = 0; k < list.size(); ++k) {
-        const double hi = k + 1 < list.size() ? list.value(k + 1) : INFINITY;
-        std::uint64_t want = 0;
-        for (std::size_t i = 0; i < f.vertices(); ++i) want += f.value(i) >= list.value(k) && f.value(i) < hi;
-        CHECK(hf[k] == want);
+    for (const Volume& f : {testutil::random_volume(Dims{11, 6, 4}, ValueType::float32, -10, 10, 8),
+                            testutil::random_volume(Dims{11, 6, 4}, ValueType::int16, -10, 10, 8)}) {
+        CAPTURE(value_type_name(f.type()));
+        const std::vector<std::uint64_t> hf = isovalue_histogram(f, list);
+        for (std::size_t k = 0; k < list.size(); ++k) {
+            const double hi = k + 1 < list.size() ? list.value(k + 1) : INFINITY;
+            std::uint64_t want = 0;
+            for (std::size_t i = 0; i < f.vertices(); ++i) want += f.value(i) >= list.value(k) && f.value(i) < hi;
+            CHECK(hf[k] == want);
+        }
     }
 }
 
@@ -237,9 +245,10 @@ nlohmann::json without_seconds(nlohmann::json j) {
 TEST_CASE("prepare_analysis: the host part by plain loops; analyse with it gives analyse's answer") {
     AnalysisOptions o;
     o.noise_level = o.surface_noise = false;
-    for (const ValueType type : {ValueType::int16, ValueType::float32}) {
+    for (const ValueType type : {ValueType::int16, ValueType::uint16, ValueType::int8, ValueType::uint8, ValueType::float32}) {
         CAPTURE(value_type_name(type));
-        const Volume v = testutil::random_volume(Dims{19, 13, 11}, type, -40, 90, 5);
+        const bool is_unsigned = type == ValueType::uint16 || type == ValueType::uint8;
+        const Volume v = testutil::random_volume(Dims{19, 13, 11}, type, is_unsigned ? 3 : -40, 90, 5);
         const AnalysisInput in = prepare_analysis(v, o);
         double lo = INFINITY, hi = -INFINITY;
         for (std::size_t i = 0; i < v.vertices(); ++i) lo = std::min(lo, v.value(i)), hi = std::max(hi, v.value(i));
@@ -249,7 +258,13 @@ TEST_CASE("prepare_analysis: the host part by plain loops; analyse with it gives
         const IsovalueSet want = IsovalueSet::for_range(type, lo, hi, o.bins);
         REQUIRE(in.isovalues.size() == want.size());
         for (std::size_t k = 0; k < want.size(); ++k) CHECK(in.isovalues.value(k) == want.value(k));
-        CHECK(in.histogram == isovalue_histogram(v, want));
+        REQUIRE(in.histogram.size() == want.size());
+        for (std::size_t k = 0; k < want.size(); ++k) {
+            const double hi_k = k + 1 < want.size() ? want.value(k + 1) : INFINITY;
+            std::uint64_t n = 0;
+            for (std::size_t i = 0; i < v.vertices(); ++i) n += v.value(i) >= want.value(k) && v.value(i) < hi_k;
+            CHECK(in.histogram[k] == n);
+        }
         CHECK(in.seconds >= 0);
         nlohmann::json a = nlohmann::json::parse(to_json(analyse(ctx(), v, o)));
         const Analysis prepared = analyse(ctx(), v, o, in);
