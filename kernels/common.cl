@@ -38,11 +38,15 @@ typedef float iso_t;
 // ending) at v begins (or stops) to be intersected, since s intersects [a, b]
 // iff a < s <= b (docs/definitions.md §4 "Span and intersection").
 //  - integer data: isovalue j is vmin + j, so the first one > v is v - vmin + 1,
-//    clamped to [0, niso] for values outside the isovalue range;
+//    clamped to [0, niso] for values outside the isovalue range; in int with -DNARROW_BINS
+//    (8/16-bit data and |vmin| <= 2^20, which the host checks: no int overflows), twice the
+//    lanes of a vector as in long;
 //  - other data: upper bound of v in the sorted list iso[0..niso), compared as ISO_T
 //    (exact: ISO_T holds every value of T).
 inline int first_isovalue_above(T v, long vmin, __global const ISO_T* iso, int niso) {
-#ifdef INTEGER_VALUES
+#if defined(INTEGER_VALUES) && defined(NARROW_BINS)
+    return clamp((int)v - (int)vmin + 1, 0, niso);
+#elif defined(INTEGER_VALUES)
     return (int)clamp((long)v - vmin + 1, 0L, (long)niso);
 #else
     int lo = 0, hi = niso;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdlib>
 #include <memory>
 #include <chrono>
 #include <cmath>
@@ -129,6 +130,8 @@ struct SpanCounter::Impl {
     void build_kernels() {
         std::string options = type_options(type);
         if (iso.integer()) options += " -DINTEGER_VALUES";
+        // Bins computed in int (kernels/common.cl): every value and bin of 8/16-bit data fits.
+        if (iso.integer() && value_size(type) <= 2 && std::llabs(iso.first()) <= (1 << 20)) options += " -DNARROW_BINS";
         if (iso.float64()) options += " -DISO_DOUBLE -DFP64";
         if (global_hist) options += " -DGLOBAL_HIST";
         subsample = SubsampleKernel(ctx, "pyramid", "subsample", type_options(type));
@@ -149,8 +152,8 @@ struct SpanCounter::Impl {
             count.push_back(std::move(c));
         }
         if (private_hist) {
-            // Two rows per work-item (kernels/span.cl).
-            partial_rows = 2 * (ctx.tuning.private_items ? ctx.tuning.private_items : 4 * ctx.compute_units());
+            // Four rows per work-item (kernels/span.cl).
+            partial_rows = 4 * (ctx.tuning.private_items ? ctx.tuning.private_items : 4 * ctx.compute_units());
             wg = 1;
             return;
         }
@@ -200,7 +203,7 @@ struct SpanCounter::Impl {
         const cl_long vmin = iso.integer() ? iso.first() : 0;
         if (private_hist) {
             partial.fill(ctx.queue(), 0);
-            const cl::NDRange global(partial_rows / 2), local(1);
+            const cl::NDRange global(partial_rows / 4), local(1);
             if (cubes) k.cubes_private(global, local, values, nx, ny, nz, vmin, iso_buf.get(), niso, bins, partial.get());
             else k.edges_private(global, local, values, nx, ny, nz, int(last), vmin, iso_buf.get(), niso, bins, partial.get());
             accumulate_rows(partial_rows, kind, l);
