@@ -21,7 +21,9 @@
 #include <exception>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <type_traits>
+#include <vector>
 
 #if !defined(__SSE2__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
 #error "row_mask packs bytes assuming a little-endian layout"
@@ -179,6 +181,13 @@ LINK_CLONES void link_rows(PlaneRuns& p, std::size_t y, PlaneRuns& q, std::size_
     const std::size_t wp = y * p.words, wq = yy * q.words;
     std::uint32_t* const pid = p.id.data();
     std::uint32_t* const qid = q.id.data();
+    // Rows of one run each (no change in either: most rows of most scans) overlap over the
+    // whole row and meet only when of one set: one join instead of a pass over their words.
+    if (p.row[y + 1] - p.row[y] == 1 && q.row[yy + 1] - q.row[yy] == 1) {
+        const unsigned s = p.in[wp] & 1 ? 0 : 1;
+        if (s == (q.in[wq] & 1 ? 0u : 1u) && l.set[s].on) merges[s] += join(pid[p.row[y]], qid[q.row[yy]], forest);
+        return;
+    }
     std::uint64_t both_a_before = 0, both_c_before = 0;
     for (std::size_t w = 0; w < p.words; ++w) {
         const std::uint64_t tp = p.change[wp + w], tq = q.change[wq + w];
@@ -327,25 +336,36 @@ struct ChunkResult {
     std::uint32_t labels = 0;
 };
 
+// The labelling of the planes [z0, z1) at several isovalues (`below`, one an isovalue) in one
+// pass: each row is read once and labelled at every isovalue while it is in the cache (a pass
+// an isovalue read the volume that many times from memory).
 template <class T, class Less>
-ChunkResult label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z1, Less less,
-                        const std::vector<RowLink>& links) {
-    Chunk c(links, d.nx);
+std::vector<ChunkResult> label_chunk(const T* f, const Dims& d, std::size_t z0, std::size_t z1,
+                                     const std::vector<Less>& below, const std::vector<RowLink>& links) {
+    std::vector<Chunk> c;
+    c.reserve(below.size());
+    for (std::size_t k = 0; k < below.size(); ++k) c.emplace_back(links, d.nx);
     for (std::size_t z = z0; z < z1; ++z) {
         for (std::size_t y = 0; y < d.ny; ++y) {
-            row_runs(f + (z * d.ny + y) * d.nx, d.nx, less, c.cur);
-            c.end_row(y, z > z0);
+            const T* row = f + (z * d.ny + y) * d.nx;
+            for (std::size_t k = 0; k < below.size(); ++k) {
+                row_runs(row, d.nx, below[k], c[k].cur);
+                c[k].end_row(y, z > z0);
+            }
         }
-        c.end_plane(z == z0);
+        for (Chunk& ck : c) ck.end_plane(z == z0);
     }
-    ChunkResult r;
-    r.b0[0] = c.b0[0], r.b0[1] = c.b0[1];
-    // The first plane's labels to their roots (the last plane's are roots already).
-    for (std::uint32_t& id : c.first.id) id = c.forest.find(id);
-    r.first = std::move(c.first);
-    r.last = std::move(c.prev);
-    r.labels = std::uint32_t(c.forest.size());
-    return r;
+    std::vector<ChunkResult> out(c.size());
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        ChunkResult& r = out[k];
+        r.b0[0] = c[k].b0[0], r.b0[1] = c[k].b0[1];
+        // The first plane's labels to their roots (the last plane's are roots already).
+        for (std::uint32_t& id : c[k].first.id) id = c[k].forest.find(id);
+        r.first = std::move(c[k].first);
+        r.last = std::move(c[k].prev);
+        r.labels = std::uint32_t(c[k].forest.size());
+    }
+    return out;
 }
 
 // The labelling of the planes so far, for joining more after them: b0 of both sets, and the
@@ -402,60 +422,74 @@ void extend(Prefix& p, std::vector<ChunkResult>& chunks, const std::vector<RowLi
 
 std::int64_t components_of(const Prefix& p) { return p.b0[0] > 0 && p.b0[1] > 0 ? p.b0[0] + p.b0[1] - 1 : 0; }
 
-// Calls f(less) with A = {f < s} compared as count_components compares
+// Whether a value is in A = {f < s}, compared as count_components compares
 // (IsovalueSet::single(type, s)): integer data f < ceil(s), float data f < s in the data's type
-// (the set holds s in that type), each as one comparison in the data's own type. Returns false,
-// without calling f, when every value or none of the type is below s (A or C is the whole grid).
-template <class T, class F> bool with_less(ValueType type, double s, F&& f) {
+// (the set holds s in that type), each as one comparison in the data's own type (uint64 data
+// against ceil(s) as an int64).
+template <class T> struct Below {
+    using Ref = std::conditional_t<std::is_integral_v<T> && sizeof(T) == 8 && !std::is_signed_v<T>, std::int64_t, T>;
+    Ref t;
+    bool operator()(T x) const {
+        if constexpr (std::is_same_v<Ref, T>) return x < t;
+        else return std::int64_t(x) < t;
+    }
+};
+
+// The comparison of isovalue s, or none when every value or none of the type is below s (A or
+// C is the whole grid).
+template <class T> std::optional<Below<T>> below(ValueType type, double s) {
     if constexpr (std::is_integral_v<T>) {
         const std::int64_t c = IsovalueSet::single(type, s).first();
-        if (sizeof(T) < 8 || std::is_signed_v<T>) {
+        if constexpr (sizeof(T) < 8 || std::is_signed_v<T>) {
             if (c > std::int64_t(std::numeric_limits<T>::max()) || c <= std::int64_t(std::numeric_limits<T>::min()))
-                return false;
-            const T t = T(c);
-            f([t](T x) { return x < t; });
+                return std::nullopt;
+            return Below<T>{T(c)};
         } else {
-            f([c](T x) { return std::int64_t(x) < c; });
+            return Below<T>{c};
         }
     } else {
         // An s that rounds to +-Inf in float32 (from half an ulp above its largest value on):
         // every finite value is below +Inf, none below -Inf (the volumes hold finite values
         // only). Converting it would be undefined behaviour; float64 holds every finite s.
-        if (std::is_same_v<T, float> && std::abs(s) >= 0x1.ffffffp127) return false;
-        const T t = T(IsovalueSet::single(type, s).list().front());
-        f([t](T x) { return x < t; });
+        if (std::is_same_v<T, float> && std::abs(s) >= 0x1.ffffffp127) return std::nullopt;
+        return Below<T>{T(IsovalueSet::single(type, s).list().front())};
     }
-    return true;
 }
 
 // The components of both sets at every isovalue, so far: `prefix` (one an isovalue) extended by
-// the planes [0, d.nz) of `f`, each isovalue's cut into z-chunks, all labelled on every core.
+// the planes [0, d.nz) of `f`, cut into z-chunks labelled on every core, each chunk at up to
+// `together` isovalues in one pass over its rows.
 template <class T>
 void label_planes(const T* f, const Dims& d, ValueType type, const std::vector<double>& isovalues,
                   const std::vector<RowLink>& links, std::vector<Prefix>& prefix) {
+    constexpr std::size_t together = 8;  // bounds the labellings a thread keeps at once
     const std::size_t n = isovalues.size();
     const std::size_t chunks = std::min<std::size_t>(d.nz, 2 * std::size_t(omp_get_max_threads()));
-    std::vector<std::vector<ChunkResult>> r(n, std::vector<ChunkResult>(chunks));
-    std::vector<char> whole(n, 0);  // A or C is every vertex: no surface
+    // The isovalues with a surface (A and C both possible), in groups labelled together.
+    std::vector<std::size_t> cut;  // indices into isovalues
+    std::vector<Below<T>> compare;
+    for (std::size_t j = 0; j < n; ++j)
+        if (const auto b = below<T>(type, isovalues[j])) cut.push_back(j), compare.push_back(*b);
+    const std::size_t groups = (cut.size() + together - 1) / together;
+    std::vector<std::vector<ChunkResult>> r(cut.size(), std::vector<ChunkResult>(chunks));
     // An exception cannot leave the parallel loop (the process would end): the first is
-    // kept and thrown after it (host memory running out, an isovalue the type refuses).
+    // kept and thrown after it (host memory running out).
     std::exception_ptr failed;
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::size_t k = 0; k < n * chunks; ++k) {
-        const std::size_t j = k / chunks, t = k % chunks;
+    for (std::size_t k = 0; k < groups * chunks; ++k) {
+        const std::size_t g = k / chunks, t = k % chunks;
+        const std::size_t j0 = g * together, j1 = std::min(cut.size(), j0 + together);
         try {
-            const bool some = with_less<T>(type, isovalues[j], [&](auto less) {
-                r[j][t] = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, less, links);
-            });
-            if (!some && t == 0) whole[j] = 1;
+            const std::vector<Below<T>> these(compare.begin() + std::ptrdiff_t(j0), compare.begin() + std::ptrdiff_t(j1));
+            std::vector<ChunkResult> done = label_chunk<T>(f, d, d.nz * t / chunks, d.nz * (t + 1) / chunks, these, links);
+            for (std::size_t i = 0; i < done.size(); ++i) r[j0 + i][t] = std::move(done[i]);
         } catch (...) {
 #pragma omp critical(components_at_failure)
             if (!failed) failed = std::current_exception();
         }
     }
     if (failed) std::rethrow_exception(failed);
-    for (std::size_t j = 0; j < n; ++j)
-        if (!whole[j]) extend(prefix[j], r[j], links, d.nx, d.ny);
+    for (std::size_t i = 0; i < cut.size(); ++i) extend(prefix[cut[i]], r[i], links, d.nx, d.ny);
 }
 
 std::vector<RowLink> links_of(Connectivity mode) {

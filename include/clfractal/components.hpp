@@ -56,9 +56,10 @@ ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, C
 /// components(s) at each of a few isovalues (each as IsovalueSet::single makes it: integer
 /// data ceil(s), float32 data s rounded to float32, float64 data s; 0 where that leaves A or C
 /// the whole grid, as for s beyond the type's range), equal to the curve of
-/// count_components there (finite data). Labels A = {f < s} and C = {f >= s} directly, one pass over the
-/// volume per isovalue: runs of vertices along x joined by union-find plane by plane, in
-/// z-chunks on every core joined at their seams. Memory O(slice); cheaper than the curve for
+/// count_components there (finite data). Labels A = {f < s} and C = {f >= s} directly, up to 8
+/// isovalues in one pass over the volume: runs of vertices along x joined by union-find plane
+/// by plane, in z-chunks on every core joined at their seams. Memory O(slice) an isovalue;
+/// cheaper than the curve for
 /// up to a few dozen isovalues. Throws InputError for a non-finite isovalue or a slice of 2^30
 /// vertices or more.
 std::vector<std::int64_t> count_components_at(const Volume& v, const std::vector<double>& isovalues,

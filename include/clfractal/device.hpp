@@ -144,8 +144,8 @@ public:
     /// read its input while the OpenCL platform starts (tens of milliseconds on some). shared()
     /// then waits for it and throws what the creation threw. A program that calls this calls
     /// shared() or wait_shared() before it returns from main. Calls after the first do nothing.
-    /// The first also starts the calling thread's OpenMP team first: threads created while the
-    /// runtime's libraries load wait for the dynamic loader.
+    /// The first call also starts the calling thread's OpenMP team before the runtime loads:
+    /// threads created while the runtime's libraries load wait for the dynamic loader.
     static void start_shared();
     /// Waits for a creation start_shared() began and discards its error, if any (the error
     /// path of a program that never needed the device); returns at once otherwise.
