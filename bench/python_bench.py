@@ -7,6 +7,11 @@ embedded noisy sphere).
   (`clfractal fd --json`: seconds_compute, the device time of the counting, which leaves out
   the pass over the values that finds the isovalue range); also with the isovalues given,
   which skips that pass.
+- span curve of a --span-size^3 uint8 noisy sphere (default 512^3, the embedded generator):
+  the warm Python fd_curve call (array in, curve out, the value range included) against the
+  tuned OpenMP loop (bench/baselines/span_openmp.cpp) and the device as a C++ library call,
+  both timed by `clfractal bench` in the same run on the same volume; the Python counts must
+  equal those of `clfractal fd --csv` on that volume.
 - median: the Python call against the same C++ library call (`clfractal_filter_bench
   --volume`), against scipy.ndimage.median_filter(size=3, mode="nearest") (which it
   must equal), and against pyclesperanto's median_box (radius 1) on the same OpenCL device
@@ -47,12 +52,41 @@ def run_cli(cli, *args):
     return r.stdout
 
 
+def span_against_openmp(a, tmp):
+    """The warm Python span curve of the N^3 noisy sphere against `clfractal bench`'s OpenMP
+    loop and device call on the same volume (its 2 (N/2)^3 case), in one run."""
+    n = a.span_size
+    bench_json = os.path.join(tmp, "bench.json")
+    run_cli(a.cli, "-q", "bench", "--size", n // 2, "--repeats", a.repeats, "--json", bench_json)
+    with open(bench_json) as f:
+        case = next(c for c in json.load(f)["span"] if c["volume"] == f"uint8 {n}^3")
+    if not case["counts_equal"]:
+        sys.exit("python_bench: clfractal bench's device and OpenMP counts differ")
+    v, _ = clfractal.read_volume(f"synthetic:noisy-sphere:{n}")
+    t_py, curve = best_of(a.repeats, lambda: clfractal.fd_curve(v))
+    path = os.path.join(tmp, f"span_{n}x{n}x{n}_uint8.raw")
+    v.tofile(path)
+    csv = os.path.join(tmp, "span.csv")
+    run_cli(a.cli, "-q", "fd", path, "--csv", csv, "--no-denoise")
+    want = np.genfromtxt(csv, delimiter=",", names=True)
+    if not np.array_equal(np.asarray(curve.counts[0], dtype=np.float64), want["count"]):
+        sys.exit("python_bench: fd_curve's counts differ from clfractal fd's")
+    os.remove(path)
+    t_omp, t_dev = case["openmp_seconds"], case["device_seconds"]
+    print(f"span {n}^3       python fd_curve {t_py:.4f} s | C++ device call {t_dev:.4f} s | OpenMP loop "
+          f"{t_omp:.4f} s | python vs OpenMP {t_omp / t_py:.2f}x, C++ vs OpenMP {t_omp / t_dev:.2f}x  (counts equal)")
+    return dict(span_size=n, span_python_seconds=t_py, span_cpp_seconds=t_dev, span_openmp_seconds=t_omp,
+                span_python_vs_openmp=t_omp / t_py, span_cpp_vs_openmp=t_omp / t_dev)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--cli", required=True, help="path of the clfractal command-line tool")
     p.add_argument("--filter-bench", help="path of clfractal_filter_bench (default: beside --cli)")
     p.add_argument("--size", type=int, default=256)
     p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--span-size", type=int, default=512,
+                   help="N of the span-curve comparison with the OpenMP loop (even; 0: skip it)")
     p.add_argument("--json", help="write the figures here")
     a = p.parse_args()
     a.filter_bench = a.filter_bench or os.path.join(os.path.dirname(a.cli), "clfractal_filter_bench")
@@ -100,6 +134,9 @@ def main():
               f"  (no value-range pass: the CLI's seconds_compute excludes it too)")
         print(f"  host work of the call beyond the device counting: {1e3 * rows['fd_host_seconds']:.1f} ms "
               f"(value range, copy, results), {1e3 * rows['fd_host_given_seconds']:.1f} ms with isovalues given")
+
+        if a.span_size:
+            rows.update(span_against_openmp(a, tmp))
 
         # ---- median: the C++ library call timed by clfractal_filter_bench (best of --repeats
         # after a warm-up; its --volume case times the median alone)
