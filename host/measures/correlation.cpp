@@ -1,6 +1,5 @@
 // The correlation of the component curve with the fractal dimension (components.hpp):
 // Pearson's coefficient, centred on the host, its three dot products with CLBlast on the device.
-#include <clblast.h>
 
 #include <algorithm>
 #include <array>
@@ -8,10 +7,12 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "clfractal/components.hpp"
+#include "device/blas_module.hpp"
 
 namespace clfractal {
 
@@ -37,14 +38,13 @@ template <class R> double pearson_clblast(Context& ctx, const std::vector<double
         bx.write(ctx.queue(), cx.data(), n);
         by.write(ctx.queue(), cy.data(), n);
         out.fill(ctx.queue(), R(0));
-        cl_command_queue q = ctx.queue()();
+        const detail::BlasModule& blas = detail::blas();
+        const auto dot = std::is_same_v<R, double> ? blas.dot_double : blas.dot_float;
         const std::array<std::pair<const Buffer<R>*, const Buffer<R>*>, 3> pairs{
             {{&bx, &by}, {&bx, &bx}, {&by, &by}}};
         for (std::size_t k = 0; k < 3; ++k) {
-            auto status = clblast::Dot<R>(n, out.get()(), k, pairs[k].first->get()(), 0, 1, pairs[k].second->get()(), 0,
-                                          1, &q);
-            if (status != clblast::StatusCode::kSuccess)
-                throw DeviceError("CLBlast Dot failed with status " + std::to_string(int(status)), int(status));
+            const int status = dot(n, out.get()(), k, pairs[k].first->get()(), pairs[k].second->get()(), ctx.queue()());
+            if (status != 0) throw DeviceError("CLBlast Dot failed with status " + std::to_string(status), status);
         }
         out.read(ctx.queue(), dots.data(), 3);
     });

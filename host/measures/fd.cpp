@@ -1,10 +1,10 @@
 #include "clfractal/fd.hpp"
 
-#include <clblast.h>
-
+#include "device/blas_module.hpp"
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace clfractal {
 
@@ -34,11 +34,10 @@ std::vector<double> gemv_slopes(Context& ctx, const std::vector<std::vector<std:
         a.write(ctx.queue(), y.data(), y.size());
         x.write(ctx.queue(), w.data(), w.size());
         out.fill(ctx.queue(), R(0));  // CLBlast reads y even when beta = 0
-        cl_command_queue q = ctx.queue()();
-        auto status = clblast::Gemv<R>(clblast::Layout::kRowMajor, clblast::Transpose::kNo, K, L, R(1),
-                                       a.get()(), 0, L, x.get()(), 0, 1, R(0), out.get()(), 0, 1, &q);
-        if (status != clblast::StatusCode::kSuccess)
-            throw DeviceError("CLBlast Gemv failed with status " + std::to_string(int(status)), int(status));
+        const detail::BlasModule& blas = detail::blas();
+        const int status = (std::is_same_v<R, double> ? blas.gemv_double : blas.gemv_float)(
+            K, L, a.get()(), x.get()(), out.get()(), ctx.queue()());
+        if (status != 0) throw DeviceError("CLBlast Gemv failed with status " + std::to_string(status), status);
         out.read(ctx.queue(), slope.data(), K);
     });
     std::vector<double> d(K);

@@ -238,7 +238,9 @@ private:
 /// their own state, which crashes or hangs the process at exit. A program that used them
 /// calls this before main returns (the command-line tool, the Python module at interpreter
 /// exit and clf_context_destroy do); a later use compiles them again. The library's own
-/// programs live in contexts: Context::shared() is never released.
+/// programs live in contexts: Context::shared() is never released. In a process that never
+/// ran such a fit (CLBlast, a module loaded on first use, is then not even loaded) it does
+/// nothing.
 void release_blas_caches();
 
 /// Seconds from `t` to now (steady clock): the one timing helper.

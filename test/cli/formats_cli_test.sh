@@ -123,14 +123,16 @@ done
 [ $cut_ok -eq 1 ] && pass
 # (Each of these errors is thrown inside the DICOM module, libclfractal_dicom.so, and caught
 # by the tool as bad input.)
-# Without the module: the binary and its libraries copied to a directory that lacks it (the
+# Without the modules: the binary and its libraries copied to a directory that lacks them (the
 # copies loaded instead of the build tree's, checked with ldd). Reading DICOM is one error
-# line naming the file, exit 2, by every reading path; the other formats still read.
+# line naming the file, exit 2, by every reading path; the other formats still read; a fit of
+# more than two levels, which needs the CLBlast module, is one error line naming it, exit 1.
 mkdir -p nodicom
 cp "$bin" nodicom/
 for lib in $(ldd "$bin" | awk '$3 ~ /libclfractal/ {print $3}'); do cp "$lib" "nodicom/$(basename "$lib")"; done
-if [ -e nodicom/libclfractal_dicom.so ] || ! ls nodicom/libclfractal_io.so* >/dev/null 2>&1; then
-  fail "nodicom: the copy holds the module or lacks libclfractal_io"
+if [ -e nodicom/libclfractal_dicom.so ] || [ -e nodicom/libclfractal_blas.so ] ||
+  ! ls nodicom/libclfractal_io.so* nodicom/libclfractal_core.so* >/dev/null 2>&1; then
+  fail "nodicom: the copy holds a module or lacks libclfractal_io or libclfractal_core"
 elif ! LD_LIBRARY_PATH="$work/nodicom" ldd nodicom/$(basename "$bin") | grep -q "=> $work/nodicom/libclfractal_io"; then
   fail "nodicom: the copy's libclfractal_io is not the one loaded"
 else
@@ -155,6 +157,23 @@ else
     -- $nodicom -q fd dcm/1.2.826.0.1.1_4.dcm
   expect 0 'mean FD' -- $nodicom -q fd u16.nrrd --csv nodicom_u16.csv
   same nodicom_u16.csv u16.csv "NRRD curve without the DICOM module"
+  out=$($nodicom -q fd u16.nrrd --levels 3 2>&1 >/dev/null)
+  rc=$?
+  if [ $rc -ne 1 ] || [ "$(wc -l <<<"$out")" -ne 1 ] ||
+    ! grep -qE '^clfractal: error: dense linear algebra \(CLBlast\) is missing: .*libclfractal_blas\.so' <<<"$out"; then
+    fail "fd --levels 3 without the CLBlast module: exit $rc: $out"
+  else
+    pass
+  fi
+fi
+# The CLBlast module is loaded by what needs it only: fd --levels 3 (the least-squares fit),
+# not fd (two levels) nor info (the loader's own account, LD_DEBUG=files).
+loads_blas() { LD_DEBUG=files "$@" 2>&1 >/dev/null | grep -c 'file=.*libclfractal_blas\.so'; }
+if [ "$(loads_blas "$bin" -q fd u16.nrrd)" -ne 0 ] || [ "$(loads_blas "$bin" info u16.nrrd)" -ne 0 ] ||
+  [ "$(loads_blas "$bin" -q fd u16.nrrd --levels 3)" -eq 0 ]; then
+  fail "the CLBlast module: loaded by fd or info, or not by fd --levels 3"
+else
+  pass
 fi
 printf 'ObjectType = Image\nNDims = 3\nDimSize = 19 19 19\nElementType = MET_UCHAR\nElementDataFile = gone.raw\n' > gone.mhd
 bad_input "gone\.mhd: data file '.*gone\.raw' does not exist" -- "$bin" -q filter gone.mhd --median
