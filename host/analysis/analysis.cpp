@@ -772,6 +772,7 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, Analys
         a.noisiest = entry(a.curve, *k, Run{*k, *k, a.curve.counts[0][*k]}, boundary_strength(a.curve, a.histogram),
                            o.advice, "noisiest");
 
+    const auto labelling = std::chrono::steady_clock::now();
     if (o.components == ComponentsScope::curve) {
         a.components = count_components(ctx, v, a.isovalues, Connectivity::cube);
         for (Recommendation& e : a.recommended) e.components = a.components->components[e.index];
@@ -779,6 +780,7 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, Analys
     } else if (o.components == ComponentsScope::recommended) {
         fill_entry_components(a, counter(v));
     }
+    a.seconds_components = seconds_since(labelling);
     if (o.noise_level) a.noise_level = estimate_noise_level(ctx, v);
     if (o.surface_noise) a.surface_noise = estimate_noise(ctx, v, a.isovalues, o.advice.clean_share);
     if (o.fd4) a.fd4 = fractal_dimension_4d(ctx, v);
@@ -790,6 +792,7 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, Analys
                                 " beyond the volume, above the memory budget of " + mib(o.memory_budget) +
                                 " (report runs it)");
     }
+    a.seconds_prepare = input.seconds;
     a.seconds = input.seconds + seconds_since(t0);
     return a;
 }
@@ -865,6 +868,8 @@ std::string to_json(const Analysis& a, int indent) {
     }
     j["curve"] = curve;
     j["seconds_analysis"] = a.seconds;
+    j["seconds_prepare"] = a.seconds_prepare;
+    j["seconds_components"] = a.seconds_components;
     return j.dump(indent);
 }
 

@@ -147,6 +147,8 @@ struct Analysis {
     std::vector<DenoiseAttempt> denoise;    ///< tried in order until one is clean; empty if clean
     std::vector<std::string> skipped;       ///< steps left out by the memory budget, and why
     double seconds = 0;                     ///< wall time of analyse() (and of its prepare_analysis)
+    double seconds_prepare = 0;             ///< of which prepare_analysis (0: the counting gave its part)
+    double seconds_components = 0;          ///< of which the component labelling (entries or curve)
     /// The first entry of `recommended`: the isovalue to use (`recommended` must not be empty).
     const Recommendation& best() const { return recommended.front(); }
 };

@@ -390,7 +390,9 @@ def test_read_volume(tmp_path):
     # What read_volume returns goes to the measures as it is: its volume.
     f = clfractal.read_volume(str(tmp_path / "w.nrrd"))
     a, b = (clfractal.analyse(x, noise_level=False).json for x in (f, f.volume))
-    del a["seconds_analysis"], b["seconds_analysis"]
+    for j in (a, b):
+        for key in [k for k in j if k.startswith("seconds")]:
+            del j[key]
     assert a == b
     with pytest.raises(ValueError, match="missing_4x4x4_uint8.raw: no such file"):
         clfractal.read_volume(tmp_path / "missing_4x4x4_uint8.raw")

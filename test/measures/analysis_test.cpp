@@ -269,6 +269,7 @@ TEST_CASE("prepare_analysis: the host part by plain loops; analyse with it gives
         nlohmann::json a = nlohmann::json::parse(to_json(analyse(ctx(), v, o)));
         const Analysis prepared = analyse(ctx(), v, o, in);
         CHECK(prepared.seconds >= in.seconds);
+        CHECK(prepared.seconds_prepare == in.seconds);
         nlohmann::json b = nlohmann::json::parse(to_json(prepared));
         CHECK(without_seconds(a) == without_seconds(b));
     }
@@ -357,8 +358,13 @@ TEST_CASE("analysis JSON: the schema's keys, the entries equal the structs") {
     const Analysis a = analyse(ctx(), v, o);
     const nlohmann::json j = nlohmann::json::parse(to_json(a));
     for (const char* key : {"isovalues", "advice", "fd", "clean_bands", "clean", "recommended", "noisiest", "noise",
-                            "fd4", "denoise", "curve", "seconds_analysis"})
+                            "fd4", "denoise", "curve", "seconds_analysis", "seconds_prepare", "seconds_components"})
         CHECK_MESSAGE(j.contains(key), key);
+    // The parts of the analysis's wall time: its own host pass and the labelling, within it.
+    CHECK(j["seconds_prepare"].get<double>() > 0);
+    CHECK(j["seconds_components"].get<double>() > 0);
+    CHECK(j["seconds_prepare"].get<double>() + j["seconds_components"].get<double>() <=
+          j["seconds_analysis"].get<double>());
     CHECK(j["noise"].contains("sigma"));
     CHECK(j["noise"]["surface"].contains("ratio"));
     REQUIRE(j["recommended"].size() == a.recommended.size());
