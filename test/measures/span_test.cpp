@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "clfractal/span.hpp"
 #include "clfractal/volume_io.hpp"
@@ -115,6 +116,23 @@ TEST_CASE("an integer isovalue range narrower than the data counts exactly") {
     SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 2, 0};
     check_against_reference(v, iso, count_spans(ctx(), v, iso, opt), 2);
     check_against_reference(v, iso, count_spans_openmp(v, iso, opt), 2);
+}
+
+TEST_CASE("integer isovalue ranges cut by the type or beyond it count exactly (bins in int and in long)") {
+    // 8/16-bit data bins in int when the first isovalue is within 2^20 of 0, else in long; the
+    // OpenMP baseline has the same two binners.
+    SpanOptions opt{{SpanKind::cubes, SpanKind::edges}, 2, 0};
+    for (const auto& [type, lo, hi, first, last] :
+         {std::tuple{ValueType::int8, -128, 127, -200, 10}, std::tuple{ValueType::uint8, 20, 90, -5, 300},
+          std::tuple{ValueType::int16, -300, 200, -40000, -100}, std::tuple{ValueType::uint16, 0, 5000, 4990, 70000},
+          std::tuple{ValueType::uint16, 0, 5000, -2000000, -1999990}, std::tuple{ValueType::int16, -50, 50, 2000000, 2000003}}) {
+        CAPTURE(value_type_name(type));
+        CAPTURE(first);
+        const Volume v = testutil::random_volume({13, 9, 7}, type, lo, hi, 5);
+        const IsovalueSet iso = IsovalueSet::integers(first, last);
+        check_against_reference(v, iso, count_spans(ctx(), v, iso, opt), 2);
+        check_against_reference(v, iso, count_spans_openmp(v, iso, opt), 2);
+    }
 }
 
 TEST_CASE("a constant volume has no intersected cube or edge") {
