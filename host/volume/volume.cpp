@@ -1,5 +1,6 @@
 // Volume, value types and dimension checks (docs/definitions.md §1 "Grid", §2 "Value types").
 #include "clfractal/volume.hpp"
+#include "volume/value_counts.hpp"
 
 #include <omp.h>
 #include <sys/mman.h>
@@ -307,27 +308,11 @@ ValueSummary summarize_values(const Volume& v, int bins) {
     visit(v, [&](const auto* p) {
         using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
         if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
-            // One pass: the count of every value, per thread, then everything from the counts.
-            constexpr std::size_t values = std::size_t(1) << (8 * sizeof(T));
-            using U = std::make_unsigned_t<T>;
-            std::vector<std::uint64_t> counts(values, 0);
-#pragma omp parallel
-            {
-                std::vector<std::uint64_t> mine(values, 0);
-#pragma omp for schedule(static) nowait
-                for (std::size_t i = 0; i < n; ++i) ++mine[U(p[i])];
-#pragma omp critical
-                for (std::size_t k = 0; k < values; ++k) counts[k] += mine[k];
-            }
-            auto value_of = [](std::size_t k) { return double(T(U(k))); };
-            bool any = false;
-            for (std::size_t k = 0; k < values; ++k) {
-                if (!counts[k]) continue;
-                const double x = value_of(k);
-                r.stats.min = any ? std::min(r.stats.min, x) : x;
-                r.stats.max = any ? std::max(r.stats.max, x) : x;
-                any = true;
-            }
+            // One pass: the count of every value, then everything from the counts.
+            const std::vector<std::uint64_t> counts = detail::value_counts(v);
+            const std::size_t values = counts.size();
+            auto value_of = [&](std::size_t k) { return double(detail::value_of_bits(k, v.type())); };
+            r.stats = detail::stats_of_counts(counts, v.type());
             const Binning b{r.stats.min, (r.stats.max - r.stats.min) / bins, bins};
             for (std::size_t k = 0; k < values; ++k) {
                 if (!counts[k]) continue;
