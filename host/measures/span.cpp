@@ -45,6 +45,8 @@ struct SpanCounter::Impl {
     bool private_hist = true;  // SpanVariant::private_histograms, else atomic
     bool global_hist = false;
     std::size_t wg = 1, partial_rows = 1;
+    // The histogram rows of one work-item of the *_private kernels (kernels/span.cl).
+    static constexpr std::size_t private_rows = 4;
 
     Buffer<unsigned char> iso_buf;  // the isovalue list as float or double
     std::vector<Buffer<unsigned char>> level_buf;    // slab of each level
@@ -152,8 +154,7 @@ struct SpanCounter::Impl {
             count.push_back(std::move(c));
         }
         if (private_hist) {
-            // Four rows per work-item (kernels/span.cl).
-            partial_rows = 4 * (ctx.tuning.private_items ? ctx.tuning.private_items : 4 * ctx.compute_units());
+            partial_rows = private_rows * (ctx.tuning.private_items ? ctx.tuning.private_items : 4 * ctx.compute_units());
             wg = 1;
             return;
         }
@@ -203,7 +204,7 @@ struct SpanCounter::Impl {
         const cl_long vmin = iso.integer() ? iso.first() : 0;
         if (private_hist) {
             partial.fill(ctx.queue(), 0);
-            const cl::NDRange global(partial_rows / 4), local(1);
+            const cl::NDRange global(partial_rows / private_rows), local(1);
             if (cubes) k.cubes_private(global, local, values, nx, ny, nz, vmin, iso_buf.get(), niso, bins, partial.get());
             else k.edges_private(global, local, values, nx, ny, nz, int(last), vmin, iso_buf.get(), niso, bins, partial.get());
             accumulate_rows(partial_rows, kind, l);
