@@ -4,11 +4,12 @@ embedded noisy sphere).
 
 - fd_curve (box, levels 0 and 1, every integer isovalue): the wall time of the Python call
   (array in, curve object out) against the compute time the CLI reports for the same volume
-  (`clfractal fd --json`: seconds_compute, the device time of the counting, which leaves out
-  the pass over the values that finds the isovalue range); also with the isovalues given,
-  which skips that pass.
+  (`clfractal fd --json`: seconds_compute, the device time of the counting); also with the
+  isovalues given. Without them the call finds its set itself: 8-bit data is counted at every
+  value of its type and cropped to the value range (no pass of its own); other types take a
+  pass over the values for the range.
 - span curve of a --span-size^3 uint8 noisy sphere (default 512^3, the embedded generator):
-  the warm Python fd_curve call (array in, curve out, the value range included) against the
+  the warm Python fd_curve call (array in, curve out, its own isovalue set) against the
   tuned OpenMP loop (bench/baselines/span_openmp.cpp) and the device as a C++ library call,
   both timed by `clfractal bench` in the same run on the same volume; the Python counts must
   equal those of `clfractal fd --csv` on that volume.
@@ -64,7 +65,7 @@ def span_against_openmp(a, tmp):
         sys.exit("python_bench: clfractal bench's device and OpenMP counts differ")
     v, _ = clfractal.read_volume(f"synthetic:noisy-sphere:{n}")
     t_py, curve = best_of(a.repeats, lambda: clfractal.fd_curve(v))
-    # Like the two timed by clfractal bench, given the isovalue set (no value-range pass).
+    # Like the two timed by clfractal bench, given the isovalue set.
     every = np.arange(int(v.min()), int(v.max()) + 1)
     t_given, given = best_of(a.repeats, lambda: clfractal.fd_curve(v, isovalues=every))
     if not np.array_equal(given.counts, curve.counts):
@@ -79,7 +80,7 @@ def span_against_openmp(a, tmp):
     os.remove(path)
     t_omp, t_dev = case["openmp_seconds"], case["device_seconds"]
     print(f"span {n}^3       OpenMP loop {t_omp:.4f} s | C++ device call {t_dev:.4f} s ({t_omp / t_dev:.2f}x) | "
-          f"python fd_curve, isovalues given {t_given:.4f} s ({t_omp / t_given:.2f}x), with its value-range pass "
+          f"python fd_curve, isovalues given {t_given:.4f} s ({t_omp / t_given:.2f}x), its own set "
           f"{t_py:.4f} s ({t_omp / t_py:.2f}x)  (x: OpenMP / ours; counts equal)")
     return dict(span_size=n, span_python_seconds=t_py, span_python_given_seconds=t_given, span_cpp_seconds=t_dev,
                 span_openmp_seconds=t_omp, span_python_vs_openmp=t_omp / t_py,
@@ -138,9 +139,9 @@ def main():
         print(f"fd_curve        python {min(t_py):.4f} s | CLI compute {min(t_cli):.4f} s | overhead "
               f"{100 * rows['fd_overhead']:+.1f}%  (device time inside the Python call {min(t_lib):.4f} s)")
         print(f"  isovalues given: python {min(t_given):.4f} s | overhead {100 * rows['fd_overhead_given']:+.1f}%"
-              f"  (no value-range pass: the CLI's seconds_compute excludes it too)")
+              f"  (the set given; the CLI's seconds_compute leaves out its own value pass too)")
         print(f"  host work of the call beyond the device counting: {1e3 * rows['fd_host_seconds']:.1f} ms "
-              f"(value range, copy, results), {1e3 * rows['fd_host_given_seconds']:.1f} ms with isovalues given")
+              f"(the isovalue set, copy, results), {1e3 * rows['fd_host_given_seconds']:.1f} ms with isovalues given")
 
         if a.span_size:
             rows.update(span_against_openmp(a, tmp))

@@ -16,11 +16,12 @@ int main(int argc, char** argv) {
         Context& ctx = Context::shared();  // CLFRACTAL_DEVICE / CLFRACTAL_DEVICE_TYPE pick the device
 
         // Every integer isovalue of the value range (or 256 uniform floats for float data),
-        // cubes and edges counted in one pass, at levels 0 (G) and 1 (G').
-        const IsovalueSet iso = IsovalueSet::for_volume(v);
+        // cubes and edges counted in one pass, at levels 0 (G) and 1 (G'); the isovalues
+        // come back in spans.isovalues.
         SpanOptions opt;
         opt.kinds = {SpanKind::cubes, SpanKind::edges};
-        const SpanResult spans = count_spans(ctx, v, iso, opt);
+        const SpanResult spans = count_spans(ctx, v, opt, 256);
+        const IsovalueSet& iso = spans.isovalues;
 
         std::printf("%s: %zux%zux%zu %s on %s\n", v.name.c_str(), v.dims().nx, v.dims().ny, v.dims().nz,
                     value_type_name(v.type()), ctx.description().c_str());

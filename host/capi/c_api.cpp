@@ -217,16 +217,15 @@ clf_status clf_curve_compute(clf_context* ctx, const clf_volume* volume, const c
         const SpanKind kind = to_span_kind(o.kind, "clf_curve_compute");
         if (o.levels < 2 || o.levels > 16) throw InputError("levels " + std::to_string(o.levels) + ": must be 2..16");
         const Volume& v = volume->volume;
-        IsovalueSet iso;
+        SpanOptions opt{{kind}, o.levels, 0};
+        SpanResult spans;
         if (o.isovalues) {
-            iso = list_isovalues(v.type(), o.isovalues, o.isovalue_count);
+            spans = count_spans(*ctx->ctx, v, list_isovalues(v.type(), o.isovalues, o.isovalue_count), opt);
         } else {
             require(o.bins == 0 || !is_integer(v.type()) || is_wide(v.type()),
                     "bins: 8/16-bit integer data uses every integer of its value range");
-            iso = IsovalueSet::for_volume(v, o.bins ? o.bins : 256);
+            spans = count_spans(*ctx->ctx, v, opt, o.bins ? o.bins : 256);  // the set comes with the counts
         }
-        SpanOptions opt{{kind}, o.levels, 0};
-        SpanResult spans = count_spans(*ctx->ctx, v, iso, opt);
         auto c = std::make_unique<clf_curve>();
         c->curve = fd_curve(*ctx->ctx, spans, kind);
         *out = c.release();

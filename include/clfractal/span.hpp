@@ -98,4 +98,16 @@ SpanResult count_spans(const DeviceVolume& v, const IsovalueSet& iso, const Span
 /// so that a volume larger than the device is counted too.
 SpanResult count_spans(Context& ctx, const Volume& v, const IsovalueSet& iso, const SpanOptions& opt = {});
 
+/// Counts the spans of `v` at its default isovalue set, IsovalueSet::for_volume(v, bins)
+/// (every integer of the value range for integer data, `bins` uniform values otherwise),
+/// returned in SpanResult::isovalues. 8-bit data takes no pass of its own for the value
+/// range: it is counted at every value of its type and the curves are cropped to the range,
+/// [vmin, vmax], which the level-0 counts give (they are not 0 at vmin + 1 and at vmax, and
+/// 0 below and above, when every vertex lies on a cube or edge of the grid; a volume of one
+/// value has none). With SpanOptions::z_begin/z_end the set is that of the whole volume.
+SpanResult count_spans(Context& ctx, const Volume& v, const SpanOptions& opt, std::size_t bins);
+/// The same on `device`, uploaded from `host` (whose values it holds): the range pass,
+/// where one is needed, reads `host`.
+SpanResult count_spans(const DeviceVolume& device, const Volume& host, const SpanOptions& opt, std::size_t bins);
+
 }  // namespace clfractal

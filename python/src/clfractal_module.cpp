@@ -320,9 +320,18 @@ nb::dict fd_curve_call(nb::handle a, const std::string& type, const std::string&
     std::string description;
     double compile = 0;
     auto [iso, f, seconds] = on_input(in, device, [&](Context& ctx) {
-        Isovalues iso = choose_isovalues(v, isovalues, bins);
         const SpanOptions opt{{kind}, levels};
-        SpanResult spans = in.device() ? count_spans(*in.device(), iso.set, opt) : count_spans(ctx, v, iso.set, opt);
+        // Without isovalues, the default set comes with the counts (8-bit data: no pass for
+        // the value range).
+        Isovalues iso;
+        SpanResult spans;
+        if (isovalues) {
+            iso = requested_isovalues(v.type(), *isovalues);
+            spans = in.device() ? count_spans(*in.device(), iso.set, opt) : count_spans(ctx, v, iso.set, opt);
+        } else {
+            spans = in.device() ? count_spans(*in.device(), v, opt, bins) : count_spans(ctx, v, opt, bins);
+            iso.set = spans.isovalues;
+        }
         FdCurve f = fd_curve(ctx, spans, kind);
         description = ctx.description();
         compile = ctx.compile_seconds();

@@ -135,6 +135,58 @@ TEST_CASE("integer isovalue ranges cut by the type or beyond it count exactly (b
     }
 }
 
+TEST_CASE("the default isovalue set comes with the counts (8-bit data cropped from every value of its type)") {
+    // count_spans(ctx, v, opt, bins) against for_volume(v, bins) counted: the same set, value
+    // for value, and the same counts of every kind and level. Volumes: every case above; 8-bit
+    // ones of one value (the type's ends too), of two values at the type's ends, of values
+    // that miss the type's ends; grids too thin for a cube (the range read from the values);
+    // a z-part; each kind alone and both.
+    std::vector<Volume> volumes;
+    std::uint32_t seed = 40;
+    for (const Case& c : cases) volumes.push_back(testutil::random_volume(c.d, c.t, c.lo, c.hi, seed++));
+    for (const auto& [type, lo, hi] : {std::tuple{ValueType::uint8, 0, 0}, std::tuple{ValueType::uint8, 255, 255},
+                                       std::tuple{ValueType::uint8, 37, 37}, std::tuple{ValueType::int8, -128, -128},
+                                       std::tuple{ValueType::int8, 127, 127}, std::tuple{ValueType::int8, -3, 3},
+                                       std::tuple{ValueType::uint8, 90, 91}, std::tuple{ValueType::int8, -128, 127}})
+        for (const Dims& d : {Dims{9, 8, 7}, Dims{2, 2, 2}, Dims{1, 6, 5}, Dims{6, 1, 1}, Dims{1, 1, 1}})
+            volumes.push_back(testutil::random_volume(d, type, lo, hi, seed++));
+    for (ValueType type : {ValueType::uint8, ValueType::int8}) {  // the type's two ends only
+        Volume v = testutil::random_volume({7, 6, 5}, type, 0, 1, seed++);
+        auto* b = static_cast<std::uint8_t*>(v.data());
+        for (std::size_t i = 0; i < v.vertices(); ++i)
+            b[i] = b[i] ? (type == ValueType::uint8 ? 255 : 127) : (type == ValueType::uint8 ? 0 : 128);
+        volumes.push_back(std::move(v));
+    }
+    for (const Volume& v : volumes) {
+        CAPTURE(v.dims().nx); CAPTURE(v.dims().ny); CAPTURE(v.dims().nz); CAPTURE(value_type_name(v.type()));
+        for (const std::vector<SpanKind>& kinds : {std::vector<SpanKind>{SpanKind::cubes}, std::vector<SpanKind>{SpanKind::edges},
+                                                  std::vector<SpanKind>{SpanKind::edges, SpanKind::cubes}}) {
+            for (const SpanOptions& opt : {SpanOptions{kinds, 3, 0}, SpanOptions{kinds, 2, 0, 2, v.dims().nz}}) {
+                if (opt.z_begin >= v.dims().nz) continue;
+                CAPTURE(kinds.size()); CAPTURE(opt.z_begin);
+                const IsovalueSet want = IsovalueSet::for_volume(v, 64);
+                const SpanResult expected = count_spans(ctx(), v, want, opt);
+                const DeviceVolume device(ctx(), v);
+                for (const SpanResult& got : {count_spans(ctx(), v, opt, 64), count_spans(device, v, opt, 64)}) {
+                    REQUIRE(got.isovalues.size() == want.size());
+                    CHECK(got.isovalues.integer() == want.integer());
+                    for (std::size_t j = 0; j < want.size(); ++j) CHECK(got.isovalues.value(j) == want.value(j));
+                    REQUIRE(got.curves.size() == expected.curves.size());
+                    for (std::size_t k = 0; k < kinds.size(); ++k) {
+                        CHECK(got.curves[k].kind == expected.curves[k].kind);
+                        CHECK(got.curves[k].level_dims == expected.curves[k].level_dims);
+                        CHECK(got.curves[k].counts == expected.curves[k].counts);
+                    }
+                }
+            }
+        }
+    }
+    Volume other({9, 8, 7}, ValueType::uint8);
+    CHECK_THROWS_AS(count_spans(DeviceVolume(ctx(), other), testutil::random_volume({9, 8, 6}, ValueType::uint8, 0, 9, 1),
+                                SpanOptions{}, 256),
+                    std::invalid_argument);
+}
+
 TEST_CASE("a constant volume has no intersected cube or edge") {
     Volume v({8, 9, 10}, ValueType::uint8);
     IsovalueSet iso = IsovalueSet::for_volume(v);
