@@ -12,6 +12,10 @@
 #include <type_traits>
 #include <unordered_map>
 
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "in_window packs bytes assuming a little-endian layout"
+#endif
+
 #include "components_slab.hpp"
 #include "device/slab_plan.hpp"
 #include "device/type_options.hpp"
@@ -360,6 +364,26 @@ struct SweptNeighbours {
     }
 };
 
+// Bit k: whether lo <= p[k] <= hi, for k < n <= 64. One unsigned comparison a value in a type
+// as wide as needed, a loop the compiler vectorises; the bytes are packed as row_mask packs
+// them (components_at.cpp), eight at a time by one multiplication.
+template <class T> std::uint64_t in_window(const T* p, std::size_t n, long lo, long hi) {
+    using W = std::conditional_t<(sizeof(T) < 4), std::uint32_t, std::uint64_t>;
+    const W base = W(lo), span = W(hi - lo);
+    alignas(16) std::uint8_t in[64] = {};
+    if (n == 64)
+        for (std::size_t k = 0; k < 64; ++k) in[k] = W(W(p[k]) - base) <= span;
+    else
+        for (std::size_t k = 0; k < n; ++k) in[k] = W(W(p[k]) - base) <= span;
+    std::uint64_t m = 0;
+    for (unsigned q = 0; q < 8; ++q) {
+        std::uint64_t w;
+        std::memcpy(&w, in + 8 * q, 8);
+        m |= ((w * 0x0102040810204080ull) >> 56) << (8 * q);
+    }
+    return m;
+}
+
 // The (value, index) order of integer data built a window at a time, so that memory is
 // O(window) instead of O(vertices). The grid is cut into index segments with one value
 // histogram each; a window is a run of whole values over every segment, or one value over a
@@ -410,19 +434,24 @@ public:
         for (long long s = 0; s < (long long)ns; ++s) {
             std::size_t* nxt = &next[std::size_t(s) * nb];
             const std::size_t seg = w.s0 + std::size_t(s);
-            const std::size_t i0 = seg * seg_len_, i1 = std::min(n_, (seg + 1) * seg_len_);
-            long x = long(i0 % d.nx), y = long((i0 / d.nx) % d.ny), z = long(i0 / (d.nx * d.ny));
-            for (std::size_t i = i0; i < i1; ++i) {
-                const long value = long(f_[i]);
-                if (value >= lo && value <= hi) {
-                    const std::size_t slot = nxt[std::size_t(value - lo)]++;
-                    out[slot] = I(i);
-                    swept[slot] = bits(f_, d, i, x, y, z);
+            const std::size_t i1 = std::min(n_, (seg + 1) * seg_len_);
+            std::size_t i = seg * seg_len_;
+            long x = long(i % d.nx), y = long((i / d.nx) % d.ny), z = long(i / (d.nx * d.ny));
+            // Row by row (x, y, z follow without a division), 64 vertices at a time: which of
+            // them the window holds is one comparison each, vectorised into a mask, so that the
+            // scan does not branch on every vertex (a window holds a few of them, unpredictably).
+            while (i < i1) {
+                const std::size_t row_end = std::min(i1, i + (d.nx - std::size_t(x)));
+                for (std::size_t c = i; c < row_end; c += 64) {
+                    for (std::uint64_t m = in_window(f_ + c, std::min<std::size_t>(64, row_end - c), lo, hi); m; m &= m - 1) {
+                        const std::size_t b = std::size_t(__builtin_ctzll(m)), v = c + b;
+                        const std::size_t slot = nxt[std::size_t(long(f_[v]) - lo)]++;
+                        out[slot] = I(v);
+                        swept[slot] = bits(f_, d, v, x + long(c - i + b), y, z);
+                    }
                 }
-                if (++x == long(d.nx)) {
-                    x = 0;
-                    if (++y == long(d.ny)) y = 0, ++z;
-                }
+                i = row_end, x = 0;
+                if (++y == long(d.ny)) y = 0, ++z;
             }
         }
     }

@@ -435,7 +435,11 @@ TEST_CASE("windowed sweeps (the order built a window at a time): the whole-order
     Volume signed16 = testutil::random_volume({13, 17, 19}, ValueType::int16, -300, 300, 33);
     Volume plateau = testutil::random_volume({40, 30, 20}, ValueType::int8, -3, 3, 34);
     for (std::size_t i = 0; i < plateau.vertices(); i += 3) plateau.as<std::int8_t>()[i] = 0;
-    for (Volume* v : {&wide, &narrow, &signed16, &plateau})
+    // Rows of more than 64 vertices (the scan takes 64 at a time) and 32-bit values far from 0.
+    Volume rows = testutil::random_volume({150, 5, 7}, ValueType::uint16, 100, 2100, 35);
+    Volume far = testutil::random_volume({67, 6, 5}, ValueType::int32, 1000000000, 1000000150, 36);
+    Volume negative = testutil::random_volume({71, 5, 6}, ValueType::int32, -1000000150, -1000000000, 37);
+    for (Volume* v : {&wide, &narrow, &signed16, &plateau, &rows, &far, &negative})
         for (Connectivity m : modes) {
             CAPTURE(value_type_name(v->type()));
             CAPTURE(connectivity_name(m));
