@@ -261,7 +261,9 @@ public:
     // Sweeps `count` vertices: at(k) the k-th, swept(k) its swept-neighbour bits.
     template <class At, class Swept, class P, class F, class U>
     void run(std::size_t count, At&& at, Swept&& swept_bits, P&& prefetch_value, F&& met, U&& joined) {
-        constexpr std::size_t far = 24, near = 8;
+        // Three stages ahead: the vertex and its value, its swept neighbours' parents, and
+        // then (those parents now in cache) their parents, where the finds go next.
+        constexpr std::size_t far = 24, near = 8, next = 4;
         std::vector<I>& parent = parent_;
         for (std::size_t k = 0; k < count; ++k) {
             if (k + far < count) {
@@ -273,6 +275,11 @@ public:
                 const I w = at(k + near);
                 for (std::uint32_t ahead = swept_bits(k + near); ahead; ahead &= ahead - 1)
                     __builtin_prefetch(&parent[std::ptrdiff_t(w) + lin_[__builtin_ctz(ahead)]], 1);
+            }
+            if (k + next < count) {
+                const I w = at(k + next);
+                for (std::uint32_t ahead = swept_bits(k + next); ahead; ahead &= ahead - 1)
+                    __builtin_prefetch(&parent[parent[std::ptrdiff_t(w) + lin_[__builtin_ctz(ahead)]]], 1);
             }
             const I v = at(k);
             parent[v] = v;
