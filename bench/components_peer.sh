@@ -4,7 +4,7 @@
 # medians; then both curves are compared count for count (ijkscalarinfo's row t counts the
 # crossings of [t, t+1), clfractal's isovalue t+1).
 # ijkscalarinfo is not a Debian package. It builds from github.com/isojenkode/ijk (LGPL; v0.6.0
-# at commit fe430f8): src/ijkscalarinfo/ijkscalarinfo.cpp with include/ (ijk.tpp and the grid,
+# at commit fe430f8, and as it is at 9d37798): src/ijkscalarinfo/ijkscalarinfo.cpp with include/ (ijk.tpp and the grid,
 # coord, cube, contour-tree, data-table, interpolate, print and nrrd templates), against teem:
 #   printf '#include <teem/nrrd.h>\n' > shim/NrrdIO.h
 #   g++ -O3 -march=native -std=c++20 -Iinclude -Ishim src/ijkscalarinfo/ijkscalarinfo.cpp \

@@ -10,6 +10,13 @@
 #   fd_peer_omp FILE --csv P                  wall and peak RSS
 # and once, R times, bench/cl_start (a bare C program that creates an OpenCL context and queue
 # on the first device: what any OpenCL program pays before its first byte of work).
+# With Wenger's ijkscalarinfo (--ijk PATH, or on PATH; how to build it: bench/components_peer.sh),
+# also, interleaved with the others:
+#   ijkscalarinfo -box_dim -plot FILE         the same box dimension curve (its table written as
+#                                             fd writes its CSV), wall; 8-bit volumes, read
+#                                             through a detached NRRD header for raw files
+# and its curve must equal fd's to its 4 digits (its row t is fd's isovalue t + 1,
+# docs/definitions.md §32; it clamps to [0, 3]), exit 1 otherwise.
 # Walls from bash's EPOCHREALTIME around /usr/bin/time (which gives the peak RSS); medians of
 # the runs. The rest of fd (read, context, output, exit) is fd's wall less the devices wall
 # and the analysis; fd reads its input and computes the value range and isovalue histogram
@@ -17,7 +24,7 @@
 # outlasts the start, and the range and histogram count in seconds_analysis though they
 # overlap it. The counts of fd and the peer must be equal (exit 1 otherwise).
 #
-#   bench/startup_bench.sh [--build DIR] [--runs R] [--data DIR] [--work DIR]
+#   bench/startup_bench.sh [--build DIR] [--runs R] [--data DIR] [--work DIR] [--ijk PATH]
 #                          [--volume PATH [--dims XxYxZ] [--type T]]... [--smoke]
 #
 # Default: build/, R = 5, the uint8 volumes bonsai_256x256x256, engine_256x256x128,
@@ -30,9 +37,11 @@ set -euo pipefail
 export LC_ALL=C  # EPOCHREALTIME and awk with a decimal point
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=build runs=5 data=$root/../shared/data work=${TMPDIR:-/tmp}/clfractal-bench/startup smoke=0
+ijk=$(command -v ijkscalarinfo || true)
 declare -a files=() dims=() types=()
 usage() {
-  echo "usage: $0 [--build DIR] [--runs R] [--data DIR] [--work DIR] [--volume PATH [--dims XxYxZ] [--type T]]..." \
+  echo "usage: $0 [--build DIR] [--runs R] [--data DIR] [--work DIR] [--ijk PATH]" \
+    "[--volume PATH [--dims XxYxZ] [--type T]]..." \
     "[--smoke]" >&2
   exit 2
 }
@@ -43,6 +52,7 @@ while [ $# -gt 0 ]; do
     --runs) runs=$2; shift 2 ;;
     --data) data=$2; shift 2 ;;
     --work) work=$2; shift 2 ;;
+    --ijk) ijk=$2; shift 2 ;;
     --volume) files+=("$2"); dims+=(""); types+=(""); shift 2 ;;
     --dims) last --dims; dims[${#files[@]} - 1]=$2; shift 2 ;;
     --type) last --type; types[${#files[@]} - 1]=$2; shift 2 ;;
@@ -88,6 +98,39 @@ timed() {
   wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.4f", b - a}')
   rss=$(tail -n 1 "$work/rss.txt")
 }
+# One timed run of ijkscalarinfo on $1 in $work/ijk, where -plot writes its table.
+ijk_run() {
+  pushd "$work/ijk" > /dev/null
+  timed "$ijk" -box_dim -plot "$1"
+  popd > /dev/null
+}
+# Whether ijkscalarinfo's box dimension table $1 equals fd's CSV $2: its row t against fd's
+# isovalue t + 1, to its 4 significant digits, where fd's D is defined and inside (0, 3) (it
+# clamps); exit 1 when a row differs or none is compared.
+same_curve() {
+  python3 - "$1" "$2" <<'PY'
+import csv, sys
+ijk = {}
+for line in open(sys.argv[1]):
+    if line.strip() and not line.startswith("#"):
+        t, d = line.split()[:2]
+        ijk[int(float(t))] = float(d)
+compared, differ = 0, []
+for r in csv.DictReader(open(sys.argv[2])):
+    if not r["fd"]:
+        continue
+    s, d = int(float(r["isovalue"])), float(r["fd"])
+    if not 0 < d < 3:
+        continue
+    compared += 1
+    if s - 1 not in ijk or abs(ijk[s - 1] - d) > 0.00051 * max(1.0, abs(d)):
+        differ.append((s, d, ijk.get(s - 1)))
+if differ or not compared:
+    sys.exit(f"startup_bench: ijkscalarinfo's curve differs from fd's at {len(differ)} of {compared} isovalues "
+             f"(isovalue, fd, ijkscalarinfo at isovalue - 1): {differ[:5]}")
+print(f"its curve equals fd's at {compared} isovalues (4 digits)")
+PY
+}
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
 # fd's JSON: seconds_analysis seconds_compute seconds_compile, the denoising attempts' seconds
 # (their compilation included) and their number.
@@ -110,7 +153,21 @@ measure() {
   cat "$file" > /dev/null  # hot: in the page cache
   timed "$clf" fd "$file" "${raw[@]}"  # untimed warm-up: the program caches, the libraries
   timed "$peer" "$file" "${raw[@]}"
-  local -a vw dw fw fr pw pr an co cm dn
+  # ijkscalarinfo's input: the NRRD itself, or a detached header naming the raw 8-bit file.
+  local input=
+  if [ -n "$ijk" ]; then
+    if [[ $file == *.nrrd || $file == *.nhdr ]]; then
+      input=$file
+    elif [ -n "$2" ] && [ "${3:-uint8}" = uint8 ]; then
+      input=$work/ijk/$(basename "${file%.*}").nhdr
+      mkdir -p "$work/ijk"
+      printf 'NRRD0004\ntype: uchar\ndimension: 3\nsizes: %s\nencoding: raw\ndata file: %s\n' \
+        "${2//x/ }" "$(realpath "$file")" > "$input"
+    fi
+    mkdir -p "$work/ijk"
+    [ -n "$input" ] && ijk_run "$input"  # untimed warm-up
+  fi
+  local -a vw dw fw fr pw pr an co cm dn kw kr
   local nd=0
   for ((i = 0; i < runs; i++)); do
     timed "$clf" --version; vw+=("$wall")
@@ -119,6 +176,7 @@ measure() {
     cp "$work/stdout.txt" "$work/fd.txt"
     read -r a c m d nd < <(json_seconds "$work/fd.json"); an+=("$a"); co+=("$c"); cm+=("$m"); dn+=("$d")
     timed "$peer" "$file" "${raw[@]}" --csv "$work/peer.csv"; pw+=("$wall"); pr+=("$rss")
+    if [ -n "$input" ]; then ijk_run "$input"; kw+=("$wall"); kr+=("$rss"); fi
   done
   # The counts of both programs, isovalue by isovalue.
   cut -d, -f1-3 "$work/fd.csv" | tail -n +2 > "$work/a.txt"
@@ -144,8 +202,21 @@ measure() {
     "$(awk -v f="$f" -v d="$d" -v a="$a" 'BEGIN {print f - d - a}')" "$f"
   row "fd_peer_omp (wall, process start to exit)" "$p" "$f" "   peak RSS $(($(median "${pr[@]}") / 1024)) MiB"
   echo "  clfractal fd walls ${fw[*]} s; fd_peer_omp walls ${pw[*]} s"
-  awk -v n="$(basename "$file")" -v f="$f" -v p="$p" 'BEGIN {printf "%-36s %10.4f %10.4f %9.3fx\n", n, f, p, p / f}' \
-    >> "$work/summary.txt"
+  local k=
+  if [ -n "$input" ]; then
+    k=$(median "${kw[@]}")
+    row "ijkscalarinfo -box_dim -plot (wall, process start to exit)" "$k" "$f" \
+      "   peak RSS $(($(median "${kr[@]}") / 1024)) MiB"
+    local same
+    same=$(same_curve "$work/ijk/$(basename "${input%.*}").box_dim.gplt" "$work/fd.csv") || exit 1
+    echo "  ijkscalarinfo walls ${kw[*]} s; $same"
+  elif [ -n "$ijk" ]; then
+    echo "  ijkscalarinfo: not run (an 8-bit NRRD, or a raw file with --dims and --type uint8)"
+  fi
+  awk -v n="$(basename "$file")" -v f="$f" -v p="$p" -v k="$k" 'BEGIN {
+    printf "%-36s %10.4f %10.4f %9.3fx", n, f, p, p / f
+    if (k != "") printf " %10.4f %9.1fx", k, k / f
+    printf "\n" }' >> "$work/summary.txt"
 }
 
 : > "$work/summary.txt"
@@ -157,6 +228,10 @@ echo "floor      bench/cl_start (OpenCL platform, device, context, queue; proces
   "median $(median "${bare[@]}") s of ${bare[*]} s"
 for ((k = 0; k < ${#files[@]}; k++)); do measure "${files[k]}" "${dims[k]}" "${types[k]}"; done
 echo
-printf '%-36s %10s %10s %10s\n' "volume (medians)" "fd wall s" "peer wall s" "peer / fd"
+printf '%-36s %10s %10s %10s' "volume (medians)" "fd wall s" "peer wall s" "peer / fd"
+[ -n "$ijk" ] && printf ' %10s %10s' "ijk wall s" "ijk / fd"
+printf '\n'
 cat "$work/summary.txt"
 echo "(peer / fd >= 1: clfractal fd at least as fast as the plain program, end to end)"
+[ -n "$ijk" ] && echo "(ijk: $ijk -box_dim -plot, the same curve; ijk / fd: how many times fd is as fast)"
+true
