@@ -557,37 +557,13 @@ private:
     std::unordered_map<I, I> rep_;
 };
 
-// Both sweeps over a windowed order, one after the other with one union-find forest: memory
-// 4 or 8 bytes per vertex plus two window buffers. `join_links` / `split_links` hear of the
-// unions of each (Sweeper::run's `joined`).
-template <class T, class I, class Bin, class J, class S>
-void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, const std::vector<Offset>& a_nbrs,
-                     const std::vector<Offset>& c_nbrs, Bin&& bin, std::vector<std::int64_t>& delta, J&& join_links,
-                     S&& split_links) {
-    const T* f = v.as<T>();
-    const Dims d = v.dims();
-    const WindowedOrder<T> order(f, v.vertices(), vmin, vmax, window);
-    std::vector<I> buffer(order.largest());
-    std::vector<std::uint32_t> swept(order.largest());
-    std::vector<I> parent(v.vertices());
-    auto prefetch_value = [f](I i) { __builtin_prefetch(&f[i]); };
-    auto pass = [&](bool forward, const std::vector<Offset>& nbrs, int sign, auto&& joined) {
-        Sweeper<I> s(d, nbrs, parent);
-        const SweptNeighbours bits(d, nbrs, forward);
-        const auto& ws = order.windows();
-        for (std::size_t j = 0; j < ws.size(); ++j) {
-            const auto& w = ws[forward ? j : ws.size() - 1 - j];
-            order.collect(w, d, bits, buffer.data(), swept.data());
-            const std::size_t m = w.count;
-            auto at = [&](std::size_t k) { return buffer[forward ? k : m - 1 - k]; };
-            s.run(m, at, [&](std::size_t k) { return swept[forward ? k : m - 1 - k]; }, prefetch_value,
-                  [&](I i, int found) { delta[bin(i)] += sign * found; }, joined);
-        }
-    };
-    // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign. Split sweep:
-    // C = {f >= s} grows as s falls; up(v) enters with a plus sign.
-    pass(true, a_nbrs, -1, join_links);
-    pass(false, c_nbrs, +1, split_links);
+// Whether the windowed sweeps of `v` may run at once (Tuning::component_sweeps_together):
+// when two forests and two window buffers of `largest` vertices (sizeof(I) + 4 bytes each)
+// stay within what the whole order may take (sweep_window).
+template <class I> bool sweeps_together(bool allowed, const Volume& v, std::size_t largest) {
+    if (!allowed) return false;
+    const double n = double(v.vertices()), vb = double(v.size_bytes());
+    return 2 * double(sizeof(I)) * n + 2 * double(sizeof(I) + 4) * double(largest) + vb <= 3 * vb + double(128 << 20);
 }
 
 // Runs a() and b() on two threads and rethrows the first failure.
@@ -610,6 +586,49 @@ template <class A, class B> void on_two_threads(A&& a, B&& b) {
     }
     for (const auto& e : failed)
         if (e) std::rethrow_exception(e);
+}
+
+// Both sweeps over a windowed order: one after the other with one union-find forest (memory 4
+// or 8 bytes per vertex plus a window buffer), or, `together` and where memory allows
+// (sweeps_together), at once on two threads with a forest and a window buffer each, the
+// split sweep's differences into `delta_split`.
+// `join_links` / `split_links` hear of the unions of each (Sweeper::run's `joined`).
+template <class T, class I, class Bin, class J, class S>
+void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, bool together,
+                     const std::vector<Offset>& a_nbrs, const std::vector<Offset>& c_nbrs, Bin&& bin,
+                     std::vector<std::int64_t>& delta, std::vector<std::int64_t>& delta_split, J&& join_links,
+                     S&& split_links) {
+    const T* f = v.as<T>();
+    const Dims d = v.dims();
+    const WindowedOrder<T> order(f, v.vertices(), vmin, vmax, window);
+    auto prefetch_value = [f](I i) { __builtin_prefetch(&f[i]); };
+    auto pass = [&](bool forward, const std::vector<Offset>& nbrs, int sign, std::vector<I>& parent,
+                    std::vector<std::int64_t>& out, auto&& joined) {
+        std::vector<I> buffer(order.largest());
+        std::vector<std::uint32_t> swept(order.largest());
+        Sweeper<I> s(d, nbrs, parent);
+        const SweptNeighbours bits(d, nbrs, forward);
+        const auto& ws = order.windows();
+        for (std::size_t j = 0; j < ws.size(); ++j) {
+            const auto& w = ws[forward ? j : ws.size() - 1 - j];
+            order.collect(w, d, bits, buffer.data(), swept.data());
+            const std::size_t m = w.count;
+            auto at = [&](std::size_t k) { return buffer[forward ? k : m - 1 - k]; };
+            s.run(m, at, [&](std::size_t k) { return swept[forward ? k : m - 1 - k]; }, prefetch_value,
+                  [&](I i, int found) { out[bin(i)] += sign * found; }, joined);
+        }
+    };
+    // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign. Split sweep:
+    // C = {f >= s} grows as s falls; up(v) enters with a plus sign.
+    std::vector<I> parent(v.vertices());
+    if (!sweeps_together<I>(together, v, order.largest())) {
+        pass(true, a_nbrs, -1, parent, delta, join_links);
+        pass(false, c_nbrs, +1, parent, delta, split_links);
+        return;
+    }
+    std::vector<I> split_parent(v.vertices());
+    on_two_threads([&] { pass(true, a_nbrs, -1, parent, delta, join_links); },
+                   [&] { pass(false, c_nbrs, +1, split_parent, delta_split, split_links); });
 }
 
 // Both sweeps over the whole (value, index) order and the neighbour masks. The two sweeps
@@ -690,8 +709,9 @@ std::vector<std::int64_t> component_counts(const Context& ctx, const Volume& v, 
     const ValueRange range = value_range(v);
     if (const std::size_t window = sweep_window<T>(ctx, v, range)) {
         const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
-        windowed_sweeps<T, I>(v, long(range.min), long(range.max), window, neighbourhood(a_adj), neighbourhood(c_adj),
-                              bin, delta, hook(join_links), hook(split_links));
+        windowed_sweeps<T, I>(v, long(range.min), long(range.max), window, ctx.tuning.component_sweeps_together,
+                              neighbourhood(a_adj), neighbourhood(c_adj), bin, delta, delta_split, hook(join_links),
+                              hook(split_links));
     } else {
         whole_order_sweeps<T, I>(v, dv, mode, bin, delta, delta_split, hook(join_links), hook(split_links));
     }

@@ -121,6 +121,11 @@ struct Tuning {
     /// sweeps (the (value, index) order built a window at a time, memory O(window)); 0 = the
     /// whole order at once unless it would pass the memory bound. Tests set it to force windows.
     std::size_t component_window = 0;
+    /// Whether the two windowed sweeps run at once, on two threads with a forest each, where
+    /// both forests fit the same memory bound as the whole order (a volume of up to ~19 Mi
+    /// 8-bit or ~33 Mi 16-bit vertices); else one after the other with one forest. Tests
+    /// clear it to force one after the other.
+    bool component_sweeps_together = true;
 };
 
 namespace detail {

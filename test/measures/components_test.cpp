@@ -446,11 +446,15 @@ TEST_CASE("windowed sweeps (the order built a window at a time): the whole-order
             const IsovalueSet iso = IsovalueSet::for_volume(*v, 64);
             testutil::ctx().tuning.component_window = 0;
             const ComponentCurve whole = count_components(testutil::ctx(), *v, iso, m);
-            for (std::size_t window : {std::size_t(1), std::size_t(97), std::size_t(5000), std::size_t(1) << 24}) {
-                CAPTURE(window);
-                testutil::ctx().tuning.component_window = window;
-                CHECK(count_components(testutil::ctx(), *v, iso, m).components == whole.components);
-            }
+            // Both sweeps at once (two forests) and one after the other (one forest).
+            for (bool together : {true, false})
+                for (std::size_t window : {std::size_t(1), std::size_t(97), std::size_t(5000), std::size_t(1) << 24}) {
+                    CAPTURE(together);
+                    CAPTURE(window);
+                    testutil::ctx().tuning.component_window = window;
+                    testutil::ctx().tuning.component_sweeps_together = together;
+                    CHECK(count_components(testutil::ctx(), *v, iso, m).components == whole.components);
+                }
             CHECK(check_curve(*v, m, iso) == 0);
         }
 }
@@ -481,11 +485,13 @@ TEST_CASE("slabs sharing a slice, joined: the whole-volume curve (cuts anywhere,
     Volume plateau = testutil::random_volume({10, 10, 8}, ValueType::int16, -2, 2, 44);
     for (Volume* v : {&narrow, &wide, &floats, &plateau})
         for (Connectivity m : modes)
-            for (std::size_t window : {std::size_t(0), std::size_t(37)}) {
+            for (std::size_t window : {std::size_t(0), std::size_t(37), std::size_t(38)}) {
                 CAPTURE(value_type_name(v->type()));
                 CAPTURE(connectivity_name(m));
                 CAPTURE(window);
+                // Window 38: the windowed sweeps one after the other (37: at once).
                 testutil::ctx().tuning.component_window = window;
+                testutil::ctx().tuning.component_sweeps_together = window != 38;
                 const IsovalueSet iso = IsovalueSet::for_volume(*v, 50);
                 const std::vector<std::int64_t> whole = count_components(testutil::ctx(), *v, iso, m).components;
                 const std::size_t nz = v->dims().nz;
