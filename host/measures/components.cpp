@@ -12,11 +12,8 @@
 #include <type_traits>
 #include <unordered_map>
 
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
-#error "in_window packs bytes assuming a little-endian layout"
-#endif
-
 #include "components_slab.hpp"
+#include "measures/row_mask.hpp"
 #include "device/slab_plan.hpp"
 #include "device/type_options.hpp"
 #include "device/kernel_call.hpp"
@@ -375,24 +372,12 @@ struct SweptNeighbours {
     }
 };
 
-// Bit k: whether lo <= p[k] <= hi, for k < n <= 64. One unsigned comparison a value in a type
-// as wide as needed, a loop the compiler vectorises; the bytes are packed as row_mask packs
-// them (components_at.cpp), eight at a time by one multiplication.
+// Bit k: whether lo <= p[k] <= hi, for k < n <= 64: one unsigned comparison a value, in a
+// type as wide as needed (row_mask).
 template <class T> std::uint64_t in_window(const T* p, std::size_t n, long lo, long hi) {
     using W = std::conditional_t<(sizeof(T) < 4), std::uint32_t, std::uint64_t>;
     const W base = W(lo), span = W(hi - lo);
-    alignas(16) std::uint8_t in[64] = {};
-    if (n == 64)
-        for (std::size_t k = 0; k < 64; ++k) in[k] = W(W(p[k]) - base) <= span;
-    else
-        for (std::size_t k = 0; k < n; ++k) in[k] = W(W(p[k]) - base) <= span;
-    std::uint64_t m = 0;
-    for (unsigned q = 0; q < 8; ++q) {
-        std::uint64_t w;
-        std::memcpy(&w, in + 8 * q, 8);
-        m |= ((w * 0x0102040810204080ull) >> 56) << (8 * q);
-    }
-    return m;
+    return row_mask(p, n, [base, span](T x) { return W(W(x) - base) <= span; });
 }
 
 // The (value, index) order of integer data built a window at a time, so that memory is
