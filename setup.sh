@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages clfractal needs to build, test and benchmark (chromium:
+# Installs the Debian 12 packages clfractal needs to build, test and benchmark (ccache: every
+# build tree and the wheel share compiled objects; chromium:
 # the headless render test of `clfractal report`; libjs-three: the report's 3D view; mkdocs:
 # the documentation site; xvfb, Mesa and the X libraries of PyPI's Qt: the napari plugin's test
 # in a real viewer).
 # Does nothing when they are already there. Run as root (or with sudo available).
 set -euo pipefail
-packages=(build-essential cmake pkg-config git
+packages=(build-essential cmake pkg-config git ccache
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo libclblast-dev
   doctest-dev libteem-dev zlib1g-dev libpng-dev libcli11-dev nlohmann-json3-dev gnuplot-nox
   chromium libjs-three

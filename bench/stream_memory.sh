@@ -3,15 +3,17 @@
 # value range (every integer isovalue counted), as the file grows: the first N/4, N/2 and
 # all N slices of one N^3 noisy sphere, each run alone under /usr/bin/time. A streamed run
 # must stay within the bound whatever the number of batches and isovalues (exit 1 when a
-# run fails or passes it).
+# run fails or passes it). With --form-only the bound is printed but not judged (exit 1 only
+# when a run fails or its peak cannot be read): the smoke test in ctest, where a cold program
+# cache or a loaded machine moves the absolute peak.
 #
-#   bench/stream_memory.sh [--build DIR] [--size N] [--noise MU] [--limit MIB] [--work DIR]
+#   bench/stream_memory.sh [--build DIR] [--size N] [--noise MU] [--limit MIB] [--work DIR] [--form-only]
 #
 # Default: build/, N = 640, MU = 60000 (values 0 .. 60000: 60001 isovalues), 512 MiB, the
 # volume generated (clfractal gen) into /tmp/clfractal-bench when missing; the shallower
 # files are raw copies of its first slices.
 set -euo pipefail
-build=build size=640 noise=60000 limit=512 work=${TMPDIR:-/tmp}/clfractal-bench
+build=build size=640 noise=60000 limit=512 work=${TMPDIR:-/tmp}/clfractal-bench judge=1
 while [ $# -gt 0 ]; do
   case $1 in
     --build) build=$2; shift 2 ;;
@@ -19,7 +21,8 @@ while [ $# -gt 0 ]; do
     --noise) noise=$2; shift 2 ;;
     --limit) limit=$2; shift 2 ;;
     --work) work=$2; shift 2 ;;
-    *) echo "usage: $0 [--build DIR] [--size N] [--noise MU] [--limit MIB] [--work DIR]" >&2; exit 2 ;;
+    --form-only) judge=0; shift ;;
+    *) echo "usage: $0 [--build DIR] [--size N] [--noise MU] [--limit MIB] [--work DIR] [--form-only]" >&2; exit 2 ;;
   esac
 done
 clf=$build/clfractal
@@ -46,11 +49,17 @@ for nz in $((size / 4)) $((size / 2)) "$size"; do
     exit 1
   fi
   read -r wall kib < "$work/time.txt"
+  if ! [[ "$kib" =~ ^[0-9]+$ ]] || [ "$kib" -le 0 ]; then
+    echo "stream_memory: no peak read for $file" >&2
+    exit 1
+  fi
   mib=$((kib / 1024))
   slabs=$(sed -n 's/^time .*(streamed, [a-z]*, \([0-9]*\) slabs*).*/\1/p' "$work/out.txt")
   isovalues=$(awk '$1 == "isovalues" {print $2}' "$work/out.txt")
   ok=yes
-  if [ "$mib" -gt "$limit" ]; then ok=NO failed=1; fi
+  if [ "$mib" -gt "$limit" ]; then
+    if [ "$judge" = 1 ]; then ok=NO failed=1; else ok="over (not judged)"; fi
+  fi
   printf '%-22s %10d %8s %9s %10.2f %8s  %s\n' "${size}x${size}x$nz" "$mib" "$slabs" "$isovalues" \
     "$(awk -v k="$kib" -v b="$((nz * slice))" 'BEGIN {print k * 1024 / b}')" "$wall" "$ok"
 done

@@ -393,9 +393,10 @@ g = json.load(open("grainy.json"))["noise"]
 assert abs(g["sigma"] / (12 + 1 / 12) ** 0.5 - 1) < 0.03, g
 assert 0 < g["flat_share"] <= 1 and g["block"] == 8 and g["map"]["dims"] == [2, 2, 2] and len(g["map"]["rms"]) == 8, g
 PY
-expect 0 'auto: isovalue [0-9]+ \(clean, D [0-9.]+\), the first recommendation, from the clean band' -- "$bin" local synthetic:sphere:40 --iso auto -o auto_ld.nrrd
-# Nothing clean: --iso auto still answers, with the cleanest isovalue and its verdict.
-expect 0 'auto: isovalue [0-9]+ \((rough|noisy), D [0-9.]+\), the first recommendation, from the cleanest quarter' -- "$bin" mesh rough.nrrd --iso auto -o auto.ply
+expect 0 'clfractal: --iso auto: isovalue [0-9]+ \(clean, D [0-9.]+\), the first recommendation, from the clean band [0-9]+ \.\. [0-9]+: the first clean band.s representative' -- "$bin" local synthetic:sphere:40 --iso auto -o auto_ld.nrrd
+# Nothing clean: --iso auto still answers, with the cleanest isovalue, its verdict and why,
+# as a warning.
+expect 0 'clfractal: warning: --iso auto: isovalue [0-9]+ \((rough|noisy), D [0-9.]+\), the first recommendation, from the cleanest quarter [0-9]+ \.\. [0-9]+: no well-populated isovalue of rough.nrrd is clean \(D <= 2.2\), so this is the cleanest; its surface is (rough|noisy)' -- "$bin" mesh rough.nrrd --iso auto -o auto.ply
 [ -s auto.ply ] && pass || fail "--iso auto on a rough volume wrote no mesh"
 # Constant volume: no surface anywhere, so auto has nothing to choose.
 head -c 210 /dev/zero | tr '\0' '\003' > flat_7x6x5_uint8.raw

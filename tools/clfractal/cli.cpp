@@ -161,9 +161,19 @@ double checked_isovalue(const Volume& v, double iso) {
     Recommendation e;
     const double s = clfractal::auto_isovalue(Context::shared(), v, &e);
     const IsovalueSet set = IsovalueSet::for_volume(v);
-    progress("--iso auto: isovalue " + iso_string(set, e.index) + " (" + verdict_name(e.verdict) + ", D " +
-             fd_string(e.fd).substr(0, 6) + "), the first recommendation, from the " + e.basis + " " +
-             iso_string(set, e.first) + " .. " + iso_string(set, e.last));
+    const std::string taken = "isovalue " + iso_string(set, e.index) + " (" + verdict_name(e.verdict) + ", D " +
+                              fd_string(e.fd).substr(0, 6) + "), the first recommendation, from the " + e.basis + " " +
+                              iso_string(set, e.first) + " .. " + iso_string(set, e.last);
+    if (e.verdict == Verdict::clean) {
+        progress("--iso auto: " + taken + ": the first clean band's representative");
+    } else {
+        // Nothing well-populated is clean: the answer is the cleanest there is, said as a
+        // warning (silenced by --quiet, as for an isovalue outside the values).
+        if (!quiet)
+            std::cerr << "clfractal: warning: --iso auto: " << taken << ": no well-populated isovalue of " << v.name
+                      << " is clean (D <= " << AdviceOptions{}.clean_fd << "), so this is the cleanest; its surface is "
+                      << verdict_name(e.verdict) << " (`clfractal fd` shows the denoising that makes a band clean)\n";
+    }
     return s;
 }
 
