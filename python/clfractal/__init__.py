@@ -29,7 +29,10 @@ Results: arrays are NumPy arrays; a result that is a fixed sequence of arrays is
 tuple that unpacks like ``skimage.measure.marching_cubes`` (``Components``, ``Mesh``,
 ``VolumeFile``); a record of numbers (with its arrays) is a frozen dataclass with
 ``to_dict()`` (``Analysis``, ``Recommendation``, ``SmallComponents``, ``Fd4``, ``Filtered``, ``Smoothed``, ``NoiseLevel``, ``VolumeInfo``), and
-the curve ``FdCurve`` a class with the same ``to_dict()`` and ``to_pandas()``.
+the curve ``FdCurve`` a class with the same ``to_dict()`` and ``to_pandas()``; ``to_dict()``
+gives plain JSON values (``json.dumps`` takes them) under the command line's ``--json`` keys.
+``report`` writes the page ``clfractal report`` writes; an ``Analysis`` shows its answer in a
+notebook (``_repr_html_``).
 """
 from __future__ import annotations
 
@@ -56,7 +59,35 @@ def _wheel_pocl() -> str | None:
     return None
 
 
-def _choose_opencl_drivers() -> str:
+def _llvm14_unknown_cpu(cpuinfo: str) -> str | None:
+    """Why the LLVM 14 of ``pocl-binary-distribution`` (PoCL 3.0, the one on PyPI) cannot build
+    kernels for the CPU ``cpuinfo`` (the text of ``/proc/cpuinfo``) describes, or None when it
+    can. LLVM 14 names AMD CPUs up to family 25 (Zen 3, Zen 4 as znver3) and guesses unknown
+    Intel family 6 models from their features; any other family it names "generic", which it
+    then rejects as a target CPU ("unknown target CPU 'generic'", pocl/pocl#1049). PoCL 3.0
+    has no override of the CPU name (POCL_LLVM_CPU_NAME came later), so no setting helps."""
+    fields = {}
+    for line in cpuinfo.splitlines():
+        key, _, value = line.partition(":")
+        if not line.strip():
+            break  # the first processor is enough
+        fields.setdefault(key.strip(), value.strip())
+    vendor, family = fields.get("vendor_id", ""), fields.get("cpu family", "")
+    if not family.isdigit():
+        return None
+    f = int(family)
+    if (vendor == "AuthenticAMD" and f > 25) or (vendor == "GenuineIntel" and f not in (6, 15)):
+        return f"{vendor} family {f} ({fields.get('model name', 'unknown model')})"
+    return None
+
+
+#: What to install when the PyPI PoCL cannot serve this CPU.
+_CPU_DRIVER_HINT = ("install a CPU OpenCL driver with a newer LLVM (Debian 12 or Ubuntu 24.04: "
+                    "sudo apt install pocl-opencl-icd; conda: conda install -c conda-forge pocl) "
+                    "or a GPU vendor's OpenCL driver")
+
+
+def _choose_opencl_drivers(cpuinfo_path: str = "/proc/cpuinfo") -> str:
     """Where the OpenCL ICD loader (bundled in the wheel, or the system's) finds drivers.
 
     Decided once, before the loader starts: the user's ``OCL_ICD_VENDORS`` or
@@ -72,6 +103,15 @@ def _choose_opencl_drivers() -> str:
     pocl = _wheel_pocl()
     if pocl is None:
         return "none (no /etc/OpenCL/vendors/*.icd and no pocl-binary-distribution)"
+    try:
+        with open(cpuinfo_path) as f:
+            unknown = _llvm14_unknown_cpu(f.read())
+    except OSError:
+        unknown = None
+    if unknown:
+        # Left unregistered: every kernel build would fail on it.
+        return (f"none (pocl-binary-distribution's PoCL 3.0 cannot build kernels for {unknown}: its LLVM 14 "
+                f"names the CPU 'generic', pocl/pocl#1049; {_CPU_DRIVER_HINT})")
     os.environ["OCL_ICD_VENDORS"] = pocl
     return "pocl-binary-distribution: " + pocl
 
@@ -88,7 +128,7 @@ __all__ = [
     "VALUE_TYPES", "DeviceVolume", "uploads", "FdCurve", "fd_curve", "local_fd", "SliceStream", "Fd4", "fd4", "local4",
     "Components", "components", "ComponentsStream", "median", "gaussian", "bilateral", "Filtered", "targeted_filter",
     "ld_guided_filter", "Smoothed", "smooth", "Mesh", "mesh", "write_ply", "NoiseLevel", "noise_level",
-    "noise_dimension", "SmallComponents", "small_components", "Recommendation", "Analysis", "analyse", "VolumeFile", "read_volume", "Orientation", "write_volume", "VolumeInfo", "info",
+    "noise_dimension", "SmallComponents", "small_components", "Recommendation", "Analysis", "analyse", "report", "VolumeFile", "read_volume", "Orientation", "write_volume", "VolumeInfo", "info",
     "devices", "device_description", "OPENCL_DRIVERS",
 ]
 
@@ -234,9 +274,9 @@ class FdCurve:
                 f"defined={s['defined']}, mean={s['mean']:.4f}, std={s['std']:.4f})")
 
     def to_dict(self) -> dict:
-        """The attributes as a plain dict (arrays as NumPy arrays)."""
-        return {"isovalues": self.isovalues, "counts": self.counts, "fd": self.fd, "fd_fit": self.fd_fit,
-                "summary": dict(self.summary), "kind": self.kind, "levels": self.levels}
+        """The attributes as plain JSON values (arrays as lists, NaN as None)."""
+        return _plain({"isovalues": self.isovalues, "counts": self.counts, "fd": self.fd, "fd_fit": self.fd_fit,
+                       "summary": dict(self.summary), "kind": self.kind, "levels": self.levels})
 
     def to_pandas(self):
         """The curve as a pandas DataFrame: isovalue, count, count_sub, count_l2..., fd, fd_fit."""
@@ -371,11 +411,32 @@ def local_fd(volume, iso: float, window: int = 8, device: str | None = None) -> 
     return _array(_clfractal.local_fd(a, type_name, float(iso), int(window), device))
 
 
+def _plain(x):
+    """``x`` as plain JSON values (what ``json.dumps`` takes, as the command line's ``--json``
+    writes them): records as their ``to_dict()``, arrays and tuples as lists, NumPy scalars as
+    Python numbers, NaN and infinities as None (JSON's null)."""
+    if isinstance(x, (_Record, FdCurve)):
+        return x.to_dict()
+    if isinstance(x, dict):
+        return {str(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, np.ndarray):
+        return _plain(x.tolist())
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, float) and not np.isfinite(x):
+        return None
+    return x
+
+
 class _Record:
-    """Frozen dataclass results: ``to_dict()`` gives the fields as a plain dict."""
+    """Frozen dataclass results: ``to_dict()`` gives the fields as plain JSON values
+    (``json.dumps(r.to_dict())`` works; arrays become lists, NaN null), under the keys of the
+    command line's ``--json`` where it writes the same record."""
 
     def to_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -924,6 +985,15 @@ class NoiseLevel(_Record):
     map_cell: int
     map: np.ndarray
 
+    def to_dict(self) -> dict:
+        """The object ``clfractal fd --noise-level --json`` writes under ``noise``: the map as
+        ``{"cell", "dims": [nx, ny, nz], "rms": [x fastest, null where no block is usable]}``."""
+        d = {k: _plain(getattr(self, k)) for k in ("sigma", "flat_share", "block", "blocks", "blocks_usable",
+                                                   "blocks_flat", "seconds")}
+        nz, ny, nx = self.map.shape
+        d["map"] = {"cell": self.map_cell, "dims": [nx, ny, nz], "rms": _plain(self.map.astype(np.float64).ravel())}
+        return d
+
 
 def noise_level(volume, block: int = 0, map_block: int = 32, clip: float = 3.0,
                 device: str | None = None) -> NoiseLevel:
@@ -1017,9 +1087,19 @@ class Analysis(_Record):
         """The isovalue to use: the first recommendation."""
         return self.recommended[0]
 
+    def to_dict(self) -> dict:
+        """The analysis as ``clfractal fd --json`` and ``clfractal report --json`` write it (a
+        copy of ``json``): plain JSON values."""
+        return json.loads(json.dumps(self.json))
+
+    def _repr_html_(self) -> str:
+        """The answer in a notebook: the isovalue to use, the recommendations, the noise and
+        the curve D(s) (an inline SVG; ``report`` writes the whole page)."""
+        return _analysis_html(self)
+
 
 def analyse(volume, clean_fd: float = 2.2, noisy_fd: float = 2.5, clean_share: float = 0.01, bins: int = 256,
-            components: str = "recommended", noise_level: bool = True, fd4: bool = False, denoise: bool = True,
+            components: str = "curve", noise_level: bool = True, fd4: bool = True, denoise: bool = True,
             window: int = 8, device: str | None = None) -> Analysis:
     """Which isovalue gives a clean surface, how noisy the scan is, and what to do about it.
 
@@ -1028,7 +1108,10 @@ def analyse(volume, clean_fd: float = 2.2, noisy_fd: float = 2.5, clean_share: f
     between), the clean bands, recommendations at the material boundaries of each band (never
     empty: when nothing is clean, the cleanest quarter of the well-populated isovalues), the
     noise level, and, when nothing is clean, the fractal-targeted median (LD > 2.5, then > 2.2)
-    and the median, each re-analysed until one leaves a clean isovalue.
+    and the median, each re-analysed until one leaves a clean isovalue. The defaults compute
+    what ``clfractal report`` computes (the whole component curve, the noise level, D4, the
+    denoising ladder within 4x the volume + 256 MiB), so ``to_dict()`` equals its ``--json``
+    apart from the page's own entries (volume, device, views, explore, seconds).
 
     Parameters
     ----------
@@ -1061,6 +1144,8 @@ def analyse(volume, clean_fd: float = 2.2, noisy_fd: float = 2.5, clean_share: f
     >>> a = clfractal.analyse(sphere.astype(np.uint8), noise_level=False)
     >>> a.clean, a.best.verdict, a.best.components
     (True, 'clean', 1)
+    >>> import json; json.loads(json.dumps(a.to_dict()))["recommended"][0]["verdict"]
+    'clean'
     """
     a, type_name = _volume(volume)
     j = json.loads(_clfractal.analyse(a, type_name, float(clean_fd), float(noisy_fd), float(clean_share), int(bins),
@@ -1069,6 +1154,122 @@ def analyse(volume, clean_fd: float = 2.2, noisy_fd: float = 2.5, clean_share: f
     return Analysis(j["clean"], [_recommendation(e) for e in j["recommended"]],
                     _recommendation(j["noisiest"]) if j["noisiest"] else None,
                     float("nan") if sigma is None else float(sigma), j["clean_bands"], j["denoise"]["attempts"], j)
+
+
+def _curve_svg(curve: list, clean_fd: float, noisy_fd: float, width: int = 480, height: int = 200) -> str:
+    """D(s) of the analysis JSON's curve as an inline SVG line plot, the verdicts' thresholds
+    dashed."""
+    pts = [(c["isovalue"], c["fd"]) for c in curve if c["fd"] is not None]
+    if not pts:
+        return "<p>D(s) is undefined at every isovalue.</p>"
+    x0, x1 = min(p[0] for p in pts), max(p[0] for p in pts)
+    y0, y1 = min(1.5, min(p[1] for p in pts)), max(3.0, max(p[1] for p in pts))
+    sx = lambda x: 40 + (width - 50) * (0.5 if x1 == x0 else (x - x0) / (x1 - x0))  # noqa: E731
+    sy = lambda y: 10 + (height - 40) * (y1 - y) / (y1 - y0)  # noqa: E731
+    line = " ".join(f"{sx(x):.1f},{sy(y):.1f}" for x, y in pts)
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" role="img" '
+           f'aria-label="fractal dimension curve">',
+           f'<rect x="40" y="10" width="{width - 50}" height="{height - 40}" fill="none" stroke="#999"/>']
+    for t, colour in ((clean_fd, "#2e7d32"), (noisy_fd, "#c62828")):
+        out.append(f'<line x1="40" x2="{width - 10}" y1="{sy(t):.1f}" y2="{sy(t):.1f}" stroke="{colour}" '
+                   f'stroke-dasharray="4 3"/><text x="{width - 12}" y="{sy(t) - 3:.1f}" font-size="10" '
+                   f'text-anchor="end" fill="{colour}">{t:g}</text>')
+    out.append(f'<polyline points="{line}" fill="none" stroke="#1565c0" stroke-width="1.5"/>')
+    out.append(f'<text x="40" y="{height - 14}" font-size="10">{x0:g}</text>'
+               f'<text x="{width - 10}" y="{height - 14}" font-size="10" text-anchor="end">{x1:g}</text>'
+               f'<text x="{(width + 30) / 2}" y="{height - 2}" font-size="11" text-anchor="middle">isovalue s</text>'
+               f'<text x="4" y="{sy(y1) + 10:.1f}" font-size="10">{y1:g}</text>'
+               f'<text x="4" y="{sy(y0):.1f}" font-size="10">{y0:g}</text>'
+               f'<text x="4" y="{height / 2}" font-size="11">D(s)</text></svg>')
+    return "".join(out)
+
+
+def _analysis_html(a: Analysis) -> str:
+    import html
+    j = a.json
+    num = lambda x, d=4: "n/a" if x is None else (f"{x:.{d}g}" if isinstance(x, float) else str(x))  # noqa: E731
+    rows = "".join(f"<tr><td>{num(e['isovalue'], 8)}</td><td>{html.escape(e['verdict'])}</td><td>{num(e['fd'])}</td>"
+                   f"<td>{e['count']}</td><td>{num(e['components'])}</td><td>{num(e['first'], 8)} .. "
+                   f"{num(e['last'], 8)}</td><td>{html.escape(e['basis'])}</td></tr>" for e in j["recommended"])
+    if not j["recommended"]:
+        answer = "No surface: no cube is intersected at any isovalue."
+    else:
+        b = j["recommended"][0]
+        answer = (f"Use isovalue {num(b['isovalue'], 8)} ({b['verdict']}, D = {num(b['fd'])})." if j["clean"] else
+                  f"No isovalue is clean; the cleanest is {num(b['isovalue'], 8)} ({b['verdict']}, D = "
+                  f"{num(b['fd'])}).")
+    noise = j.get("noise", {})
+    parts = [f"<div class=\"clfractal-analysis\"><p><b>{html.escape(answer)}</b></p>"]
+    if "sigma" in noise:
+        parts.append(f"<p>Noise: &sigma; = {num(noise['sigma'])} grey values (flat share "
+                     f"{num(noise['flat_share'], 3)}).</p>")
+    tried = [t for t in a.denoise if t["clean"] and t["recommended"]]
+    if tried:
+        parts.append(f"<p>Denoising: <code>{html.escape(tried[0]['command'])}</code> leaves isovalue "
+                     f"{num(tried[0]['recommended'][0]['isovalue'], 8)} clean.</p>")
+    if "fd4" in j:
+        parts.append(f"<p>D4 = {num(j['fd4']['d4'], 5)}.</p>")
+    parts.append("<table><tr><th>isovalue</th><th>verdict</th><th>D</th><th>cubes</th><th>components</th>"
+                 f"<th>band</th><th>basis</th></tr>{rows}</table>")
+    parts.append(_curve_svg(j["curve"], j["advice"]["clean_fd"], j["advice"]["noisy_fd"]))
+    parts.append("</div>")
+    return "".join(parts)
+
+
+def report(volume, path, json_path=None, clean_fd: float = 2.2, clean_share: float = 0.01, window: int = 8,
+           bins: int = 0, mesh_triangles: int = 50000, static: bool = False, name: str | None = None,
+           spacing=None, progress: bool = False, device: str | None = None, **read_options) -> dict:
+    """Writes the page ``clfractal report`` writes: one self-contained HTML file answering
+    which isovalues are clean and how noisy the scan is, with the curves, the clean bands, the
+    noise, D4 and pictures of the recommended and the noisiest isovalue.
+
+    Parameters
+    ----------
+    volume : (z, y, x) array, VolumeFile, or a file path (str or PathLike)
+        A path is read as the command line reads it (``read_options`` as for ``read_volume``),
+        and the page is then the command's page byte for byte apart from its time.
+    path : str or PathLike
+        The HTML page to write.
+    json_path : str or PathLike, optional
+        Also write the page's numbers as JSON (``--json``).
+    clean_fd, clean_share, window, bins, mesh_triangles, static
+        As ``clfractal report``'s options (``static``: ``--static``).
+    name : str, optional
+        The page's "file" line for an array (default "array").
+    spacing : (dz, dy, dx), optional
+        An array's spacing (a ``VolumeFile`` carries its own).
+    progress : bool, optional
+        Progress lines on stderr, as the command prints them.
+    device : str, optional
+
+    Returns
+    -------
+    dict
+        The page's numbers (what ``json_path`` receives).
+
+    Both files are written whole or not at all (a link, a pipe or ``-`` is written through).
+    The pictures need gnuplot (Debian's ``gnuplot-nox``), the 3D view Debian's ``libjs-three``
+    (else the page says so and stays static).
+    """
+    _out = lambda p: "" if p is None else os.fspath(p)  # noqa: E731
+    if isinstance(volume, (str, os.PathLike)):
+        js = _clfractal.report_file(os.fspath(path), _out(json_path), str(volume), _raw_options(**{"dims": None, "dtype": None, "endian": "little",
+                                                                      "spacing": None, "series": None,
+                                                                      "scaled": False, "as_type": None,
+                                                                      **read_options}),
+                                          float(clean_fd), float(clean_share), int(window), int(bins),
+                                          int(mesh_triangles), bool(static), bool(progress), device)
+    else:
+        if read_options:
+            raise TypeError("report: read options apply to a file path: " + ", ".join(sorted(read_options)))
+        if isinstance(volume, VolumeFile):
+            volume, spacing = volume.volume, spacing or volume.spacing
+        a, type_name = _volume(volume)
+        js = _clfractal.report_array(os.fspath(path), _out(json_path), a, type_name, name or "array",
+                                           [float(x) for x in (spacing or (1.0, 1.0, 1.0))], float(clean_fd),
+                                           float(clean_share), int(window), int(bins), int(mesh_triangles),
+                                           bool(static), bool(progress), device)
+    return json.loads(js)
 
 
 def noise_dimension(mu, gamma: float = 1.0, kind: str = "uniform"):

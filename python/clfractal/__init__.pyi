@@ -173,11 +173,18 @@ class Analysis(_Record):
     json: dict[str, Any]
     @property
     def best(self) -> Recommendation: ...
+    def to_dict(self) -> dict[str, Any]: ...
+    def _repr_html_(self) -> str: ...
 
 def analyse(volume: npt.ArrayLike, clean_fd: float = 2.2, noisy_fd: float = 2.5, clean_share: float = 0.01,
-            bins: int = 256, components: Literal["none", "recommended", "curve"] = "recommended",
-            noise_level: bool = True, fd4: bool = False, denoise: bool = True, window: int = 8,
+            bins: int = 256, components: Literal["none", "recommended", "curve"] = "curve",
+            noise_level: bool = True, fd4: bool = True, denoise: bool = True, window: int = 8,
             device: _Device = None) -> Analysis: ...
+def report(volume: npt.ArrayLike | VolumeFile | str | PathLike[str], path: str | PathLike[str],
+           json_path: str | PathLike[str] | None = None, clean_fd: float = 2.2, clean_share: float = 0.01,
+           window: int = 8, bins: int = 0, mesh_triangles: int = 50000, static: bool = False,
+           name: str | None = None, spacing: tuple[float, float, float] | None = None, progress: bool = False,
+           device: _Device = None, **read_options: Any) -> dict[str, Any]: ...
 @overload
 def noise_dimension(mu: float, gamma: float = 1.0, kind: Literal["uniform", "gaussian"] = "uniform") -> float: ...
 @overload

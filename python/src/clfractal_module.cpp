@@ -27,6 +27,9 @@
 #include <vector>
 
 #include "clfractal/analysis.hpp"
+#include "cli.hpp"
+#include "output.hpp"
+#include "report_page.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/device.hpp"
 #include "clfractal/device_volume.hpp"
@@ -448,7 +451,8 @@ std::string analyse_call(const InArray& a, const std::string& type, double clean
                          double clean_share, std::size_t bins, const std::string& components, bool noise_level,
                          bool fd4, bool denoise, int window, const std::optional<std::string>& device) {
     Volume v = to_volume(a, type);
-    AnalysisOptions o;
+    // The report's analysis (cli::report_options: its memory budget too), then the arguments.
+    AnalysisOptions o = cli::report_options({}, v);
     o.advice.clean_fd = clean_fd;
     o.advice.noisy_fd = noisy_fd;
     o.advice.clean_share = clean_share;
@@ -461,6 +465,70 @@ std::string analyse_call(const InArray& a, const std::string& type, double clean
     o.window = window;
     const Analysis r = on_device(device, [&](Context& ctx) { return analyse(ctx, v, o); });
     return to_json(r, -1);
+}
+
+/// clfractal report's page and JSON (cli::report_page) of `v`, named `file` and described by
+/// `format` on the page; progress lines on stderr only when `progress`.
+std::string report_of(const std::string& out, const std::string& json_out, Volume& v, const std::string& file,
+                      const std::vector<std::string>& format, double clean_fd, double clean_share, int window,
+                      std::size_t bins, std::size_t mesh_triangles, bool static_page, bool progress,
+                      const std::optional<std::string>& device, cli::clock_type::time_point t0) {
+    if (!window_problem(window).empty()) throw InputError("window: " + window_problem(window));
+    cli::ReportSettings s;
+    s.clean_fd = clean_fd, s.clean_share = clean_share, s.window = window, s.bins = bins;
+    s.mesh_triangles = mesh_triangles, s.static_page = static_page;
+    std::string json;
+    on_device(device, [&](Context& ctx) {
+        // cli::quiet is the tool's one switch; the device lock serialises the calls that set it.
+        const bool was_quiet = cli::quiet;
+        cli::quiet = !progress;
+        try {
+            const cli::ReportPage r = cli::report_page(ctx, v, s, file, format, t0);
+            json = r.json.dump(1) + "\n";
+            ::write_file_atomic(out, r.html);
+            if (!json_out.empty()) ::write_file_atomic(json_out, json);
+        } catch (...) {
+            cli::quiet = was_quiet;
+            throw;
+        }
+        cli::quiet = was_quiet;
+        return 0;
+    });
+    return json;
+}
+
+std::string report_file_call(const std::string& out, const std::string& json_out, const std::string& path,
+                             const RawOptions& raw, double clean_fd, double clean_share, int window, std::size_t bins,
+                             std::size_t mesh_triangles, bool static_page, bool progress,
+                             const std::optional<std::string>& device) {
+    const auto t0 = cli::clock_type::now();
+    std::vector<std::string> format;
+    Volume v;
+    {
+        nb::gil_scoped_release no_gil;
+        v = read_volume(path, raw);
+        format = describe_volume_file(path, raw);
+    }
+    return report_of(out, json_out, v, path, format, clean_fd, clean_share, window, bins, mesh_triangles, static_page,
+                     progress, device, t0);
+}
+
+std::string report_array_call(const std::string& out, const std::string& json_out, const InArray& a,
+                              const std::string& type, const std::string& name, const std::vector<double>& spacing,
+                              double clean_fd, double clean_share, int window, std::size_t bins,
+                              std::size_t mesh_triangles, bool static_page, bool progress,
+                              const std::optional<std::string>& device) {
+    const auto t0 = cli::clock_type::now();
+    Volume v = to_volume(a, type);
+    if (spacing.size() != 3) throw InputError("spacing: three values (z, y, x)");
+    for (double d : spacing)
+        if (!(d > 0) || !std::isfinite(d)) throw InputError("spacing: every value must be finite and > 0");
+    v.spacing = {spacing[2], spacing[1], spacing[0]};
+    const Dims d = v.dims();
+    const std::vector<std::string> format = {"NumPy array (z, y, x) = (" + std::to_string(d.nz) + ", " +
+                                             std::to_string(d.ny) + ", " + std::to_string(d.nx) + ") " + type};
+    return report_of(out, json_out, v, name, format, clean_fd, clean_share, window, bins, mesh_triangles, static_page,
+                     progress, device, t0);
 }
 
 nb::dict noise_level_call(nb::handle a, const std::string& type, std::size_t block, std::size_t map_block, double clip,
@@ -826,9 +894,15 @@ NB_MODULE(_clfractal, m) {
             PyErr_SetString(PyExc_ValueError, e.what());
         } catch (const DeviceError& e) {
             std::string what = e.what();
-            if (e.code() == CL_DEVICE_NOT_FOUND && what.find("no OpenCL platform") != std::string::npos)
-                what += "; for a CPU device: pip install 'clfractal[cpu]' (PoCL from PyPI); for a GPU: its "
-                        "vendor's OpenCL driver (clfractal.OPENCL_DRIVERS says where drivers were looked for)";
+            if (e.code() == CL_DEVICE_NOT_FOUND && what.find("no OpenCL platform") != std::string::npos) {
+                what +=
+                    "; for a CPU device: pip install 'clfractal[cpu]' (PoCL from PyPI); for a GPU: its "
+                    "vendor's OpenCL driver";
+                // Where the package looked, and why it left a driver out (clfractal.OPENCL_DRIVERS).
+                const nb::object package = nb::module_::import_("sys").attr("modules").attr("get")("clfractal");
+                if (!package.is_none() && nb::hasattr(package, "OPENCL_DRIVERS"))
+                    what += "; drivers: " + nb::cast<std::string>(nb::str(package.attr("OPENCL_DRIVERS")));
+            }
             PyErr_SetString(PyExc_RuntimeError, what.c_str());
         } catch (const cl::Error& e) {
             PyErr_Format(PyExc_RuntimeError, "%s: %s (%d)", e.what(), cl_error_name(e.err()), e.err());
@@ -858,6 +932,11 @@ NB_MODULE(_clfractal, m) {
     m.def("fd4", &fd4_call, "volume"_a, "type"_a, "q"_a, "device"_a.none());
     m.def("analyse", &analyse_call, "volume"_a, "type"_a, "clean_fd"_a, "noisy_fd"_a, "clean_share"_a, "bins"_a,
           "components"_a, "noise_level"_a, "fd4"_a, "denoise"_a, "window"_a, "device"_a.none());
+    m.def("report_file", &report_file_call, "out"_a, "json_out"_a, "path"_a, "raw"_a, "clean_fd"_a, "clean_share"_a,
+          "window"_a, "bins"_a, "mesh_triangles"_a, "static_page"_a, "progress"_a, "device"_a.none());
+    m.def("report_array", &report_array_call, "out"_a, "json_out"_a, "volume"_a, "type"_a, "name"_a, "spacing"_a,
+          "clean_fd"_a, "clean_share"_a, "window"_a, "bins"_a, "mesh_triangles"_a, "static_page"_a, "progress"_a,
+          "device"_a.none());
     m.def("noise_level", &noise_level_call, "volume"_a, "type"_a, "block"_a, "map_block"_a, "clip"_a, "device"_a.none());
     m.def("components", &components_call, "volume"_a, "type"_a, "connectivity"_a, "isovalues"_a.none(), "bins"_a,
           "device"_a.none());

@@ -25,6 +25,7 @@
 #include "plots.hpp"
 #include "report_explore.hpp"
 #include "report_html.hpp"
+#include "report_page.hpp"
 
 using namespace clfractal;
 using json = nlohmann::json;
@@ -32,17 +33,10 @@ using json = nlohmann::json;
 namespace cli {
 namespace {
 
-struct ReportArgs {
+struct ReportArgs : ReportSettings {
     std::string volume, output, json_path;
-    double clean_fd = 2.2, clean_share = 0.01;
-    int window = 8;
-    std::size_t bins = 0;
-    std::size_t mesh_triangles = 50000;
-    bool static_page = false;
     RawArgs raw;
 };
-
-using clock_type = std::chrono::steady_clock;
 
 
 // The pictures of one isovalue: its LD field, the LD-coloured mesh, the busiest axial slice.
@@ -384,7 +378,9 @@ void print_summary(const ReportArgs& a, const Volume& v, const Analysis& an, std
               << "time        " << seconds << " s\n";
 }
 
-AnalysisOptions report_options(const ReportArgs& a, const Volume& v) {
+}  // namespace
+
+AnalysisOptions report_options(const ReportSettings& a, const Volume& v) {
     AnalysisOptions o;
     o.advice.clean_fd = a.clean_fd;
     o.advice.clean_share = a.clean_share;
@@ -396,6 +392,8 @@ AnalysisOptions report_options(const ReportArgs& a, const Volume& v) {
     o.memory_budget = (std::size_t(256) << 20) + 3 * v.size_bytes();
     return o;
 }
+
+namespace {
 
 using Shown = std::vector<std::pair<std::size_t, std::string>>;
 
@@ -437,23 +435,25 @@ explore::Choice make_choice(const Pictures& p, const Analysis& an, std::size_t k
     return c;
 }
 
-int run_report(const ReportArgs& a) {
-    const auto t0 = clock_type::now();
-    Volume v = read_volume_within(a.volume, a.raw.options(), {"clfractal report"});
+}  // namespace
+
+ReportPage report_page(Context& ctx, const Volume& v, const ReportSettings& a, const std::string& file,
+                       const std::vector<std::string>& format, clock_type::time_point t0) {
     check_bins(a.bins, v.type());
-    Context& ctx = Context::shared();
     progress("report on " + dims_string(v.dims()) + " " + value_type_name(v.type()) + " on " + ctx.description() +
              ": curve, components, noise, 4D dimension");
-    const Analysis an = analyse(ctx, v, report_options(a, v));
-    json j = json::parse(to_json(an));
-    j["volume"]["file"] = a.volume;
-    j["volume"]["format"] = describe_volume_file(a.volume, a.raw.options());
+    ReportPage r{analyse(ctx, v, report_options(a, v)), {}, {}};
+    const Analysis& an = r.analysis;
+    json& j = r.json;
+    j = json::parse(to_json(an));
+    j["volume"]["file"] = file;
+    j["volume"]["format"] = format;
     describe_volume(j, v);
     j["device"] = ctx.description();
 
     progress("plots");
     const FdCurve& f = an.curve;
-    const std::string title = std::filesystem::path(a.volume).filename().string();
+    const std::string title = std::filesystem::path(file).filename().string();
     const CurveAxis axis = curve_axis(f, an.bands);
     const std::string fd_png =
         curve_plot(axis, {fd_panel(f)}, title + ": mean FD " + fd_string(an.summary.mean).substr(0, 5))
@@ -492,15 +492,26 @@ int run_report(const ReportArgs& a) {
     j["seconds"] = seconds_since(t0);
 
     std::string explore_html;
-    if (three && !choices.empty()) explore_html = explore::section(j, choices, *three);
+    if (three && !choices.empty())
+        explore_html = explore::section(j, choices, *three);
     else if (!a.static_page)
         explore_html = "<p class=\"note\">No interactive view: " + html::escape(why_static) +
                        " (setup.sh installs Debian's libjs-three).</p>\n";
-    const std::string page = build_html(j, fd_png, comp_png, views, explore_html);
-    write_file_atomic(a.output, page);
-    if (!a.json_path.empty()) write_file_atomic(a.json_path, j.dump(1) + "\n");
+    r.html = build_html(j, fd_png, comp_png, views, explore_html);
+    return r;
+}
 
-    print_summary(a, v, an, page.size(), j["seconds"].get<double>());
+namespace {
+
+int run_report(const ReportArgs& a) {
+    const auto t0 = clock_type::now();
+    const Volume v = read_volume_within(a.volume, a.raw.options(), {"clfractal report"});
+    check_bins(a.bins, v.type());  // before the device starts (report_page checks it for its other callers)
+    const ReportPage r =
+        report_page(Context::shared(), v, a, a.volume, describe_volume_file(a.volume, a.raw.options()), t0);
+    write_file_atomic(a.output, r.html);
+    if (!a.json_path.empty()) write_file_atomic(a.json_path, r.json.dump(1) + "\n");
+    print_summary(a, v, r.analysis, r.html.size(), r.json["seconds"].get<double>());
     return 0;
 }
 
