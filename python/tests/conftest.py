@@ -26,6 +26,24 @@ def cli():
     return run
 
 
+def gnuplot_runs():
+    """Whether gnuplot is installed and draws a PNG here (the report's pictures need it; the
+    wheel's test hides the system's libpng, which gnuplot loads)."""
+    try:
+        r = subprocess.run(["gnuplot"], input="set terminal png\nset output '/dev/null'\nplot x\n",
+                           capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return r.returncode == 0
+
+
+@pytest.fixture(scope="session")
+def gnuplot():
+    """Skips a test of a page with pictures where gnuplot cannot draw them."""
+    if not gnuplot_runs():
+        pytest.skip("gnuplot cannot draw a PNG here (not installed, or its libraries hidden)")
+
+
 @pytest.fixture(scope="session")
 def shared_data():
     path = pathlib.Path(os.environ.get("CLFRACTAL_SHARED_DATA", pathlib.Path(__file__).parents[3] / "shared" / "data"))

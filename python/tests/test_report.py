@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import clfractal
-from conftest import noisy_sphere, write_raw
+from conftest import gnuplot_runs, noisy_sphere, write_raw
 
 # Entries that time the run: the only numbers two runs of the same analysis may differ in.
 TIMINGS = {"seconds", "seconds_analysis", "seconds_prepare", "seconds_components"}
@@ -49,7 +49,7 @@ def volume_file(request, tmp_path, shared_data):
     return path
 
 
-def test_report_writes_the_commands_page_and_analyse_its_answer(volume_file, cli, tmp_path):
+def test_report_writes_the_commands_page_and_analyse_its_answer(volume_file, cli, gnuplot, tmp_path):
     cli("report", volume_file, "-o", tmp_path / "cli.html", "--json", tmp_path / "cli.json")
     got = clfractal.report(volume_file, tmp_path / "py.html", json_path=tmp_path / "py.json")
     want = json.loads((tmp_path / "cli.json").read_text())
@@ -74,13 +74,17 @@ def test_report_writes_the_commands_page_and_analyse_its_answer(volume_file, cli
     assert ("Use isovalue" in h) == want["clean"]
 
 
-def test_report_of_an_array(tmp_path):
+def test_report_of_an_array(gnuplot, tmp_path):
     v = noisy_sphere((30, 28, 26), np.uint8, seed=2, amplitude=4.0)
     j = clfractal.report(v, tmp_path / "a.html", name="ball", spacing=(2.0, 1.0, 0.5), static=True)
     page = (tmp_path / "a.html").read_text()
     assert j["volume"]["file"] == "ball" and j["volume"]["spacing"] == [0.5, 1.0, 2.0]
     assert j["volume"]["dims"] == [26, 28, 30] and j["explore"] == {"static": "--static"}
     assert "NumPy array (z, y, x) = (30, 28, 26) uint8" in page and "<script" not in page
+
+
+def test_report_refuses_bad_arguments_and_writes_nothing(tmp_path):
+    v = noisy_sphere((30, 28, 26), np.uint8, seed=2, amplitude=4.0)
     with pytest.raises(ValueError, match="spacing"):
         clfractal.report(v, tmp_path / "b.html", spacing=(1.0, 0.0, 1.0))
     with pytest.raises(TypeError, match="read options"):
@@ -88,6 +92,17 @@ def test_report_of_an_array(tmp_path):
     with pytest.raises(ValueError, match="missing.raw"):
         clfractal.report(tmp_path / "missing.raw", tmp_path / "b.html")
     assert not (tmp_path / "b.html").exists()
+
+
+def test_report_without_a_working_gnuplot_is_one_error_and_no_page(tmp_path):
+    # Where gnuplot cannot draw (the wheel's test hides its libpng), the page is refused
+    # whole with an error naming gnuplot, and nothing is left at the path.
+    if gnuplot_runs():
+        pytest.skip("gnuplot draws here; the failure path is exercised where it cannot")
+    v = noisy_sphere((30, 28, 26), np.uint8, seed=2, amplitude=4.0)
+    with pytest.raises(ValueError, match="gnuplot"):
+        clfractal.report(v, tmp_path / "c.html", static=True)
+    assert not (tmp_path / "c.html").exists()
 
 
 def test_every_record_is_json(cli, tmp_path):
