@@ -235,11 +235,12 @@ int run_components(const ComponentsArgs& a) {
              std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity");
     ComponentCurve c;
     if (iso.size() <= few_isovalues) {
-        // A few isovalues: each labelled directly (count_components_at), no sort of the volume.
-        const auto t0 = std::chrono::steady_clock::now();
+        // A few isovalues: each labelled directly (count_components_at, on the host or the
+        // device by the device's tuning), no sort of the volume.
+        const ComputeTimer timer(ctx);
         c.isovalues = iso;
-        c.components = count_components_at(v, values_of(iso), mode);
-        c.seconds = seconds_since(t0);
+        c.components = count_components_at(ctx, v, values_of(iso), mode);
+        c.seconds = timer.seconds();
     } else {
         c = count_components(ctx, v, iso, mode);
     }
