@@ -139,44 +139,77 @@ inline void unite(volatile __global uint* labels, uint a, uint b) {
     }
 }
 
+// The bits of in_a over the n <= 32 vertices from `at` (bit i: vertex at + i).
+inline uint set_mask(__global const T* restrict f, uint at, uint n, iso_t s) {
+    uint m = 0;
+    for (uint i = 0; i < n; ++i) m |= (uint)in_a(f[at + i], s) << i;
+    return m;
+}
+
+// The first vertex of the run holding vertex u at column xx: u itself, else the label
+// label_runs gave it (a vertex that starts no run: never changed).
+inline uint run_start(__global const T* restrict f, volatile __global uint* labels, uint u, uint xx, iso_t s) {
+    return xx == 0 || in_a(f[u - 1], s) != in_a(f[u], s) ? u : ((__global const uint*)labels)[u];
+}
+
+// The rows before this one that the offsets reach, q = 0..3: (dy, dz) = (-1, -1), (0, -1),
+// (1, -1), (-1, 0); offset k = 3 q + dx + 1. The row and those rows are taken 32 vertices at a
+// time as bit masks (in A or not), each row read once. For each offset and set, the
+// vertices x where this row and the neighbour at x + dx are both in the set ("contacts")
+// are one mask; a contact whose x - 1 is a contact too joins the same two runs again (this
+// row's x - 1 and x are in one run, and so are the neighbour's), so only the first contact
+// of each stretch unites.
 __kernel void join_runs(__global const T* restrict f, uint nx, uint ny, uint nz, iso_t s,
                         volatile __global uint* labels) {
     const uint r = get_global_id(0);
     if (r >= ny * nz) return;
     const int y = (int)(r % ny), z = (int)(r / ny);
     const uint row = r * nx;
-    // Bit k of `met`: link k (the k-th backward offset) met the same set at x - 1. When it did
-    // and this vertex continues the run of x - 1, the neighbour continues its run too: the two
-    // runs are joined already.
-    uint met = 0, start = row;
-    bool set = in_a(f[row], s);
-    for (uint x = 0; x < nx; ++x) {
-        const uint v = row + x;
-        const bool here = in_a(f[v], s);
-        const bool continues = x > 0 && here == set;
-        if (!continues) start = v;
-        set = here;
-        const int adj = here ? LABEL_A : LABEL_C;
-        uint now = 0;
-        int k = 0;
-        for (int dz = -1; dz <= 0; ++dz)
-            for (int dy = -1; dy <= 1; ++dy) {
-                if (dz == 0 && dy >= 0) continue;
-                const int yy = y + dy, zz = z + dz;
-                const bool row_inside = yy >= 0 && yy < (int)ny && zz >= 0;
-                for (int dx = -1; dx <= 1; ++dx, ++k) {
-                    const int xx = (int)x + dx;
-                    if (!row_inside || xx < 0 || xx >= (int)nx || !in_adjacency(adj, dx, dy, dz)) continue;
-                    const uint u = ((uint)zz * ny + (uint)yy) * nx + (uint)xx;
-                    if (in_a(f[u], s) != here) continue;
-                    now |= 1u << k;
-                    if (continues && (met >> k & 1)) continue;
-                    // u's run start: u itself, else the label label_runs gave it (never changed).
-                    const bool u_starts = xx == 0 || in_a(f[u - 1], s) != here;
-                    unite(labels, start, u_starts ? u : ((__global const uint*)labels)[u]);
+    // Bit k of reach[1] (A) and reach[0] (C): offset k is in that set's adjacency.
+    uint reach[2] = {0, 0};
+    bool inside[4];
+    uint qrow[4], before[4], here[4];
+    for (int q = 0; q < 4; ++q) {
+        const int dy = q == 3 ? -1 : q - 1, dz = q == 3 ? 0 : -1;
+        for (int dx = -1; dx <= 1; ++dx) {
+            reach[1] |= (uint)in_adjacency(LABEL_A, dx, dy, dz) << (3 * q + dx + 1);
+            reach[0] |= (uint)in_adjacency(LABEL_C, dx, dy, dz) << (3 * q + dx + 1);
+        }
+        inside[q] = y + dy >= 0 && y + dy < (int)ny && z + dz >= 0;
+        qrow[q] = inside[q] ? ((uint)(z + dz) * ny + (uint)(y + dy)) * nx : 0;
+        before[q] = 0;  // the word before (bit 31: the vertex before this word)
+        here[q] = inside[q] ? set_mask(f, qrow[q], min(32u, nx), s) : 0;
+    }
+    uint carry_a = 0, carry_c = 0;  // bit k: offset k's contact at the last vertex of the word before
+    for (uint x0 = 0; x0 < nx; x0 += 32) {
+        const uint n = min(32u, nx - x0);
+        const uint valid = n == 32 ? 0xffffffffu : (1u << n) - 1;
+        const uint own = set_mask(f, row + x0, n, s);
+        uint next_a = 0, next_c = 0;
+        for (int q = 0; q < 4; ++q) {
+            if (!inside[q]) continue;
+            const uint c = here[q];
+            const uint after = x0 + 32 < nx ? set_mask(f, qrow[q] + x0 + 32, min(32u, nx - x0 - 32), s) : 0;
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int k = 3 * q + dx + 1;
+                // Bit b of `at`: the neighbour x0 + b + dx in A; `ok`: it exists.
+                const uint at = dx < 0 ? c << 1 | before[q] >> 31 : dx > 0 ? c >> 1 | after << 31 : c;
+                const uint ok = dx < 0 ? (x0 == 0 ? valid & ~1u : valid) : dx > 0 ? (x0 + n < nx ? valid : valid >> 1) : valid;
+                const uint ca = own & at & ok & (0u - (reach[1] >> k & 1));
+                const uint cc = ~own & ~at & ok & (0u - (reach[0] >> k & 1));
+                uint fresh = (ca & ~(ca << 1 | (carry_a >> k & 1))) | (cc & ~(cc << 1 | (carry_c >> k & 1)));
+                next_a |= (ca >> 31) << k;
+                next_c |= (cc >> 31) << k;
+                for (; fresh; fresh &= fresh - 1) {
+                    const uint x = x0 + 31 - clz(fresh & (0u - fresh));  // the lowest bit
+                    const uint u = qrow[q] + (uint)((int)x + dx);
+                    unite(labels, run_start(f, labels, row + x, x, s), run_start(f, labels, u, (uint)((int)x + dx), s));
                 }
             }
-        met = now;
+            before[q] = c;
+            here[q] = after;
+        }
+        carry_a = next_a, carry_c = next_c;
     }
 }
 
