@@ -158,9 +158,9 @@ copy=$(awk -F'[:,]' '/"copy_gb_per_s"/ {gsub(/ /, "", $2); print $2; exit}' "$bu
         row("components curve, " label, f["sweep_mvoxel_per_s"] * bpv(label) / 1000)
       # count_components_at at path_isovalues isovalues: one read of the volume each.
       if (file == "components" && "device_labelling_seconds" in f) {
-        at = f["path_isovalues"] " isovalues, " label
-        row("components at " at ", device labelling", f["vertices"] * bpv(label) * f["path_isovalues"] / f["device_labelling_seconds"] / 1e9)
-        row("components at " at ", host labelling", f["vertices"] * bpv(label) * f["path_isovalues"] / f["host_labelling_seconds"] / 1e9)
+        bytes = f["vertices"] * bpv(label) * f["path_isovalues"]
+        row("labelling at " f["path_isovalues"] " iso, device, " label, bytes / f["device_labelling_seconds"] / 1e9)
+        row("labelling at " f["path_isovalues"] " iso, host, " label, bytes / f["host_labelling_seconds"] / 1e9)
       }
       split("", f)
       next

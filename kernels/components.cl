@@ -168,7 +168,7 @@ __kernel void join_runs(__global const T* restrict f, uint nx, uint ny, uint nz,
     // Bit k of reach[1] (A) and reach[0] (C): offset k is in that set's adjacency.
     uint reach[2] = {0, 0};
     bool inside[4];
-    uint qrow[4], before[4], here[4];
+    uint qrow[4], last_bit[4], here[4];
     for (int q = 0; q < 4; ++q) {
         const int dy = q == 3 ? -1 : q - 1, dz = q == 3 ? 0 : -1;
         for (int dx = -1; dx <= 1; ++dx) {
@@ -177,7 +177,7 @@ __kernel void join_runs(__global const T* restrict f, uint nx, uint ny, uint nz,
         }
         inside[q] = y + dy >= 0 && y + dy < (int)ny && z + dz >= 0;
         qrow[q] = inside[q] ? ((uint)(z + dz) * ny + (uint)(y + dy)) * nx : 0;
-        before[q] = 0;  // the word before (bit 31: the vertex before this word)
+        last_bit[q] = 0;  // the word before's bit 31: the vertex before this word
         here[q] = inside[q] ? set_mask(f, qrow[q], min(32u, nx), s) : 0;
     }
     uint carry_a = 0, carry_c = 0;  // bit k: offset k's contact at the last vertex of the word before
@@ -190,10 +190,14 @@ __kernel void join_runs(__global const T* restrict f, uint nx, uint ny, uint nz,
             if (!inside[q]) continue;
             const uint c = here[q];
             const uint after = x0 + 32 < nx ? set_mask(f, qrow[q] + x0 + 32, min(32u, nx - x0 - 32), s) : 0;
+            // The vertex after this word, read again rather than taken from `after`: LLVM
+            // turns (c >> 1 | after << 31) into a funnel shift (llvm.fshr), which Oclgrind
+            // cannot run; the same for c << 1 with the word before, hence last_bit.
+            const uint first_after = x0 + 32 < nx && in_a(f[qrow[q] + x0 + 32], s);
             for (int dx = -1; dx <= 1; ++dx) {
                 const int k = 3 * q + dx + 1;
                 // Bit b of `at`: the neighbour x0 + b + dx in A; `ok`: it exists.
-                const uint at = dx < 0 ? c << 1 | before[q] >> 31 : dx > 0 ? c >> 1 | after << 31 : c;
+                const uint at = dx < 0 ? c << 1 | last_bit[q] : dx > 0 ? c >> 1 | first_after << 31 : c;
                 const uint ok = dx < 0 ? (x0 == 0 ? valid & ~1u : valid) : dx > 0 ? (x0 + n < nx ? valid : valid >> 1) : valid;
                 const uint ca = own & at & ok & (0u - (reach[1] >> k & 1));
                 const uint cc = ~own & ~at & ok & (0u - (reach[0] >> k & 1));
@@ -206,7 +210,7 @@ __kernel void join_runs(__global const T* restrict f, uint nx, uint ny, uint nz,
                     unite(labels, run_start(f, labels, row + x, x, s), run_start(f, labels, u, (uint)((int)x + dx), s));
                 }
             }
-            before[q] = c;
+            last_bit[q] = c >> 31;
             here[q] = after;
         }
         carry_a = next_a, carry_c = next_c;
