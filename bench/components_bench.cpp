@@ -11,7 +11,10 @@
 // isovalue, so it is timed on M isovalues spread over the range (default 8) and
 // extrapolated to all of them; those M counts must equal the curve's (exit 1 otherwise).
 // The same M isovalues are also counted by count_components_at (runs joined plane by plane,
-// on every core: what the recommendations use), timed as one call, and must equal too.
+// on every core: what the recommendations use), timed as one call, and must equal too. And
+// count_components_at at the first D (default 3) of them on each path, host and device
+// (Tuning::labelling forced; one call each, its compute time: kernels, upload and download,
+// no compilation), which must equal too.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -50,11 +53,12 @@ int main(int argc, char** argv) {
     CLI::App& app = cli.app;
     const int& repeats = cli.repeats;
     std::vector<std::size_t> sizes, sizes16;
-    int samples = 8;
+    int samples = 8, device_samples = 3;
     std::string connectivity = "cube", json_path;
     app.add_option("--size", sizes, "uint8 noisy-sphere N^3 (repeatable; none of both: 128 256 512)");
     app.add_option("--uint16-size", sizes16, "uint16 N^3 (repeatable; none of both: 256)");
     app.add_option("--bfs-isovalues", samples, "isovalues timed with labelling");
+    app.add_option("--path-isovalues", device_samples, "isovalues labelled on each path, host and device");
     app.add_option("--connectivity", connectivity, "cube or freudenthal");
     app.add_option("--json", json_path, "also write the figures as JSON");
     if (const int rc = cli.parse(argc, argv); rc >= 0) return rc;
@@ -64,7 +68,7 @@ int main(int argc, char** argv) {
     std::cout << "device          " << ctx.description() << "\n"
               << "connectivity    " << connectivity_name(mode) << "\n"
               << "  volume                    isovalues   sweep s  Mvoxel/s   labelling s/iso  labelling all (est.)"
-                 "  sweep/labelling  runs s/iso  BFS/runs  counts\n";
+                 "  sweep/labelling  runs s/iso  BFS/runs  host s (D)  device s (D)  device/host  counts\n";
     nlohmann::json rows = nlohmann::json::array();
     bool all_equal = true;
     std::vector<std::pair<Volume, std::string>> cases;
@@ -105,6 +109,24 @@ int main(int argc, char** argv) {
             runs = std::min(runs, seconds_since(t) / double(m));
             for (std::size_t k = 0; k < m; ++k) equal = equal && d[k] == c.components[(2 * k + 1) * iso.size() / (2 * m)];
         }
+        // Host and device labelling at the first D of the same isovalues, the device's
+        // programs compiled first (a 2^3 volume of the type).
+        const std::vector<double> few(at.begin(), at.begin() + std::ptrdiff_t(std::min<std::size_t>(
+                                                               std::size_t(std::max(1, device_samples)), at.size())));
+        double path_seconds[2] = {1e300, 1e300};
+        const Tuning saved = ctx.tuning;
+        for (LabellingPath path : {LabellingPath::host, LabellingPath::device}) {
+            ctx.tuning.labelling = path;
+            count_components_at(ctx, Volume({2, 2, 2}, v.type()), few, mode);
+            for (int r = 0; r < std::max(1, repeats); ++r) {
+                const ComputeTimer t(ctx);
+                const std::vector<std::int64_t> d = count_components_at(ctx, v, few, mode);
+                path_seconds[int(path)] = std::min(path_seconds[int(path)], t.seconds());
+                for (std::size_t k = 0; k < few.size(); ++k)
+                    equal = equal && d[k] == c.components[(2 * k + 1) * iso.size() / (2 * m)];
+            }
+        }
+        ctx.tuning = saved;
         const double per_iso = bfs / double(m), all = per_iso * double(iso.size());
         const double mvox = double(v.vertices()) / sweep / 1e6;
         all_equal = all_equal && equal;
@@ -112,7 +134,9 @@ int main(int argc, char** argv) {
                   << std::fixed << std::setprecision(3) << std::setw(10) << sweep << std::setprecision(1)
                   << std::setw(10) << mvox << std::setprecision(4) << std::setw(18) << per_iso << std::setprecision(1)
                   << std::setw(20) << all << " s" << std::setw(16) << all / sweep << "x" << std::setprecision(4)
-                  << std::setw(13) << runs << std::setprecision(1) << std::setw(9) << per_iso / runs << "x  "
+                  << std::setw(13) << runs << std::setprecision(1) << std::setw(9) << per_iso / runs << "x"
+                  << std::setprecision(4) << std::setw(12) << path_seconds[0] << std::setw(14) << path_seconds[1]
+                  << std::setprecision(2) << std::setw(12) << path_seconds[1] / path_seconds[0] << "x  "
                   << (equal ? "equal" : "DIFFER") << std::defaultfloat << "\n";
         rows.push_back({{"volume", label},
                         {"vertices", v.vertices()},
@@ -125,12 +149,17 @@ int main(int argc, char** argv) {
                         {"ratio_labelling_over_sweep", all / sweep},
                         {"runs_seconds_per_isovalue", runs},
                         {"ratio_bfs_over_runs", per_iso / runs},
+                        {"path_isovalues", few.size()},
+                        {"host_labelling_seconds", path_seconds[0]},
+                        {"device_labelling_seconds", path_seconds[1]},
                         {"counts_equal", equal}});
     }
     std::cout << "(sweep: sort + both union-find sweeps + prefix sum, every isovalue; labelling: BFS of {f < s} and\n"
                  " {f >= s} per isovalue, timed on "
               << samples << " isovalues and extrapolated to all of them; ratio > 1: the sweep is faster;\n"
-                 " runs: count_components_at on the same isovalues, runs along x joined plane by plane on every core)\n";
+                 " runs: count_components_at on the same isovalues, runs along x joined plane by plane on every core;\n"
+                 " host s (D), device s (D): count_components_at at the first "
+              << device_samples << " of them in one call on each path, compute time without compilation)\n";
     if (!json_path.empty()) {
         nlohmann::json j = bench_header(ctx, repeats);
         j.update({{"connectivity", connectivity_name(mode)}, {"cases", rows}});

@@ -156,6 +156,12 @@ copy=$(awk -F'[:,]' '/"copy_gb_per_s"/ {gsub(/ /, "", $2); print $2; exit}' "$bu
       if (file == "filter" && "gaussian_gvoxels_per_s" in f) row("Gaussian, " label, f["gaussian_gvoxels_per_s"] * bpv(label))
       if (file == "components" && "sweep_mvoxel_per_s" in f)
         row("components curve, " label, f["sweep_mvoxel_per_s"] * bpv(label) / 1000)
+      # count_components_at at path_isovalues isovalues: one read of the volume each.
+      if (file == "components" && "device_labelling_seconds" in f) {
+        bytes = f["vertices"] * bpv(label) * f["path_isovalues"]
+        row("labelling at " f["path_isovalues"] " iso, device, " label, bytes / f["device_labelling_seconds"] / 1e9)
+        row("labelling at " f["path_isovalues"] " iso, host, " label, bytes / f["host_labelling_seconds"] / 1e9)
+      }
       split("", f)
       next
     }

@@ -266,8 +266,9 @@ double changed_share(const Volume& a, const Volume& b) {
     return n ? double(changed) / double(n) : 0.0;
 }
 
-// Components at the entries' isovalues, each labelled directly (count_components_at): one
-// pass over the volume an isovalue, memory O(slice).
+// Components at the entries' isovalues, each labelled directly (count_components_at, on the
+// host or the device by Tuning::labelling): one pass over the volume an isovalue, memory
+// O(slice) on the host.
 void fill_components(const std::vector<Recommendation*>& entries, const EntryCounter& count) {
     if (entries.empty()) return;
     std::vector<double> at;
@@ -280,8 +281,8 @@ void fill_components(const std::vector<Recommendation*>& entries, const EntryCou
         e->components = c[std::size_t(std::lower_bound(at.begin(), at.end(), e->isovalue) - at.begin())];
 }
 
-EntryCounter counter(const Volume& v) {
-    return [&v](const std::vector<double>& at) { return count_components_at(v, at, Connectivity::cube); };
+EntryCounter counter(Context& ctx, const Volume& v) {
+    return [&ctx, &v](const std::vector<double>& at) { return count_components_at(ctx, v, at, Connectivity::cube); };
 }
 
 // The curve, bands, recommendations and noisiest isovalue of `v` at `iso`.
@@ -356,7 +357,7 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         if (o.components != ComponentsScope::none && !d.recommended.empty()) {
             std::vector<Recommendation*> es;
             for (Recommendation& e : d.recommended) es.push_back(&e);
-            fill_components(es, counter(out));
+            fill_components(es, counter(ctx, out));
         }
         d.seconds = seconds_since(t0);
         tried.push_back(std::move(d));
@@ -650,7 +651,7 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, Analys
         for (Recommendation& e : a.recommended) e.components = a.components->components[e.index];
         if (a.noisiest) a.noisiest->components = a.components->components[a.noisiest->index];
     } else if (o.components == ComponentsScope::recommended) {
-        fill_entry_components(a, counter(v));
+        fill_entry_components(a, counter(ctx, v));
     }
     a.seconds_components = seconds_since(labelling);
     if (o.noise_level) a.noise_level = estimate_noise_level(ctx, v);

@@ -80,11 +80,17 @@ template <> struct detail::NameTable<FilterVariant> {
     static constexpr std::pair<FilterVariant, const char*> names[] = {
         {FilterVariant::rows, "rows"}, {FilterVariant::vertices, "vertices"}, {FilterVariant::tiled, "tiled"}};
 };
+template <> struct detail::NameTable<LabellingPath> {
+    static constexpr const char* what = "labelling path";
+    static constexpr std::pair<LabellingPath, const char*> names[] = {{LabellingPath::host, "host"},
+                                                                      {LabellingPath::device, "device"}};
+};
 
 CLFRACTAL_NAME_TABLE(SpanVariant)
 CLFRACTAL_NAME_TABLE(SatVariant)
 CLFRACTAL_NAME_TABLE(LocalVariant)
 CLFRACTAL_NAME_TABLE(FilterVariant)
+CLFRACTAL_NAME_TABLE(LabellingPath)
 
 namespace {
 
@@ -230,6 +236,7 @@ Context::Context(cl::Device device) : device_(std::move(device)), faults_(new de
     tuning.sat_variant = is_cpu() ? SatVariant::sequential : SatVariant::workgroup;
     tuning.local_variant = is_cpu() ? LocalVariant::rows : LocalVariant::vertices;
     tuning.filter_variant = is_cpu() ? FilterVariant::rows : FilterVariant::tiled;
+    tuning.labelling = is_cpu() ? LabellingPath::host : LabellingPath::device;
     tuning.sat_work_group = std::min<std::size_t>(256, max_work_group_);
 }
 

@@ -865,13 +865,4 @@ ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, C
     return components_of(v.context(), v.download(), &v, iso, mode);
 }
 
-std::int64_t count_components_at(Context&, const Volume& v, double isovalue, Connectivity mode) {
-    return count_components_at(v, std::vector<double>{isovalue}, mode).front();
-}
-
-std::int64_t count_components_at(const DeviceVolume& v, double isovalue, Connectivity mode) {
-    if (!std::isfinite(isovalue)) throw InputError("isovalue must be finite");
-    return count_components_at(v.download(), std::vector<double>{isovalue}, mode).front();
-}
-
 }  // namespace clfractal

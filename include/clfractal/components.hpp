@@ -96,11 +96,24 @@ private:
 /// directly (count_components_at) instead of sorting and sweeping the whole volume.
 constexpr std::size_t few_isovalues = 32;
 
+/// components(s) at a few isovalues as above, labelled where ctx.tuning.labelling says
+/// (LabellingPath: the host on CPU devices, the device elsewhere). The device labelling is
+/// union-find over the runs of A and C along x with 32-bit atomics: labels are vertex indices
+/// in 32 bits, so it takes volumes below 2^32 vertices whose 4 bytes of labels a vertex fit
+/// the device's largest allocation; other volumes are labelled on the host. Same counts on
+/// either path.
+std::vector<std::int64_t> count_components_at(Context& ctx, const Volume& v, const std::vector<double>& isovalues,
+                                              Connectivity mode = Connectivity::cube);
+/// The same for a volume already on the device: labelled there when the rule above picks the
+/// device (no download), else downloaded and labelled on the host.
+std::vector<std::int64_t> count_components_at(const DeviceVolume& v, const std::vector<double>& isovalues,
+                                              Connectivity mode = Connectivity::cube);
+
 /// components(s) at one isovalue (as above).
 std::int64_t count_components_at(Context& ctx, const Volume& v, double isovalue,
                                  Connectivity mode = Connectivity::cube);
 
-/// The same for a volume already on the device (downloaded, then labelled on the host).
+/// The same for a volume already on the device.
 std::int64_t count_components_at(const DeviceVolume& v, double isovalue, Connectivity mode = Connectivity::cube);
 
 /// Pearson correlation of x and y (population moments, centred on the host, the three dot

@@ -75,12 +75,16 @@ enum class LocalVariant { rows, vertices };
 /// Filter kernels (filter.hpp): whole x-rows, 16 columns at a time ("rows", CPUs), one
 /// work-item per vertex ("vertices") or the median through local-memory tiles ("tiled", GPUs).
 enum class FilterVariant { rows, vertices, tiled };
+/// Where count_components_at labels A = {f < s} and C = {f >= s}: on the host (runs along x
+/// joined by union-find on every core: CPU devices, where it was measured faster) or on the
+/// device (union-find over the runs with atomics: GPUs and other devices).
+enum class LabellingPath { host, device };
 
 /// The one name <-> enum mechanism of the library, for the command line, tests and
-/// benchmarks: these variants and Connectivity, MeshMethod, NoiseKind and SmoothVariant
-/// (whose parse_ and _name functions call it). variant_name(SpanVariant::private_histograms)
-/// is "private"; parse_variant<E>(name) throws InputError "<what> '<name>': expected one of
-/// <the names of E>".
+/// benchmarks: these variants, LabellingPath ("host", "device") and Connectivity, MeshMethod,
+/// NoiseKind and SmoothVariant (whose parse_ and _name functions call it).
+/// variant_name(SpanVariant::private_histograms) is "private"; parse_variant<E>(name) throws
+/// InputError "<what> '<name>': expected one of <the names of E>".
 template <class E> const char* variant_name(E v);
 template <class E> E parse_variant(const std::string& name);
 /// Every value of E, in declaration order (tests walk them).
@@ -126,6 +130,9 @@ struct Tuning {
     /// 8-bit or ~33 Mi 16-bit vertices); else one after the other with one forest. Tests
     /// clear it to force one after the other.
     bool component_sweeps_together = true;
+    /// Where count_components_at labels (LabellingPath): host on CPU devices, device
+    /// elsewhere. Tests set it to force either path.
+    LabellingPath labelling = LabellingPath::host;
 };
 
 namespace detail {

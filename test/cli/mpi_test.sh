@@ -24,15 +24,18 @@ check() {  # check NP ARGS...: the CSVs of NP ranks and of one process are ident
     echo "ok: -np $np $*"
   fi
 }
-check_components() {  # check_components NP ARGS...: as check, for the component curve
+check_components() {  # check_components NP ARGS...: as check, for the component curve (CSV and JSON)
   local np=$1
   shift
-  if ! "$mpiexec" --allow-run-as-root --oversubscribe -np "$np" "$mpi" components "$@" --csv mpi.csv >mpi.out 2>&1; then
+  rm -f mpi.csv mpi.json one.csv one.json
+  if ! "$mpiexec" --allow-run-as-root --oversubscribe -np "$np" "$mpi" components "$@" --csv mpi.csv --json mpi.json \
+      >mpi.out 2>&1; then
     echo "FAIL: mpirun -np $np components $*: $(cat mpi.out)"; failures=$((failures + 1)); return
   fi
-  "$bin" -q components "$@" --csv one.csv >/dev/null
-  if ! cmp -s mpi.csv one.csv; then
+  "$bin" -q components "$@" --csv one.csv --json one.json >/dev/null
+  if ! cmp -s mpi.csv one.csv || ! cmp -s mpi.json one.json; then
     echo "FAIL: -np $np components $* differs from one process"; diff mpi.csv one.csv | head -5
+    diff mpi.json one.json | head -5
     failures=$((failures + 1))
   else
     echo "ok: -np $np components $*"
@@ -53,7 +56,25 @@ head = head.replace(b"encoding: raw", b"encoding: gzip")
 open("ml_gz.nrrd", "wb").write(head + b"\n\n" + gzip.compress(data))
 PY
 check 2 ml_gz.nrrd --edge
+check_components 1 synthetic:noisy-sphere:30
 check_components 2 synthetic:noisy-sphere:30
+check_components 4 synthetic:noisy-sphere:30 --isovalues 100:102:1
+# The plot (gnuplot draws it from the curve and the cube counts, which ranks count in parts):
+# the same PNG from 1 to 4 ranks as from one process.
+if command -v gnuplot >/dev/null; then
+  "$bin" -q components synthetic:noisy-sphere:29 --plot one.png >/dev/null
+  for np in 1 2 3 4; do
+    rm -f mpi.png
+    if "$mpiexec" --allow-run-as-root --oversubscribe -np "$np" "$mpi" components synthetic:noisy-sphere:29 \
+        --plot mpi.png >mpi.out 2>&1 && [ -s one.png ] && cmp -s mpi.png one.png; then
+      echo "ok: -np $np components --plot"
+    else
+      echo "FAIL: -np $np components --plot differs from one process: $(cat mpi.out)"; failures=$((failures + 1))
+    fi
+  done
+else
+  echo "no gnuplot: the plots are not compared"
+fi
 check_components 3 synthetic:noisy-sphere:30 --connectivity freudenthal
 check_components 3 ml.nrrd
 # More ranks than a 3-slice volume has parts (two): the others count nothing.

@@ -30,6 +30,7 @@ commands=(
   "targeted|filter $v --median --fractal --iso 100 --threshold 2.2 -o targeted.nrrd"
   "components|components $v --csv components.csv"
   "freudenthal|components $v --connectivity freudenthal"
+  "components_at|components $v --isovalues 1:7:1 --csv components_at.csv"
   "smooth|smooth $v --iso 100 --threshold 2.2 -o smooth.nrrd"
   "mesh|mesh $v --iso 100 -o mesh.ply"
   "noise|noise --size 16 --points 3 --mu 0,1"

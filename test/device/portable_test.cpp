@@ -126,6 +126,16 @@ TEST_CASE("components, D4, LD4, subsampling and smoothing on a simulated device"
     const Volume v = testutil::random_volume(tiny, ValueType::uint8, 0, 9, 8);
     for (double s : {3.0, 5.0})
         CHECK(std::uint64_t(count_components_at(ctx(), v, s)) == ref::components_bfs(v, s));
+    {
+        // The device labelling (kernels label_runs, join_runs, count_roots), both modes.
+        testutil::TuningGuard guard;
+        ctx().tuning.labelling = LabellingPath::device;
+        const std::vector<std::int64_t> cube = count_components_at(ctx(), v, {3.0, 5.0}, Connectivity::cube);
+        const std::vector<std::int64_t> freudenthal = count_components_at(ctx(), v, {3.0, 5.0}, Connectivity::freudenthal);
+        CHECK(std::uint64_t(cube[0]) == ref::components_bfs(v, 3.0));
+        CHECK(std::uint64_t(cube[1]) == ref::components_bfs(v, 5.0));
+        CHECK(freudenthal == count_components_at(v, {3.0, 5.0}, Connectivity::freudenthal));
+    }
     const ComponentCurve curve = count_components(ctx(), v, IsovalueSet::for_volume(v));
     for (std::size_t j = 0; j < curve.isovalues.size(); ++j)
         CHECK(std::uint64_t(curve.components[j]) == ref::components_bfs(v, curve.isovalues.value(j)));

@@ -305,6 +305,14 @@ TEST_CASE("analyse: a recommendation between each pair of nested materials, all 
         // Components: the curve's, which the components suite checks against BFS labelling.
         const ComponentCurve c = count_components(ctx(), v, a.isovalues);
         for (const Recommendation& e : a.recommended) CHECK(e.components == c.components[e.index]);
+        {
+            // The same when the device labels them (Tuning::labelling: what GPUs do).
+            testutil::TuningGuard guard;
+            ctx().tuning.labelling = LabellingPath::device;
+            const Analysis ad = analyse(ctx(), v, o);
+            REQUIRE(ad.recommended.size() == a.recommended.size());
+            for (const Recommendation& e : ad.recommended) CHECK(e.components == c.components[e.index]);
+        }
         // The noisiest entry's only with the whole curve (-1: not computed).
         REQUIRE(a.noisiest.has_value());
         CHECK(a.noisiest->components == -1);

@@ -16,6 +16,7 @@
 
 #include "clfractal/components.hpp"
 #include "clfractal/mesh.hpp"
+#include "clfractal/synthetic.hpp"
 #include "clfractal/volume_io.hpp"
 #include "components_labelling.hpp"
 #include "measures/components_slab.hpp"
@@ -390,6 +391,127 @@ TEST_CASE("direct labelling on structured shapes: nested shells, a torus, a chec
             for (std::size_t j = 0; j < 3; ++j) CHECK(direct[j] == identity(*v, std::vector<double>{0.5, 1, 100}[j], m));
         }
     CHECK(count_components_at(checker, {1}, Connectivity::cube)[0] == std::int64_t(checker.vertices() / 2));
+}
+
+// count_components_at at `at` on the device (Tuning::labelling forced, from the host volume and
+// from a DeviceVolume) against the host labelling and, up to 20,000 vertices, breadth-first
+// search; the number of mismatches.
+int check_device_labelling(const Volume& v, const std::vector<double>& at, Connectivity m) {
+    testutil::TuningGuard guard;
+    testutil::ctx().tuning.labelling = LabellingPath::device;
+    const std::vector<std::int64_t> host = count_components_at(v, at, m);
+    const std::vector<std::int64_t> device = count_components_at(testutil::ctx(), v, at, m);
+    const DeviceVolume dv(testutil::ctx(), v);
+    const std::vector<std::int64_t> resident = count_components_at(dv, at, m);
+    REQUIRE(device.size() == at.size());
+    REQUIRE(resident.size() == at.size());
+    int bad = 0;
+    for (std::size_t j = 0; j < at.size(); ++j) {
+        const std::int64_t bfs = v.vertices() <= 20000 ? identity(v, at[j], m) : host[j];
+        if (device[j] != host[j] || resident[j] != host[j] || host[j] != bfs) {
+            if (bad++ < 5)
+                MESSAGE(dims_string(v.dims()) << " " << std::string(value_type_name(v.type())) << " "
+                                              << std::string(connectivity_name(m)) << " s=" << at[j]
+                                              << ": device " << device[j] << ", resident "
+                                              << resident[j] << ", host " << host[j] << ", BFS " << bfs);
+        }
+    }
+    return bad;
+}
+
+// The isovalues of for_volume(v, k) and four outside the data (below the type, below and above
+// the values, far above).
+std::vector<double> isovalues_in_and_out(const Volume& v, std::size_t k, long lo, long hi) {
+    const IsovalueSet iso = IsovalueSet::for_volume(v, k);
+    std::vector<double> at = {-1e12, double(lo) - 1, double(hi) + 1, 1e12};
+    for (std::size_t j = 0; j < iso.size(); ++j) at.push_back(iso.value(j));
+    return at;
+}
+
+TEST_CASE("device labelling at a few isovalues: the host labelling and BFS, every type, both modes, thin and long grids") {
+    // Rows (ny * nz) that are no multiple of the work-group size, single rows, single planes,
+    // long rows and long z: every kind of seam between the runs the work-items join.
+    const std::vector<Dims> dims = {{1, 1, 1}, {1, 9, 7},  {9, 1, 7},   {9, 7, 1},  {1, 1, 40}, {40, 1, 1},
+                                    {2, 3, 7}, {13, 7, 11}, {130, 2, 3}, {2, 3, 130}, {33, 17, 9}};
+    std::uint32_t seed = 7100;
+    for (const Dims& d : dims)
+        for (ValueType t : types)
+            for (Connectivity m : modes)
+                for (long span : {3L, 30L}) {
+                    const long lo = t == ValueType::int8 || t == ValueType::int16 ? -5 : 0;
+                    const Volume v = testutil::random_volume(d, t, lo, lo + span, seed++);
+                    CHECK(check_device_labelling(v, isovalues_in_and_out(v, 12, lo, lo + span), m) == 0);
+                }
+}
+
+TEST_CASE("device labelling: one-valued volumes, extreme values, float isovalues beyond the type, structured shapes") {
+    for (ValueType t : types)
+        for (Connectivity m : modes) {
+            // One value everywhere: A or C empty at every isovalue.
+            const Volume flat = testutil::random_volume({11, 6, 5}, t, 5, 5, 1);
+            // (Float data holds 2.5: random_volume halves its integers.)
+            const std::vector<double> at = {2.5, 4, 5, 5.5, 6};
+            CHECK(check_device_labelling(flat, at, m) == 0);
+            testutil::TuningGuard guard;
+            testutil::ctx().tuning.labelling = LabellingPath::device;
+            CHECK(count_components_at(testutil::ctx(), flat, at, m) == std::vector<std::int64_t>(at.size(), 0));
+        }
+    // The ends of the wide types' ranges.
+    const Volume i32 = testutil::random_volume({12, 9, 8}, ValueType::int32, -2147483648L, -2147483640L, 2);
+    const Volume u32 = testutil::random_volume({12, 9, 8}, ValueType::uint32, 4294967287L, 4294967295L, 3);
+    const Volume f64 = testutil::random_volume({12, 9, 8}, ValueType::float64, -1000000, -999990, 4);
+    for (Connectivity m : modes) {
+        CHECK(check_device_labelling(i32, {-2147483645.5, -2147483644, -2147483642.2, 3e9}, m) == 0);
+        CHECK(check_device_labelling(u32, {4294967290.5, 4294967292, 4294967294.9, -1}, m) == 0);
+        CHECK(check_device_labelling(f64, {-499997.25, -499996.5, -499995.0000001}, m) == 0);
+    }
+    // float32 isovalues that round to +-Inf, and the largest finite one.
+    const Volume f = testutil::random_volume({9, 7, 8}, ValueType::float32, 0, 2, 77);
+    for (Connectivity m : modes) CHECK(check_device_labelling(f, {1.0, 1e39, -1e39, 3.5e38, 0.5}, m) == 0);
+    // A checkerboard (every vertex of A its own 6-component: the most unions) and shells.
+    Volume checker({20, 19, 18}, ValueType::uint8), shells({30, 27, 33}, ValueType::uint8);
+    for (std::size_t i = 0; i < checker.vertices(); ++i)
+        checker.as<std::uint8_t>()[i] = (i % 20 + i / 20 % 19 + i / (20 * 19)) % 2 ? 1 : 0;
+    for (std::size_t i = 0; i < shells.vertices(); ++i) {
+        const double x = double(i % 30), y = double(i / 30 % 27), z = double(i / (30 * 27));
+        const double r = std::sqrt(std::pow(x - 14.5, 2) + std::pow(y - 13.0, 2) + std::pow(z - 16.0, 2));
+        shells.as<std::uint8_t>()[i] = std::uint8_t(int(r / 3) % 2 ? 200 : 10);
+    }
+    for (Connectivity m : modes) {
+        CHECK(check_device_labelling(checker, {0.5, 1}, m) == 0);
+        CHECK(check_device_labelling(shells, {10, 11, 200, 201}, m) == 0);
+    }
+    CHECK_THROWS_AS(count_components_at(testutil::ctx(), i32, {1.0, NAN}), InputError);
+}
+
+TEST_CASE("device labelling on noisy spheres: the host labelling at five isovalues, both modes") {
+    // Many work-items joining the same components at once: the unions' races.
+    for (std::size_t n : {48, 71})
+        for (double noise : {5.0, 40.0}) {
+            SyntheticOptions o;
+            o.size = n;
+            o.noise = noise;
+            const Volume v = make_synthetic("noisy-sphere", o);
+            for (Connectivity m : modes) {
+                CAPTURE(n);
+                CAPTURE(noise);
+                CHECK(check_device_labelling(v, {40, 90, 128, 160, 220}, m) == 0);
+            }
+        }
+}
+
+TEST_CASE("the labelling path: host on CPU devices, device elsewhere; the device path uploads the volume once") {
+    CHECK(testutil::ctx().tuning.labelling == (testutil::ctx().is_cpu() ? LabellingPath::host : LabellingPath::device));
+    CHECK(parse_variant<LabellingPath>("device") == LabellingPath::device);
+    CHECK(std::string(variant_name(LabellingPath::host)) == "host");
+    testutil::TuningGuard guard;
+    const Volume v = testutil::random_volume({10, 9, 8}, ValueType::uint16, 0, 9, 5);
+    for (LabellingPath path : {LabellingPath::host, LabellingPath::device}) {
+        testutil::ctx().tuning.labelling = path;
+        const std::uint64_t before = testutil::ctx().uploads();
+        CHECK(count_components_at(testutil::ctx(), v, 4.5) == identity(v, 4.5, Connectivity::cube));
+        CHECK(testutil::ctx().uploads() - before == (path == LabellingPath::device ? 1u : 0u));
+    }
 }
 
 TEST_CASE("the device histogram: local and global variants give the same curve") {

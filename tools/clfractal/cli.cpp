@@ -398,6 +398,25 @@ std::string components_csv(const IsovalueSet& iso, const std::vector<std::int64_
     return out.str();
 }
 
+std::string components_json(const std::string& volume, const Dims& dims, ValueType type, Connectivity mode,
+                            const IsovalueSet& iso, const std::vector<std::int64_t>& components) {
+    nlohmann::json j;
+    j["volume"] = volume;
+    j["dims"] = {dims.nx, dims.ny, dims.nz};
+    j["type"] = value_type_name(type);
+    j["connectivity"] = connectivity_name(mode);
+    std::vector<double> values(iso.size());
+    for (std::size_t k = 0; k < iso.size(); ++k) values[k] = iso.value(k);
+    j["isovalues"] = values;
+    j["components"] = components;
+    return j.dump(1) + "\n";
+}
+
+std::string components_plot_title(const std::string& volume, Connectivity mode) {
+    return std::filesystem::path(volume).filename().string() + ": isosurface components (" + connectivity_name(mode) +
+           ")";
+}
+
 void print_components(std::ostream& out, const std::string& volume, const Dims& dims, ValueType type,
                       Connectivity mode, const IsovalueSet& iso, const std::vector<std::int64_t>& components) {
     std::size_t peak = 0;

@@ -156,6 +156,16 @@ std::string fd_csv(const clfractal::FdCurve& f, const std::vector<std::int64_t>*
 /// The curve as `components --csv` writes it: isovalue,components.
 std::string components_csv(const clfractal::IsovalueSet& iso, const std::vector<std::int64_t>& components);
 
+/// The curve as `components --json` writes it: volume (as given), dims, type, connectivity,
+/// isovalues and components; no timings, so that `clfractal-mpi components --json` writes the
+/// same bytes.
+std::string components_json(const std::string& volume, const clfractal::Dims& dims, clfractal::ValueType type,
+                            clfractal::Connectivity mode, const clfractal::IsovalueSet& iso,
+                            const std::vector<std::int64_t>& components);
+
+/// The title of the `components --plot` figure of `volume`.
+std::string components_plot_title(const std::string& volume, clfractal::Connectivity mode);
+
 /// The `components` report's lines volume, connectivity, isovalues and most (the largest
 /// count and its first isovalue).
 void print_components(std::ostream& out, const std::string& volume, const clfractal::Dims& dims,

@@ -26,12 +26,19 @@ namespace cli {
 namespace {
 
 struct ComponentsArgs {
-    std::string volume, csv, plot, connectivity = "cube", isovalues;
+    std::string volume, csv, json, plot, connectivity = "cube", isovalues;
     std::size_t bins = 0;
     std::size_t slab = 0;
     bool verify = false, stream = false;
     RawArgs raw;
 };
+
+// --csv and --json of the curve.
+void write_curve_files(const ComponentsArgs& a, const Dims& d, ValueType type, Connectivity mode,
+                       const IsovalueSet& iso, const std::vector<std::int64_t>& components) {
+    if (!a.csv.empty()) write_file_atomic(a.csv, components_csv(iso, components));
+    if (!a.json.empty()) write_file_atomic(a.json, components_json(a.volume, d, type, mode, iso, components));
+}
 
 // --verify: every isovalue against per-isovalue labelling; returns how many differ.
 int verify_components(const Volume& v, const IsovalueSet& iso, Connectivity mode, const ComponentCurve& c) {
@@ -112,7 +119,7 @@ int run_components_stream(const ComponentsArgs& a, Connectivity mode) {
     const double vertices = double(reader.dims().nx) * double(reader.dims().ny) * double(reader.dims().nz);
     std::cout << std::setprecision(4) << "time          " << seconds << " s read and labelled (streamed, "
               << reader.method() << ", " << vertices / seconds / 1e6 << " Mvoxel/s)\n";
-    if (!a.csv.empty()) write_file_atomic(a.csv, components_csv(iso, c));
+    write_curve_files(a, reader.dims(), reader.type(), mode, iso, c);
     return 0;
 }
 
@@ -200,7 +207,7 @@ int run_components_slabs(const ComponentsArgs& a, Connectivity mode, std::size_t
     print_components(std::cout, a.volume, d, reader.type(), mode, iso, curve);
     std::cout << std::setprecision(4) << "time          " << seconds << " s (wall) to read, sort and sweep "
               << parts.size() << " z-parts and join them (" << double(d.vertices()) / seconds / 1e6 << " Mvoxel/s)\n";
-    if (!a.csv.empty()) write_file_atomic(a.csv, components_csv(iso, curve));
+    write_curve_files(a, d, reader.type(), mode, iso, curve);
     return 0;
 }
 
@@ -235,11 +242,12 @@ int run_components(const ComponentsArgs& a) {
              std::to_string(iso.size()) + " isovalues, " + connectivity_name(mode) + " connectivity");
     ComponentCurve c;
     if (iso.size() <= few_isovalues) {
-        // A few isovalues: each labelled directly (count_components_at), no sort of the volume.
-        const auto t0 = std::chrono::steady_clock::now();
+        // A few isovalues: each labelled directly (count_components_at, on the host or the
+        // device by the device's tuning), no sort of the volume.
+        const ComputeTimer timer(ctx);
         c.isovalues = iso;
-        c.components = count_components_at(v, values_of(iso), mode);
-        c.seconds = seconds_since(t0);
+        c.components = count_components_at(ctx, v, values_of(iso), mode);
+        c.seconds = timer.seconds();
     } else {
         c = count_components(ctx, v, iso, mode);
     }
@@ -248,15 +256,12 @@ int run_components(const ComponentsArgs& a) {
     std::cout << std::setprecision(4) << "time          " << c.seconds << " s ("
               << double(v.vertices()) / c.seconds / 1e6 << " Mvoxel/s)\n";
     const int bad = a.verify ? verify_components(v, iso, mode, c) : 0;
-    if (!a.csv.empty()) write_file_atomic(a.csv, components_csv(iso, c.components));
+    write_curve_files(a, v.dims(), v.type(), mode, iso, c.components);
     if (!a.plot.empty()) {
         // The annotations come from the box-dimension curve: the cube count underlay, the
         // greyed few-cube isovalues and the clean bands (two levels, cheap beside the sweep).
         const FdCurve f = fd_curve(ctx, count_spans(ctx, v, iso), SpanKind::cubes);
-        write_components_plot(f, clean_bands(f), c.components, false,
-                              std::filesystem::path(a.volume).filename().string() + ": isosurface components (" +
-                                  connectivity_name(mode) + ")",
-                              a.plot);
+        write_components_plot(f, clean_bands(f), c.components, false, components_plot_title(a.volume, mode), a.plot);
     }
     return bad ? 1 : 0;
 }
@@ -268,6 +273,7 @@ void setup_components(CLI::App* c, ComponentsArgs& a) {
     add_isovalues_option(c, a.isovalues);
     add_bins_option(c, a.bins);
     c->add_option("--csv", a.csv, "write isovalue,components");
+    c->add_option("--json", a.json, "write the curve as JSON (volume, dims, type, connectivity, isovalues, components)");
     c->add_option("--plot", a.plot, "draw the curve (log scale) to a PNG with gnuplot");
     c->add_flag("--verify", a.verify, "check every isovalue against per-isovalue labelling (slow); exit 1 on a mismatch");
     c->add_option("--slab", a.slab,

@@ -3,7 +3,8 @@
 // last slice with the next part: split_slices with one level), with the links its sweeps make
 // between the vertices of its first and last slices; rank 0 sums the parts' curves
 // (MPI_Reduce), gathers the links (MPI_Gatherv) and joins them (join_slab_components): the
-// curve equals the single-process `clfractal components` exactly.
+// curve equals the single-process `clfractal components` exactly, and so do its --csv, --json
+// and --plot files.
 #include <mpi.h>
 
 #include <chrono>
@@ -13,8 +14,10 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
+#include "clfractal/advice.hpp"
 #include "clfractal/components.hpp"
 #include "clfractal/error.hpp"
 #include "clfractal/memory.hpp"
@@ -22,6 +25,7 @@
 #include "measures/components_slab.hpp"
 #include "mpi_tool.hpp"
 #include "output.hpp"
+#include "plots.hpp"
 
 using namespace clfractal;
 
@@ -162,6 +166,18 @@ int run_components(const ComponentsArgs& a, int rank, int size) {
     MPI_Reduce(&s.seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
     const auto join = gather(words(s.links.join), rank, size), split = gather(words(s.links.split), rank, size);
     const auto last = gather(s.links.last_bins, rank, size);
+    // --plot: the cube counts of levels 0 and 1 under the curve, as clfractal components draws
+    // them, from z-parts counted by the ranks (starting at even slices) and summed on rank 0.
+    std::optional<FdCurve> spans;
+    if (!a.plot.empty()) {
+        const auto span_parts = split_slices(dims.nz, 2, std::size_t(size));
+        std::vector<std::uint64_t> counts(2 * iso.size(), 0), total(counts.size(), 0);
+        if (std::size_t(rank) < span_parts.size())
+            count_part(reader, iso, SpanKind::cubes, 2, span_parts[std::size_t(rank)].first,
+                       span_parts[std::size_t(rank)].second, counts);
+        MPI_Reduce(counts.data(), total.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+        if (rank == 0) spans = summed_curve(total, iso, SpanKind::cubes, 2, dims);
+    }
     if (rank != 0) return 0;
     const auto start = std::chrono::steady_clock::now();
     std::vector<SlabLinks> links(parts.size());
@@ -175,6 +191,11 @@ int run_components(const ComponentsArgs& a, int rank, int size) {
               << std::setprecision(4) << "time          " << slowest << " s counting (slowest rank) + " << joining
               << " s joining on rank 0 (" << double(dims.vertices()) / (slowest + joining) / 1e6 << " Mvoxel/s)\n";
     if (!a.csv.empty()) write_file_atomic(a.csv, cli::components_csv(iso, curve));
+    if (!a.json.empty()) write_file_atomic(a.json, cli::components_json(a.volume, dims, type, mode, iso, curve));
+    if (spans) {
+        const std::string title = cli::components_plot_title(a.volume, mode);
+        cli::write_components_plot(*spans, clean_bands(*spans), curve, false, title, a.plot);
+    }
     return 0;
 }
 
@@ -185,6 +206,8 @@ void setup_components(CLI::App* c, ComponentsArgs& a) {
     cli::add_isovalues_option(c, a.isovalues);
     cli::add_bins_option(c, a.bins);
     c->add_option("--csv", a.csv, "write isovalue,components (as clfractal components --csv)");
+    c->add_option("--json", a.json, "write the curve as JSON (as clfractal components --json)");
+    c->add_option("--plot", a.plot, "draw the curve (log scale) to a PNG with gnuplot (as clfractal components --plot)");
     a.raw.add(c);
 }
 

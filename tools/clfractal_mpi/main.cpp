@@ -6,6 +6,7 @@
 //
 //   mpirun -np P clfractal-mpi VOLUME [--edge] [--levels L] [--isovalues A:B:S|A,B,... | --bins K] [--csv F] [--json F]
 //   mpirun -np P clfractal-mpi components VOLUME [--connectivity cube|freudenthal] [--isovalues ... | --bins K] [--csv F]
+//                                       [--json F] [--plot F.png]
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
@@ -30,6 +31,52 @@
 #include "output.hpp"
 
 using namespace clfractal;
+
+namespace mpi_tool {
+
+double count_part(SliceReader& reader, const IsovalueSet& iso, SpanKind kind, int levels, std::size_t z_begin,
+                  std::size_t z_end, std::vector<std::uint64_t>& counts) {
+    SpanOptions opt{{kind}, levels, 0};
+    opt.z_begin = z_begin;
+    opt.z_end = z_end;
+    SpanCounter counter(Context::shared(), iso, reader.type(), reader.dims(), opt);
+    const std::size_t depth = counter.slab_slices();
+    HostBytes buf(depth * reader.slice_bytes());  // aligned: a CPU device counts it in place
+    // Slabs share their last slice with the next one: read it once, keep it in front.
+    reader.seek(z_begin);
+    std::size_t z0 = z_begin, have = 0;
+    while (true) {
+        const std::size_t nzs = std::min(depth, z_end - z0);
+        reader.read(buf.data() + have * reader.slice_bytes(), nzs - have);
+        counter.add_slab(buf.data(), z0, nzs);
+        if (z0 + nzs == z_end) break;
+        std::memmove(buf.data(), buf.data() + (nzs - 1) * reader.slice_bytes(), reader.slice_bytes());
+        have = 1;
+        z0 += nzs - 1;
+    }
+    const SpanResult spans = counter.finish();
+    for (int l = 0; l < levels; ++l)
+        std::copy(spans.curves[0].counts[l].begin(), spans.curves[0].counts[l].end(),
+                  counts.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()));
+    return spans.seconds;
+}
+
+FdCurve summed_curve(const std::vector<std::uint64_t>& total, const IsovalueSet& iso, SpanKind kind, int levels,
+                     const Dims& dims) {
+    SpanResult sum;
+    sum.isovalues = iso;
+    SpanCurves c;
+    c.kind = kind;
+    for (int l = 0; l < levels; ++l) {
+        c.level_dims.push_back(level_dims(dims, l));
+        c.counts.emplace_back(total.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()),
+                              total.begin() + std::ptrdiff_t(std::size_t(l + 1) * iso.size()));
+    }
+    sum.curves.push_back(c);
+    return fd_curve(Context::shared(), sum, kind);
+}
+
+}  // namespace mpi_tool
 
 namespace {
 
@@ -63,50 +110,12 @@ IsovalueSet part_isovalues(const Args& a, SliceReader& reader, std::size_t z_beg
     return mpi_tool::global_isovalues(a.isovalues, a.bins, type, lo, hi);
 }
 
-// Counts this rank's z-part into `counts` (level-major); returns the counting seconds.
-double count_part(const Args& a, SliceReader& reader, const IsovalueSet& iso, SpanKind kind, std::size_t z_begin,
-                  std::size_t z_end, std::vector<std::uint64_t>& counts) {
-    SpanOptions opt{{kind}, a.levels, 0};
-    opt.z_begin = z_begin;
-    opt.z_end = z_end;
-    SpanCounter counter(Context::shared(), iso, reader.type(), reader.dims(), opt);
-    const std::size_t depth = counter.slab_slices();
-    HostBytes buf(depth * reader.slice_bytes());  // aligned: a CPU device counts it in place
-    // Slabs share their last slice with the next one: read it once, keep it in front.
-    reader.seek(z_begin);
-    std::size_t z0 = z_begin, have = 0;
-    while (true) {
-        const std::size_t nzs = std::min(depth, z_end - z0);
-        reader.read(buf.data() + have * reader.slice_bytes(), nzs - have);
-        counter.add_slab(buf.data(), z0, nzs);
-        if (z0 + nzs == z_end) break;
-        std::memmove(buf.data(), buf.data() + (nzs - 1) * reader.slice_bytes(), reader.slice_bytes());
-        have = 1;
-        z0 += nzs - 1;
-    }
-    const SpanResult spans = counter.finish();
-    for (int l = 0; l < a.levels; ++l)
-        std::copy(spans.curves[0].counts[l].begin(), spans.curves[0].counts[l].end(),
-                  counts.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()));
-    return spans.seconds;
-}
-
 // Rank 0 forms the curve from the summed counts and reports it.
 void report(const Args& a, const Dims& dims, ValueType type, const IsovalueSet& iso, SpanKind kind,
             const std::vector<std::uint64_t>& total, double slowest, int size,
             const std::vector<std::pair<std::size_t, std::size_t>>& parts) {
     Context& ctx = Context::shared();
-    SpanResult sum;
-    sum.isovalues = iso;
-    SpanCurves c;
-    c.kind = kind;
-    for (int l = 0; l < a.levels; ++l) {
-        c.level_dims.push_back(level_dims(dims, l));
-        c.counts.emplace_back(total.begin() + std::ptrdiff_t(std::size_t(l) * iso.size()),
-                              total.begin() + std::ptrdiff_t(std::size_t(l + 1) * iso.size()));
-    }
-    sum.curves.push_back(c);
-    FdCurve f = fd_curve(ctx, sum, kind);
+    FdCurve f = mpi_tool::summed_curve(total, iso, kind, a.levels, dims);
     FdSummary s = summarize(f.fd, f.counts[0], f.counts[1]);
     std::cout << std::fixed << std::setprecision(4) << "volume      " << a.volume << "  " << dims_string(dims) << " "
               << value_type_name(type) << "\n"
@@ -149,7 +158,7 @@ int run(const Args& a, int rank, int size) {
 
     const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
     std::vector<std::uint64_t> counts(std::size_t(a.levels) * iso.size(), 0);
-    const double seconds = has_part ? count_part(a, reader, iso, kind, z_begin, z_end, counts) : 0;
+    const double seconds = has_part ? mpi_tool::count_part(reader, iso, kind, a.levels, z_begin, z_end, counts) : 0;
     std::vector<std::uint64_t> total(counts.size());
     MPI_Reduce(counts.data(), total.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     double slowest = 0;

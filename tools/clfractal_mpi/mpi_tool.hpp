@@ -6,7 +6,10 @@
 #include <string>
 
 #include "cli.hpp"
+#include "clfractal/fd.hpp"
 #include "clfractal/isovalue_set.hpp"
+#include "clfractal/slice_reader.hpp"
+#include "clfractal/span.hpp"
 
 namespace mpi_tool {
 
@@ -16,8 +19,19 @@ namespace mpi_tool {
 clfractal::IsovalueSet global_isovalues(const std::string& spec, std::size_t bins, clfractal::ValueType type,
                                         double lo, double hi);
 
+/// Counts the spans of `kind` at `levels` levels of the slices [z_begin, z_end) of `reader` (a
+/// rank's z-part, z_begin a multiple of 2^(levels-1)) into `counts` (levels x iso.size(),
+/// level-major); returns the counting seconds.
+double count_part(clfractal::SliceReader& reader, const clfractal::IsovalueSet& iso, clfractal::SpanKind kind,
+                  int levels, std::size_t z_begin, std::size_t z_end, std::vector<std::uint64_t>& counts);
+
+/// The D(s) curve of counts summed over the ranks (as count_part lays them out) of a volume of
+/// `dims`.
+clfractal::FdCurve summed_curve(const std::vector<std::uint64_t>& total, const clfractal::IsovalueSet& iso,
+                                clfractal::SpanKind kind, int levels, const clfractal::Dims& dims);
+
 struct ComponentsArgs {
-    std::string volume, csv, connectivity = "cube", isovalues;
+    std::string volume, csv, json, plot, connectivity = "cube", isovalues;
     std::size_t bins = 0;
     cli::RawArgs raw;
 };
