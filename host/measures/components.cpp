@@ -8,9 +8,9 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <omp.h>
 #include <parallel/algorithm>
 #include <type_traits>
-#include <unordered_map>
 
 #include "components_slab.hpp"
 #include "measures/row_mask.hpp"
@@ -173,33 +173,61 @@ std::vector<I> sorted_vertices(const Volume& v, const DeviceVolume* dv) {
 }
 
 // The neighbour masks of kernels/components.cl (neighbour_masks), on the host: used when
-// the volume or the masks exceed the device's largest allocation.
+// the volume or the masks exceed the device's largest allocation, and for z-slabs. Rows with
+// every neighbour inside (y and z not on the border) take each neighbour across the row at
+// once, one vectorised comparison a vertex, their first and last vertex and the border rows
+// a vertex at a time.
 template <class T>
 void neighbour_masks_host(const T* f, const Dims& d, const std::vector<Offset>& a, const std::vector<Offset>& c,
                           std::uint32_t* mask) {
     const long nx = long(d.nx), ny = long(d.ny), nz = long(d.nz);
+    std::vector<Offset> all(a);
+    all.insert(all.end(), c.begin(), c.end());
+    std::vector<long> lin(all.size());
+    for (std::size_t q = 0; q < all.size(); ++q) lin[q] = all[q].dx + nx * (all[q].dy + ny * all[q].dz);
+    // Neighbour q of vertex v (inside): whether it precedes v in (value, index) order.
+    auto vertex = [&](long x, long y, long z) {
+        const std::size_t v = std::size_t(x + nx * (y + ny * z));
+        const T fv = f[v];
+        std::uint32_t m = 0;
+        for (std::size_t q = 0; q < all.size(); ++q) {
+            const Offset& o = all[q];
+            if (x + o.dx < 0 || x + o.dx >= nx || y + o.dy < 0 || y + o.dy >= ny || z + o.dz < 0 || z + o.dz >= nz)
+                continue;
+            const T fu = f[std::size_t(long(v) + lin[q])];
+            const bool lower = fu < fv || (fu == fv && lin[q] < 0);
+            if (lower == (q < a.size())) m |= std::uint32_t(1) << q;
+        }
+        mask[v] = m;
+    };
 #pragma omp parallel for
     for (long z = 0; z < nz; ++z)
-        for (long y = 0; y < ny; ++y)
-            for (long x = 0; x < nx; ++x) {
-                const std::size_t v = std::size_t(x + nx * (y + ny * z));
-                const T fv = f[v];
-                std::uint32_t m = 0;
-                auto lower = [&](const Offset& o, bool& inside) {
-                    inside = x + o.dx >= 0 && x + o.dx < nx && y + o.dy >= 0 && y + o.dy < ny && z + o.dz >= 0 &&
-                             z + o.dz < nz;
-                    if (!inside) return false;
-                    const long off = o.dx + nx * (o.dy + ny * o.dz);
-                    const T fu = f[std::size_t(long(v) + off)];
-                    return fu < fv || (fu == fv && off < 0);
-                };
-                bool inside = false;
-                for (std::size_t q = 0; q < a.size(); ++q)
-                    if (lower(a[q], inside)) m |= std::uint32_t(1) << q;
-                for (std::size_t q = 0; q < c.size(); ++q)
-                    if (!lower(c[q], inside) && inside) m |= std::uint32_t(1) << (a.size() + q);
-                mask[v] = m;
+        for (long y = 0; y < ny; ++y) {
+            if (y == 0 || z == 0 || y + 1 == ny || z + 1 == nz || nx < 3) {
+                for (long x = 0; x < nx; ++x) vertex(x, y, z);
+                continue;
             }
+            const std::size_t row = std::size_t(1 + nx * (y + ny * z)), n = std::size_t(nx - 2);
+            const T* p = f + row;
+            std::uint32_t* m = mask + row;
+            std::fill(m, m + n, 0u);
+            for (std::size_t q = 0; q < all.size(); ++q) {
+                const T* u = p + lin[q];
+                const std::uint32_t bit = std::uint32_t(1) << q;
+                // A's bits: the neighbour precedes (lower); C's: it follows (not lower).
+                const bool before = lin[q] < 0, want_lower = q < a.size();
+                if (before && want_lower)
+                    for (std::size_t i = 0; i < n; ++i) m[i] |= u[i] <= p[i] ? bit : 0u;
+                else if (want_lower)
+                    for (std::size_t i = 0; i < n; ++i) m[i] |= u[i] < p[i] ? bit : 0u;
+                else if (before)
+                    for (std::size_t i = 0; i < n; ++i) m[i] |= u[i] > p[i] ? bit : 0u;
+                else
+                    for (std::size_t i = 0; i < n; ++i) m[i] |= u[i] >= p[i] ? bit : 0u;
+            }
+            vertex(0, y, z);
+            vertex(nx - 1, y, z);
+        }
 }
 
 // For every vertex, bit q < |a|: neighbour a[q] precedes it in (value, index) order; bit
@@ -500,7 +528,8 @@ private:
 
 // The links of one sweep between the boundary vertices of a slab (components_slab.hpp): the
 // roots that hold a boundary vertex (one bit a vertex), the representative boundary vertex of
-// each (a map: at most one entry per boundary vertex), and a link whenever a union joins two
+// each (an array over the vertices, read at held roots only: a hash map's node per entry cost
+// the 384^3 phantom's slabs a fifth of their time), and a link whenever a union joins two
 // roots that both hold one. Inactive without an output.
 template <class I> class BoundaryLinks {
 public:
@@ -508,7 +537,7 @@ public:
         : out_(out), nxy_(d.nx * d.ny), last_(last ? d.vertices() - nxy_ : std::numeric_limits<std::size_t>::max()) {
         if (!out) return;
         held_.assign((d.vertices() + 63) / 64, 0);
-        rep_.reserve(2 * nxy_);
+        rep_.resize(d.vertices());
         auto hold = [&](std::size_t i) {
             held_[i / 64] |= std::uint64_t(1) << (i % 64);
             rep_[I(i)] = I(i);
@@ -521,14 +550,13 @@ public:
     // At the sweep of a vertex of bin `bin`, the root `child` joins the root `root`.
     void operator()(I child, I root, std::size_t bin) {
         if (!held(child)) return;
-        const I a = rep_.at(child);
+        const I a = rep_[child];
         if (!held(root)) {
             held_[std::size_t(root) / 64] |= std::uint64_t(1) << (std::size_t(root) % 64);
             rep_[root] = a;
         } else {
-            out_->push_back({node(a), node(rep_.at(root)), std::uint32_t(bin)});
+            out_->push_back({node(a), node(rep_[root]), std::uint32_t(bin)});
         }
-        rep_.erase(child);  // never a root again
     }
 
 private:
@@ -539,7 +567,7 @@ private:
     std::vector<BoundaryLink>* out_;
     std::size_t nxy_, last_;
     std::vector<std::uint64_t> held_;
-    std::unordered_map<I, I> rep_;
+    std::vector<I> rep_;
 };
 
 // Whether the windowed sweeps of `v` may run at once (Tuning::component_sweeps_together):
@@ -718,7 +746,116 @@ bool windowed(const Context& ctx, const Volume& v) {
     });
 }
 
+// The links of one sweep of two consecutive runs P and Q (SlabRun) taken in bin order
+// (`increasing` for the join sweep) through a union-find over P's first slice (nodes [0, nxy)),
+// the shared slice ([nxy, 2 nxy)) and Q's last slice ([2 nxy, 3 nxy)): P's boundary ids are its
+// nodes, Q's are shifted by nxy. Each link adds 1 to `diff` at its bin, each union that joins
+// two components takes 1 away; the links of P Q as one slab (between its first and last
+// slices, `first` / `last`: whether they are shared) come back.
+class SeamJoin {
+public:
+    explicit SeamJoin(std::size_t nxy) : nxy_(nxy), parent_(3 * nxy), rep_(3 * nxy) {}
+
+    std::vector<BoundaryLink> operator()(const std::vector<BoundaryLink>& p, const std::vector<BoundaryLink>& q,
+                                         bool increasing, bool first, bool last, std::vector<std::int64_t>& diff) {
+        std::iota(parent_.begin(), parent_.end(), std::uint32_t(0));
+        // The representative boundary vertex of each root that holds one (none: ~0).
+        std::fill(rep_.begin(), rep_.end(), none);
+        for (std::uint32_t x = 0; x < nxy_; ++x) {
+            if (first) rep_[x] = x;
+            if (last) rep_[2 * nxy_ + x] = std::uint32_t(2 * nxy_ + x);
+        }
+        const auto earlier = [increasing](const BoundaryLink& x, const BoundaryLink& y) {
+            return increasing ? x.bin < y.bin : x.bin > y.bin;
+        };
+        // A sweep gives its links in bin order; anything else is sorted here.
+        const std::vector<BoundaryLink>& ps = in_order(p, earlier, p_sorted_);
+        const std::vector<BoundaryLink>& qs = in_order(q, earlier, q_sorted_);
+        std::vector<BoundaryLink> out;
+        std::size_t i = 0, j = 0;
+        while (i < ps.size() || j < qs.size()) {
+            const bool from_p = j == qs.size() || (i < ps.size() && !earlier(qs[j], ps[i]));
+            const BoundaryLink& l = from_p ? ps[i++] : qs[j++];
+            const std::uint32_t shift = from_p ? 0 : std::uint32_t(nxy_);
+            std::uint32_t ra = find(l.a + shift), rb = find(l.b + shift);
+            if (ra == rb) {
+                ++diff[l.bin];  // a link whose union the seam already made
+                continue;
+            }
+            if (ra < rb) std::swap(ra, rb);
+            parent_[ra] = rb;
+            if (rep_[ra] == none) continue;
+            if (rep_[rb] == none) rep_[rb] = rep_[ra];
+            else out.push_back({node(rep_[ra]), node(rep_[rb]), l.bin});
+        }
+        return out;
+    }
+
+private:
+    static constexpr std::uint32_t none = ~std::uint32_t(0);
+    template <class Earlier>
+    static const std::vector<BoundaryLink>& in_order(const std::vector<BoundaryLink>& links, Earlier&& earlier,
+                                                     std::vector<BoundaryLink>& sorted) {
+        if (std::is_sorted(links.begin(), links.end(), earlier)) return links;
+        sorted = links;
+        std::stable_sort(sorted.begin(), sorted.end(), earlier);
+        return sorted;
+    }
+    std::uint32_t find(std::uint32_t x) {
+        while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+        return x;
+    }
+    // The id of a node of P's first or Q's last slice as a boundary vertex of P Q.
+    std::uint32_t node(std::uint32_t x) const { return x < nxy_ ? x : x - std::uint32_t(nxy_); }
+    std::size_t nxy_;
+    std::vector<std::uint32_t> parent_, rep_;
+    std::vector<BoundaryLink> p_sorted_, q_sorted_;
+};
+
 }  // namespace
+
+SlabRun::SlabRun(std::size_t isovalues, std::size_t slice_vertices)
+    : K_(isovalues), nxy_(slice_vertices), sum_(isovalues, 0), join_(isovalues + 1, 0), split_(isovalues + 1, 0) {}
+
+void SlabRun::append(const std::vector<std::int64_t>& curve, SlabLinks links, bool first, bool last) {
+    if (curve.size() != K_) throw std::logic_error("SlabRun: a curve of another isovalue set");
+    SlabRun slab(K_, nxy_);
+    slab.empty_ = false, slab.first_ = first, slab.last_ = last;
+    slab.sum_ = curve;
+    slab.links_ = std::move(links);
+    append(std::move(slab));
+}
+
+void SlabRun::append(SlabRun&& q) {
+    if (q.empty_) return;
+    if (empty_) {
+        *this = std::move(q);
+        return;
+    }
+    if (!last_ || !q.first_ || links_.last_bins.size() != nxy_)
+        throw std::logic_error("SlabRun: slabs that do not share a slice");
+    for (std::size_t j = 0; j < K_; ++j) sum_[j] += q.sum_[j];
+    for (std::size_t b = 0; b <= K_; ++b) join_[b] += q.join_[b], split_[b] += q.split_[b];
+    seams_ += q.seams_ + 1;
+    // Each shared vertex joins its two copies at its bin: a union in A and one in C.
+    for (const std::uint32_t b : links_.last_bins) --join_[b], --split_[b];
+    SeamJoin seam(nxy_);
+    links_.join = seam(links_.join, q.links_.join, true, first_, q.last_, join_);
+    links_.split = seam(links_.split, q.links_.split, false, first_, q.last_, split_);
+    links_.last_bins = std::move(q.links_.last_bins);
+    last_ = q.last_;
+}
+
+std::vector<std::int64_t> SlabRun::curve() const {
+    // b0(A) = the slabs' b0(A ∩ S_r) summed + (links in A - unions in A), whose links at bin b
+    // lie in A_j for j >= b; likewise C, whose links at bin b lie in C_j for j < b. Each seam
+    // adds 1: the slabs' curves each subtract 1, the union's once.
+    std::vector<std::int64_t> c(K_);
+    std::int64_t below = 0, above = 0;
+    for (std::size_t j = 0; j < K_; ++j) c[j] = sum_[j] + seams_ + (below += join_[j]);
+    for (std::size_t j = K_; j-- > 0;) c[j] += above += split_[j + 1];
+    return c;
+}
 
 namespace {
 
@@ -744,9 +881,9 @@ ComponentCurve components_of(Context& ctx, const Volume& v, const DeviceVolume* 
     return c;
 }
 
-// count_components, and a slab's links into `slab` when it has an output.
-ComponentCurve counted(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode,
-                       const SlabOutput& slab) {
+// The curve of v in one piece, and its links as a slab into `slab` when it has an output.
+ComponentCurve counted_whole(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode,
+                             const SlabOutput& slab) {
     // The device takes the volume in one piece when it fits one allocation (and
     // Tuning::slab_bytes, when set: tests lower it to force the host path).
     const Dims d = v.dims();
@@ -766,65 +903,84 @@ ComponentCurve counted(Context& ctx, const Volume& v, const IsovalueSet& iso, Co
     }
 }
 
-// Union-find over the boundary copies of the joined slabs.
-class CopyForest {
-public:
-    explicit CopyForest(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::uint64_t(0)); }
-    // Whether a and b were apart (they are together now).
-    bool unite(std::uint64_t a, std::uint64_t b) {
-        a = find(a), b = find(b);
-        if (a == b) return false;
-        parent_[std::max(a, b)] = std::min(a, b);
-        return true;
-    }
+// Vertices a slab of the sliced sweeps aims at (slab_step): its order, masks and forest (12
+// bytes a vertex, 48 MiB) within reach of the caches and TLB, and a shared slice in every few
+// of its own. Measured on the 384^3 uint16 phantom (CPU seconds of the whole curve, 2 cores):
+// 1.3 Mi vertices a slab 24.1, 3.5 Mi 17.7, 8.3 Mi 18.1, the volume in one piece 28.4.
+constexpr std::size_t slab_vertices = std::size_t(1) << 22;
 
-private:
-    std::uint64_t find(std::uint64_t x) {
-        while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-        return x;
+// Slices between the starts of consecutive slabs of the sliced sweeps (each slab holds one
+// more, shared with the next), 0 for the volume in one piece: Tuning::component_slab_slices
+// when set, else slab_vertices / (nx ny), at least 2. One piece when the volume is no larger
+// than two such slabs, has fewer than 3 slices, or its slices or isovalues pass what the
+// links number (2 nx ny and K + 1 below 2^32).
+std::size_t slab_step(const Context& ctx, const Volume& v, const IsovalueSet& iso) {
+    const Dims d = v.dims();
+    const std::size_t nxy = d.nx * d.ny;
+    if (d.nz < 3 || iso.size() == 0 || 2 * nxy >= (std::size_t(1) << 32) || iso.size() >= (std::size_t(1) << 32) - 1)
+        return 0;
+    std::size_t step = ctx.tuning.component_slab_slices;
+    if (!step) {
+        if (v.vertices() <= 2 * slab_vertices) return 0;
+        step = std::max<std::size_t>(2, slab_vertices / nxy);
     }
-    std::vector<std::uint64_t> parent_;
-};
-
-// A link of the joined slabs between boundary copies: `own` when a slab's sweep made it (its
-// curve already counts the union), else the identity of the two copies of a shared vertex.
-struct CopyLink {
-    std::uint64_t a, b;
-    std::uint32_t bin;
-    bool own;
-};
-
-// The links of the join (or split) sweeps of every slab and the identities of the shared
-// slices, in copy ids: seam r (the last slice of slab r) has copies 2r nxy + xy in slab r
-// and (2r + 1) nxy + xy in slab r + 1.
-std::vector<CopyLink> copy_links(const std::vector<SlabLinks>& slabs, std::size_t nxy, bool join) {
-    std::vector<CopyLink> links;
-    for (std::size_t r = 0; r < slabs.size(); ++r) {
-        auto copy = [&](std::uint32_t n) {
-            return n < nxy ? (2 * r - 1) * nxy + n : 2 * r * nxy + (n - nxy);
-        };
-        for (const BoundaryLink& l : join ? slabs[r].join : slabs[r].split)
-            links.push_back({copy(l.a), copy(l.b), l.bin, true});
-        if (r + 1 == slabs.size()) continue;
-        if (slabs[r].last_bins.size() != nxy) throw std::logic_error("join_slab_components: a slab without last bins");
-        for (std::size_t xy = 0; xy < nxy; ++xy)
-            links.push_back({2 * r * nxy + xy, (2 * r + 1) * nxy + xy, slabs[r].last_bins[xy], false});
-    }
-    return links;
+    return step < d.nz - 1 ? step : 0;
 }
 
-// Per bin, (own links) - (links that unite) over the links taken in bin order (increasing for
-// A = {f < s}, decreasing for C = {f >= s}): the number of unions a set of links makes does not
-// depend on their order within a bin.
-std::vector<std::int64_t> link_differences(std::vector<CopyLink> links, std::size_t copies, std::size_t bins,
-                                           bool increasing) {
-    std::sort(links.begin(), links.end(), [increasing](const CopyLink& x, const CopyLink& y) {
-        return increasing ? x.bin < y.bin : x.bin > y.bin;
-    });
-    CopyForest forest(copies);
-    std::vector<std::int64_t> d(bins, 0);
-    for (const CopyLink& l : links) d[l.bin] += std::int64_t(l.own) - std::int64_t(forest.unite(l.a, l.b));
-    return d;
+// The curve of v (and its links as a slab into `slab`) from z-slabs `step` slices apart, each
+// sharing its last slice with the next: counted on the host on every core, each slab's
+// order, masks and forest small enough to stay in the caches (the whole volume's, far beyond
+// them, make every find a miss), joined slab by slab into runs of consecutive slabs
+// (SlabRun), the runs then in z order: exactly the curve of the volume in one piece.
+ComponentCurve counted_in_slabs(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode,
+                                const SlabOutput& slab, std::size_t step) {
+    const ComputeTimer timer(ctx);
+    const Dims d = v.dims();
+    const std::size_t nxy = d.nx * d.ny, slabs = (d.nz - 1 + step - 1) / step;
+    // A few runs a thread, taken in turn, so that a slow core does not hold the others up.
+    const std::size_t runs = std::min<std::size_t>(slabs, 4 * std::size_t(std::max(1, omp_get_max_threads())));
+    std::vector<SlabRun> joined(runs, SlabRun(iso.size(), nxy));
+    const std::size_t slice = nxy * value_size(v.type());
+    auto* values = static_cast<char*>(const_cast<void*>(v.data()));  // read only
+    std::exception_ptr failed;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::size_t k = 0; k < runs; ++k) {
+        try {
+            for (std::size_t r = slabs * k / runs; r < slabs * (k + 1) / runs; ++r) {
+                const std::size_t z0 = r * step, z1 = std::min(d.nz - 1, z0 + step);
+                const Volume part = Volume::wrap(values + z0 * slice, Dims{d.nx, d.ny, z1 - z0 + 1}, v.type());
+                const bool first = r > 0 || slab.first, last = r + 1 < slabs || slab.last;
+                SlabComponents s;
+                // The host steps only: the context's queue is not shared between threads.
+                const ComponentCurve c = components_of(ctx, part, nullptr, iso, mode, SlabOutput{&s, first, last});
+                joined[k].append(c.components, std::move(s.links), first, last);
+            }
+        } catch (...) {
+#pragma omp critical(components_slabs_failure)
+            if (!failed) failed = std::current_exception();
+        }
+    }
+    if (failed) std::rethrow_exception(failed);
+    for (std::size_t k = 1; k < runs; ++k) joined[0].append(std::move(joined[k]));
+    ComponentCurve c;
+    c.isovalues = iso;
+    c.components = joined[0].curve();
+    if (slab.out) {
+        *slab.out = SlabComponents{};
+        slab.out->links = std::move(joined[0].links());
+    }
+    c.seconds = timer.seconds();
+    return c;
+}
+
+// count_components, and a slab's links into `slab` when it has an output: in z-slabs on every
+// core (slab_step), else in one piece.
+ComponentCurve counted(Context& ctx, const Volume& v, const IsovalueSet& iso, Connectivity mode,
+                       const SlabOutput& slab) {
+    if (!iso.matches(v.type()))
+        throw InputError("count_components: the isovalue set does not match the data type");
+    if (const std::size_t step = slab_step(ctx, v, iso)) return counted_in_slabs(ctx, v, iso, mode, slab, step);
+    return counted_whole(ctx, v, iso, mode, slab);
 }
 
 }  // namespace
@@ -849,20 +1005,19 @@ SlabComponents count_slab_components(Context& ctx, const Volume& slab, const Iso
 std::vector<std::int64_t> join_slab_components(std::vector<std::int64_t> c, const std::vector<SlabLinks>& slabs,
                                                std::size_t nxy) {
     if (slabs.empty()) throw std::logic_error("join_slab_components: no slabs");
-    const std::size_t K = c.size(), R = slabs.size(), copies = 2 * (R - 1) * nxy;
-    for (std::int64_t& x : c) x += std::int64_t(R) - 1;
-    // b0(A) = sum of the slabs' b0(A ∩ S_r) + (own links in A) - (unions of all links in A);
-    // likewise C, whose links at bin b lie in C_j for j < b.
-    const auto a = link_differences(copy_links(slabs, nxy, true), copies, K + 1, true);
-    const auto s = link_differences(copy_links(slabs, nxy, false), copies, K + 1, false);
-    std::int64_t below = 0, above = 0;
-    for (std::size_t j = 0; j < K; ++j) c[j] += below += a[j];
-    for (std::size_t j = K; j-- > 0;) c[j] += above += s[j + 1];
-    return c;
+    // The slabs' curves enter as one sum: the first slab carries it, the others none.
+    const std::vector<std::int64_t> zero(c.size(), 0);
+    SlabRun run(c.size(), nxy);
+    for (std::size_t r = 0; r < slabs.size(); ++r)
+        run.append(r == 0 ? c : zero, slabs[r], r > 0, r + 1 < slabs.size());
+    return run.curve();
 }
 
 ComponentCurve count_components(const DeviceVolume& v, const IsovalueSet& iso, Connectivity mode) {
-    return components_of(v.context(), v.download(), &v, iso, mode);
+    const Volume host = v.download();
+    if (const std::size_t step = slab_step(v.context(), host, iso))
+        return counted_in_slabs(v.context(), host, iso, mode, {}, step);
+    return components_of(v.context(), host, &v, iso, mode);
 }
 
 }  // namespace clfractal

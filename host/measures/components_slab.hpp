@@ -46,4 +46,35 @@ SlabComponents count_slab_components(Context& ctx, const Volume& slab, const Iso
 std::vector<std::int64_t> join_slab_components(std::vector<std::int64_t> curve_sum, const std::vector<SlabLinks>& slabs,
                                                std::size_t slice_vertices);
 
+/// Consecutive slabs joined one after another in z order, held as one slab: the sum of their
+/// curves, what their seams add to it, and the links of the run between its own first and
+/// last slices (those of its first and last slab), so that a run joins the next slab or run
+/// as a slab does. Each seam takes the links of both sides in bin order through a union-find
+/// over three slices (the shared one contracted: each of its vertices joins its two copies at
+/// its bin, a union every time) and keeps a link wherever two components holding vertices of
+/// the run's own boundary slices merge. Memory O(slice), whatever the number of slabs.
+class SlabRun {
+public:
+    SlabRun(std::size_t isovalues, std::size_t slice_vertices);
+    /// Appends the next slab: its curve and links (count_slab_components with `first` and
+    /// `last`). The first slab appended gives the run its `first`; each later one must share
+    /// its first slice with the run's last (first = true, the run's last = true).
+    void append(const std::vector<std::int64_t>& curve, SlabLinks links, bool first, bool last);
+    /// Appends the next run, as a slab.
+    void append(SlabRun&& next);
+    bool empty() const { return empty_; }
+    /// The curve of the slabs so far as one slab (count_slab_components of their union).
+    std::vector<std::int64_t> curve() const;
+    /// Their links as one slab's.
+    SlabLinks& links() { return links_; }
+
+private:
+    std::size_t K_, nxy_;
+    bool empty_ = true, first_ = false, last_ = false;
+    std::vector<std::int64_t> sum_;            // the slabs' curves summed, one an isovalue
+    std::vector<std::int64_t> join_, split_;   // per bin (K + 1): links - unions - shared vertices
+    std::int64_t seams_ = 0;
+    SlabLinks links_;
+};
+
 }  // namespace clfractal

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <functional>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "clfractal/components.hpp"
@@ -607,15 +608,21 @@ TEST_CASE("slabs sharing a slice, joined: the whole-volume curve (cuts anywhere,
     Volume plateau = testutil::random_volume({10, 10, 8}, ValueType::int16, -2, 2, 44);
     for (Volume* v : {&narrow, &wide, &floats, &plateau})
         for (Connectivity m : modes)
-            for (std::size_t window : {std::size_t(0), std::size_t(37), std::size_t(38)}) {
+            for (std::size_t window : {std::size_t(0), std::size_t(37), std::size_t(38)})
+            for (std::size_t sub : {std::size_t(0), std::size_t(1)}) {
+                if (sub && window) continue;
                 CAPTURE(value_type_name(v->type()));
                 CAPTURE(connectivity_name(m));
                 CAPTURE(window);
+                CAPTURE(sub);
                 // Window 38: the windowed sweeps one after the other (37: at once).
                 testutil::ctx().tuning.component_window = window;
                 testutil::ctx().tuning.component_sweeps_together = window != 38;
                 const IsovalueSet iso = IsovalueSet::for_volume(*v, 50);
+                testutil::ctx().tuning.component_slab_slices = std::numeric_limits<std::size_t>::max();
                 const std::vector<std::int64_t> whole = count_components(testutil::ctx(), *v, iso, m).components;
+                // The parts themselves in z-slabs of two slices (0: parts in one piece).
+                if (sub) testutil::ctx().tuning.component_slab_slices = sub;
                 const std::size_t nz = v->dims().nz;
                 CHECK(joined_slabs(*v, {0}, iso, m) == whole);
                 // Single cuts, slabs of two slices, and uneven cuts.
@@ -629,6 +636,102 @@ TEST_CASE("slabs sharing a slice, joined: the whole-volume curve (cuts anywhere,
     const IsovalueSet outside = IsovalueSet::integers(-3, 8);
     CHECK(joined_slabs(narrow, {0, 3, 7}, outside, Connectivity::cube) ==
           count_components(testutil::ctx(), narrow, outside, Connectivity::cube).components);
+}
+
+// The curve with every component_slab_slices of `steps` (and 1 and 3 threads) against the
+// curve in one piece; returns the number of differing curves.
+int sliced_against_whole(const Volume& v, const IsovalueSet& iso, Connectivity m, const std::vector<std::size_t>& steps) {
+    testutil::TuningGuard guard;
+    Tuning& t = testutil::ctx().tuning;
+    t.component_slab_slices = std::numeric_limits<std::size_t>::max();
+    const std::vector<std::int64_t> whole = count_components(testutil::ctx(), v, iso, m).components;
+    REQUIRE(whole.size() == iso.size());
+    const int threads = omp_get_max_threads();
+    int bad = 0;
+    for (int n : {1, 3})
+        for (std::size_t step : steps) {
+            t.component_slab_slices = step;
+            omp_set_num_threads(n);
+            const std::vector<std::int64_t> sliced = count_components(testutil::ctx(), v, iso, m).components;
+            omp_set_num_threads(threads);
+            if (sliced != whole) {
+                if (bad < 3)
+                    MESSAGE(dims_string(v.dims()) << " " << value_type_name(v.type()) << " " << connectivity_name(m)
+                                                  << ": slabs " << step << " slices apart on " << n
+                                                  << " threads differ from the curve in one piece");
+                ++bad;
+            }
+        }
+    return bad;
+}
+
+TEST_CASE("z-slabs counted on every core and joined: the curve in one piece at every isovalue, every type, both modes") {
+    // Thin grids (one piece: fewer than 3 slices), slabs 1, 2, 3 slices apart and uneven last
+    // slabs (4 and 5 apart), more slabs than the runs of 1 and 3 threads, rows past 64.
+    const Dims dims[] = {{5, 4, 1}, {6, 5, 2}, {4, 7, 3}, {9, 7, 11}, {6, 5, 23}, {70, 3, 9}};
+    const std::vector<std::size_t> steps{1, 2, 3, 4, 5};
+    std::uint32_t seed = 600;
+    for (const Dims& d : dims)
+        for (ValueType t : types)
+            for (Connectivity m : modes) {
+                CAPTURE(dims_string(d));
+                CAPTURE(value_type_name(t));
+                CAPTURE(connectivity_name(m));
+                const double lo = t == ValueType::uint8 || t == ValueType::uint16 || t == ValueType::uint32 ? 0 : -50;
+                // Few levels (plateaus across the seams) and many.
+                for (double span : {3.0, 200.0}) {
+                    const Volume v = testutil::random_volume(d, t, long(lo), long(lo + span), seed++);
+                    CHECK(sliced_against_whole(v, IsovalueSet::for_volume(v, 64), m, steps) == 0);
+                }
+                // Isovalue sets given as lists, and integers partly outside the data.
+                const Volume v = testutil::random_volume(d, t, long(lo), long(lo + 40), seed++);
+                IsovalueSet iso;
+                if (t == ValueType::float32) iso = IsovalueSet::floats({float(lo - 1), float(lo + 0.5), float(lo + 7), float(lo + 20.25), float(lo + 39), float(lo + 41)});
+                else if (t == ValueType::float64 || t == ValueType::int32 || t == ValueType::uint32)
+                    iso = IsovalueSet::doubles({lo - 1, lo + 0.5, lo + 7, lo + 20.25, lo + 39, lo + 41});
+                else iso = IsovalueSet::integers(long(lo) - 3, long(lo) + 25);
+                CHECK(sliced_against_whole(v, iso, m, steps) == 0);
+            }
+}
+
+TEST_CASE("z-slabs: against labelling, the default slab depth, the windowed sweeps, a device volume") {
+    testutil::TuningGuard guard;
+    Tuning& t = testutil::ctx().tuning;
+    for (Connectivity m : modes) {
+        CAPTURE(connectivity_name(m));
+        // Against BFS labelling of A and C at every isovalue, slabs of two slices.
+        const Volume a = testutil::random_volume({8, 6, 9}, ValueType::int16, -5, 5, 701);
+        t.component_slab_slices = 1;
+        CHECK(check_curve(a, m) == 0);
+        t.component_slab_slices = 0;
+        // Windowed sweeps inside the slabs, at once and one after the other.
+        const Volume w = testutil::random_volume({23, 19, 17}, ValueType::uint16, 0, 60000, 702);
+        for (bool together : {true, false}) {
+            CAPTURE(together);
+            t.component_window = 97;
+            t.component_sweeps_together = together;
+            CHECK(sliced_against_whole(w, IsovalueSet::for_volume(w, 64), m, {2, 7}) == 0);
+        }
+        t.component_window = 0;
+        t.component_sweeps_together = true;
+    }
+    // The default depth (no tuning): a volume beyond two slabs of 2^22 vertices is cut (here
+    // 163 slices apart, the last slab of 4).
+    const Volume big = testutil::random_volume({160, 160, 330}, ValueType::uint8, 0, 30, 703);
+    const IsovalueSet iso = IsovalueSet::for_volume(big);
+    const ComponentCurve sliced = count_components(testutil::ctx(), big, iso, Connectivity::cube);
+    t.component_slab_slices = std::numeric_limits<std::size_t>::max();
+    const ComponentCurve whole = count_components(testutil::ctx(), big, iso, Connectivity::cube);
+    CHECK(sliced.components == whole.components);
+    // A volume on the device, downloaded and cut.
+    t.component_slab_slices = 3;
+    const Volume small = testutil::random_volume({9, 8, 13}, ValueType::uint8, 0, 9, 704);
+    const DeviceVolume dv(testutil::ctx(), small);
+    const IsovalueSet iso_small = IsovalueSet::for_volume(small);
+    t.component_slab_slices = std::numeric_limits<std::size_t>::max();
+    const std::vector<std::int64_t> one = count_components(testutil::ctx(), small, iso_small).components;
+    t.component_slab_slices = 3;
+    CHECK(count_components(dv, iso_small).components == one);
 }
 
 TEST_CASE("parse_connectivity") {
