@@ -398,9 +398,13 @@ struct CorrelationFit {
     double white = 0;               // b, the white part's variance
 };
 
-// The header's fit: per axis the w whose f(s) / f(1) fits (V(s e_a) - b) / (V(1) - b) best
-// in log over the strides along a alone, for the b in [0, V(1)) that fits the axes best.
-CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& v, double v1) {
+// How a fit weighs the strides: in log, (V(s e_a) - b) / (V(1) - b) against f(s) / f(1); or
+// relative, V(s e_a) against b + (V(1) - b) f(s) / f(1), the difference over V(s e_a).
+enum class FitScale { log, relative };
+
+// The header's fit: per axis the w that fits the strides along a alone best, for the b in
+// [0, V(1)) that fits the axes best.
+CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& v, double v1, FitScale scale) {
     static const std::vector<double> widths = width_grid();
     // Per axis, the strides along it alone and their V.
     std::array<std::vector<std::pair<int, double>>, 3> along;
@@ -435,14 +439,19 @@ CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& 
             if (along[a].empty()) continue;
             std::vector<double> measured;
             for (const auto& stride_value : along[a]) {
-                feasible = feasible && stride_value.second > white;
+                feasible = feasible && (scale == FitScale::relative || stride_value.second > white);
                 measured.push_back(std::log((stride_value.second - white) / (v1 - white)));
             }
             double axis_best = std::numeric_limits<double>::infinity();
             for (std::size_t j = 0; feasible && j < widths.size(); ++j) {
                 double e = 0;
-                for (std::size_t q = 0; q < measured.size(); ++q)
-                    e += (measured[q] - model[a][q][j]) * (measured[q] - model[a][q][j]);
+                for (std::size_t q = 0; q < measured.size(); ++q) {
+                    const double vs = along[a][q].second;
+                    const double d = scale == FitScale::log
+                                         ? measured[q] - model[a][q][j]
+                                         : (vs - white - (v1 - white) * std::exp(model[a][q][j])) / vs;
+                    e += d * d;
+                }
                 if (e < axis_best) axis_best = e, fit.width[a] = widths[j];
             }
             error += axis_best;
@@ -462,6 +471,22 @@ NoiseStride sigma_strides(const std::array<double, 3>& width) {
     for (int a = 0; a < 3; ++a)
         if (width[a] > 0) m[a] = 2;
     return m;
+}
+
+// correlation, sigma_strides and sigma of `r` from a fit, its widths under least_width taken
+// as 0; true when an axis is correlated.
+bool sigma_at_fit(const NoiseBlocks& b, const std::vector<double>& v, double v1, CorrelationFit fit, NoiseLevel& r) {
+    for (double& w : fit.width)
+        if (w < least_width) w = 0;
+    r.correlation = fit.width;
+    r.sigma_strides = sigma_strides(fit.width);
+    const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
+    const double vm = at == b.strides.end() ? v1 : v[std::size_t(at - b.strides.begin())];
+    double gain = 1;
+    for (int a = 0; a < 3; ++a)
+        gain *= noise_stride_factor(std::isnan(fit.width[a]) ? 0.0 : fit.width[a], r.sigma_strides[a]) / 6;
+    r.sigma = std::isfinite(vm) ? std::sqrt(std::max(vm - fit.white, 0.0) / gain + fit.white) : r.sigma_white;
+    return fit.width[0] > 0 || fit.width[1] > 0 || fit.width[2] > 0;
 }
 
 }  // namespace
@@ -505,18 +530,17 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     // The strided V over the flat blocks, the correlation model, sigma at its strides.
     std::vector<double> v(b.strides.size());
     for (std::size_t m = 0; m < v.size(); ++m) v[m] = pooled_strided(b.strided_sums[m], b.strided_counts[m], flat, o.clip);
-    CorrelationFit fit = fit_correlation(b, v, v1);
-    for (double& w : fit.width)
-        if (w < least_width) w = 0;
-    r.correlation = fit.width;
-    r.sigma_strides = sigma_strides(fit.width);
+    // The fit in log; where it finds white noise, the relative fit, taken when its sigma is
+    // over five times sigma_white (the rounding of integer data can hide strongly correlated noise
+    // from the log fit's small differences; edges read by the wider taps give less).
+    NoiseLevel relative = r;
+    const bool white = !sigma_at_fit(b, v, v1, fit_correlation(b, v, v1, FitScale::log), r);
+    if (white && sigma_at_fit(b, v, v1, fit_correlation(b, v, v1, FitScale::relative), relative) &&
+        relative.sigma > 5 * r.sigma_white)
+        r = relative;
     const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
     const std::size_t mask = std::size_t(at - b.strides.begin());
     const double vm = at == b.strides.end() ? v1 : v[mask];
-    double gain = 1;
-    for (int a = 0; a < 3; ++a)
-        gain *= noise_stride_factor(std::isnan(fit.width[a]) ? 0.0 : fit.width[a], r.sigma_strides[a]) / 6;
-    r.sigma = std::isfinite(vm) ? std::sqrt(std::max(vm - fit.white, 0.0) / gain + fit.white) : r.sigma_white;
     if (at == b.strides.end())
         noise_map(b, use, b.sum_squares, b.count, v1, o.map_block, r);
     else
