@@ -59,6 +59,9 @@ def sections(b, py, data, tmp):
         "noise": ("reliability.md", [py, "bench/noise_sigma_bench.py", "--clfractal", f"{b}/clfractal",
                                      "--data", data, "--volumes", "seg3d_mr,mni_avg152t1,walnut,stent",
                                      "--markdown", md("noise")], "file:" + md("noise")),
+        "noise_correlated": ("reliability.md", [py, "bench/noise_correlated_bench.py", "--clfractal",
+                                                f"{b}/clfractal", "--data", data, "--markdown",
+                                                md("noise_correlated")], "file:" + md("noise_correlated")),
     }
 
 

@@ -57,13 +57,14 @@ def read_raw(path):
     return name, np.fromfile(path, DTYPES[t]).reshape(int(nz), int(ny), int(nx))
 
 
-def gaussian(a, s):
-    """Separable Gaussian of standard deviation s in float64, radius ceil(3 s), edges clamped."""
+def gaussian(a, s, axes=(0, 1, 2)):
+    """Separable Gaussian of standard deviation s in float64 along `axes`, radius ceil(3 s),
+    edges clamped."""
     r = int(np.ceil(3 * s))
     w = np.exp(-np.arange(-r, r + 1) ** 2 / (2 * s * s))
     w /= w.sum()
     out = a.astype(np.float64)
-    for axis in range(3):
+    for axis in axes:
         p = np.pad(out, [(r, r) if i == axis else (0, 0) for i in range(3)], mode="edge")
         n = out.shape[axis]
         out = sum(wi * np.take(p, range(i, i + n), axis=axis) for i, wi in enumerate(w))
@@ -105,26 +106,32 @@ def add_noise(clean, kind, sd, rng):
 
 # ------------------------------------------------------------------ estimators
 
+def fd_noise(cli, work, a):
+    """(the "noise" object of clfractal fd --noise-level --json on `a` written as a raw file,
+    one isovalue: the curve is not needed; the command's wall time)."""
+    nz, ny, nx = a.shape
+    t = {np.dtype(k): v for v, k in DTYPES.items()}[a.dtype]
+    path = os.path.join(work, f"case_{nx}x{ny}x{nz}_{t}.raw")
+    a.tofile(path)
+    out = os.path.join(work, "fd.json")
+    iso = str(float(np.median(a))) if t == "float32" else str(int(np.median(a)))
+    start = time.perf_counter()
+    r = subprocess.run([cli, "-q", "fd", path, "--noise-level", "--isovalues", iso, "--json", out],
+                       capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if r.returncode:
+        sys.exit(f"clfractal failed: {r.stderr}")
+    return json.load(open(out))["noise"], wall
+
+
 class Ours:
-    """clfractal fd --noise-level --json on a raw file (one isovalue: the curve is not needed)."""
+    """clfractal fd --noise-level --json on a raw file (fd_noise)."""
 
     def __init__(self, cli, work):
         self.cli, self.work = cli, work
 
     def __call__(self, a):
-        nz, ny, nx = a.shape
-        t = {np.dtype(k): v for v, k in DTYPES.items()}[a.dtype]
-        path = os.path.join(self.work, f"case_{nx}x{ny}x{nz}_{t}.raw")
-        a.tofile(path)
-        out = os.path.join(self.work, "fd.json")
-        iso = str(float(np.median(a))) if t == "float32" else str(int(np.median(a)))
-        start = time.perf_counter()
-        r = subprocess.run([self.cli, "-q", "fd", path, "--noise-level", "--isovalues", iso, "--json", out],
-                           capture_output=True, text=True)
-        wall = time.perf_counter() - start
-        if r.returncode:
-            sys.exit(f"clfractal failed: {r.stderr}")
-        noise = json.load(open(out))["noise"]
+        noise, wall = fd_noise(self.cli, self.work, a)
         sigma = noise["sigma"]
         return (float("nan") if sigma is None else sigma), noise["flat_share"], noise["seconds"], wall
 

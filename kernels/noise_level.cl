@@ -47,6 +47,16 @@ inline residual_t residual_difference(T u, T c) {
 
 inline int weight(int d) { return d == 0 ? -2 : 1; }
 
+// s += r^2, n += 1 (exact in ulong for integer sums).
+inline void accumulate(sum_t* s, uint* n, residual_t r) {
+#if defined(INTEGER_SUMS)
+    *s += (sum_t)(r * r);
+#else
+    *s += r * r;
+#endif
+    ++*n;
+}
+
 // The residual of interior vertex (x, y, z) of the slab (z counted from the slab's first
 // slice), widening [lo, hi] by the values it reads.
 inline residual_t vertex_residual(__global const T* restrict v, int nx, int ny, int x, int y, int z, T* lo, T* hi) {
@@ -65,29 +75,45 @@ inline residual_t vertex_residual(__global const T* restrict v, int nx, int ny, 
     return r;
 }
 
+// The group's sums and counts reduced in local memory (a tree over the work-group size, a
+// power of two); every item returns the group's totals.
+inline void reduce_sum_count(sum_t* s, uint* n, __local sum_t* local_sums, __local uint* local_counts) {
+    const int lid = (int)get_local_id(0), wg = (int)get_local_size(0);
+    local_sums[lid] = *s;
+    local_counts[lid] = *n;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int step = wg / 2; step > 0; step /= 2) {
+        if (lid < step) {
+            local_sums[lid] += local_sums[lid + step];
+            local_counts[lid] += local_counts[lid + step];
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    *s = local_sums[0];
+    *n = local_counts[0];
+    barrier(CLK_LOCAL_MEM_FENCE);  // the next reduction reuses local memory
+}
+
 // The group's sums, counts and ranges reduced in local memory; item 0 writes block b's.
 inline void reduce_block(sum_t s, uint n, T lo, T hi, int b, __global sum_t* restrict sums,
                          __global uint* restrict counts, __global T* restrict lows, __global T* restrict highs,
                          __local sum_t* local_sums, __local uint* local_counts, __local T* local_lows,
                          __local T* local_highs) {
     const int lid = (int)get_local_id(0), wg = (int)get_local_size(0);
-    local_sums[lid] = s;
-    local_counts[lid] = n;
+    reduce_sum_count(&s, &n, local_sums, local_counts);
     local_lows[lid] = lo;
     local_highs[lid] = hi;
     barrier(CLK_LOCAL_MEM_FENCE);
     for (int step = wg / 2; step > 0; step /= 2) {
         if (lid < step) {
-            local_sums[lid] += local_sums[lid + step];
-            local_counts[lid] += local_counts[lid + step];
             local_lows[lid] = min(local_lows[lid], local_lows[lid + step]);
             local_highs[lid] = max(local_highs[lid], local_highs[lid + step]);
         }
         barrier(CLK_LOCAL_MEM_FENCE);
     }
     if (lid == 0) {
-        sums[b] = local_sums[0];
-        counts[b] = local_counts[0];
+        sums[b] = s;
+        counts[b] = n;
         lows[b] = local_lows[0];
         highs[b] = local_highs[0];
     }
@@ -114,13 +140,7 @@ inline void direct_block(__global const T* restrict v, int nx, int ny, int nz, i
     for (int i = lid; any && i < BLOCK * BLOCK * BLOCK; i += wg) {
         const int x = x0 + i % BLOCK, y = y0 + i / BLOCK % BLOCK, z = z0 + i / (BLOCK * BLOCK);
         if (x < 1 || y < 1 || z < 1 || x > nx - 2 || y > ny - 2 || z > nz - 2) continue;
-        const residual_t r = vertex_residual(v, nx, ny, x, y, z - z_first, &lo, &hi);
-#if defined(INTEGER_SUMS)
-        s += (sum_t)(r * r);
-#else
-        s += r * r;
-#endif
-        ++n;
+        accumulate(&s, &n, vertex_residual(v, nx, ny, x, y, z - z_first, &lo, &hi));
     }
     reduce_block(s, n, lo, hi, b, sums, counts, lows, highs, local_sums, local_counts, local_lows, local_highs);
 }
@@ -199,13 +219,7 @@ inline void tiled_block(__global const T* restrict v, int nx, int ny, int nz, in
     for (int i = lid; any && i < BLOCK * BLOCK * BLOCK; i += wg) {
         const int x = x0 + i % BLOCK, y = y0 + i / BLOCK % BLOCK, z = z0 + i / (BLOCK * BLOCK);
         if (x < 1 || y < 1 || z < 1 || x > nx - 2 || y > ny - 2 || z > nz - 2) continue;
-        const tile_t r = tile[i] + tile[i + 2 * BLOCK * BLOCK] - 2 * tile[i + BLOCK * BLOCK];
-#if defined(INTEGER_SUMS)
-        s += (sum_t)((long)r * (long)r);
-#else
-        s += r * r;
-#endif
-        ++n;
+        accumulate(&s, &n, (residual_t)(tile[i] + tile[i + 2 * BLOCK * BLOCK] - 2 * tile[i + BLOCK * BLOCK]));
     }
     reduce_block(s, n, lo, hi, b, sums, counts, lows, highs, local_sums, local_counts, local_lows, local_highs);
 }
@@ -222,5 +236,58 @@ __kernel void block_residuals_tiled(__global const T* restrict v, int nx, int ny
         tiled_block(v, nx, ny, nz, z_first, z_block, bx, by, b, sums, counts, lows, highs, local_sums, local_counts,
                     local_lows, local_highs, tile, along_x);
         barrier(CLK_LOCAL_MEM_FENCE);  // the next block reuses local memory
+    }
+}
+
+// The strided residuals: R_s with the taps of [1 -2 1] s_a apart along axis a,
+//     R_s = sum over d in {-1,0,1}^3 of w(dx) w(dy) w(dz) v(x + dx sx, y + dy sy, z + dz sz),
+// at the vertices of block b whose three coordinates are even and whose taps all lie in the
+// volume (s_a <= coordinate <= n_a - 1 - s_a). For white noise E[R_s^2] = 216 sigma^2 too;
+// for correlated noise the strides see what the neighbouring taps share (noise_level.hpp).
+inline residual_t strided_residual(__global const T* restrict v, int nx, int ny, int x, int y, int z, int sx, int sy,
+                                   int sz) {
+    const long sy_step = (long)nx * sy, sz_step = (long)nx * (long)ny * sz;
+    const long c = x + (long)nx * y + (long)nx * (long)ny * z;
+    const T vc = v[c];
+    residual_t r = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+                r += (residual_t)(weight(dx) * weight(dy) * weight(dz)) *
+                     residual_difference(v[c + dx * sx + dy * sy_step + dz * sz_step], vc);
+    return r;
+}
+
+// Global size: work-group size x ceil(blocks / per_group), local: the work-group size, as
+// block_residuals. `strides` holds masks x 3 strides (x, y, z); the slab holds slices
+// z_first .. of a volume of nz slices with at least the largest z stride of halo on each side.
+// Out: sums[m blocks_out + block_first + b] and counts likewise, per mask m.
+__kernel void block_strided_residuals(__global const T* restrict v, int nx, int ny, int nz, int z_first, int z_block,
+                                      int bx, int by, int blocks, int per_group, __global const int* restrict strides,
+                                      int masks, int mask_pitch, __global sum_t* restrict sums,
+                                      __global uint* restrict counts, __local sum_t* local_sums,
+                                      __local uint* local_counts) {
+    const int g = (int)get_group_id(0), lid = (int)get_local_id(0), wg = (int)get_local_size(0);
+    const int evens = (BLOCK + 1) / 2;
+    for (int b = g * per_group; b < min(blocks, (g + 1) * per_group); ++b) {
+        const int x0 = (b % bx) * BLOCK, y0 = (b / bx % by) * BLOCK, z0 = z_block + b / (bx * by) * BLOCK;
+        for (int m = 0; m < masks; ++m) {
+            const int sx = strides[3 * m], sy = strides[3 * m + 1], sz = strides[3 * m + 2];
+            sum_t s = 0;
+            uint n = 0;
+            for (int i = lid; i < evens * evens * evens; i += wg) {
+                // The even coordinates of the block: x0 rounded up to even, then every second.
+                const int x = (x0 + (x0 & 1)) + 2 * (i % evens), y = (y0 + (y0 & 1)) + 2 * (i / evens % evens),
+                          z = (z0 + (z0 & 1)) + 2 * (i / (evens * evens));
+                if (x >= x0 + BLOCK || y >= y0 + BLOCK || z >= z0 + BLOCK) continue;
+                if (x < sx || y < sy || z < sz || x > nx - 1 - sx || y > ny - 1 - sy || z > nz - 1 - sz) continue;
+                accumulate(&s, &n, strided_residual(v, nx, ny, x, y, z - z_first, sx, sy, sz));
+            }
+            reduce_sum_count(&s, &n, local_sums, local_counts);
+            if (lid == 0) {
+                sums[m * mask_pitch + b] = s;
+                counts[m * mask_pitch + b] = n;
+            }
+        }
     }
 }

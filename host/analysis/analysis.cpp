@@ -215,13 +215,21 @@ json noise_json(const NoiseLevel* l, const NoiseEstimate* e) {
         json map = json::array();
         for (float c : l->map) map.push_back(std::isnan(c) ? json(nullptr) : json(double(c)));
         j["sigma"] = number_json(l->sigma);
+        j["sigma_white"] = number_json(l->sigma_white);
+        j["correlation"] = {number_json(l->correlation[0]), number_json(l->correlation[1]),
+                            number_json(l->correlation[2])};
+        j["sigma_strides"] = {l->sigma_strides[0], l->sigma_strides[1], l->sigma_strides[2]};
+        j["spread"] = {{"p10", number_json(l->spread[0])}, {"p50", number_json(l->spread[1])},
+                       {"p90", number_json(l->spread[2])}};
+        j["variation"] = number_json(noise_variation(*l));
+        j["notes"] = noise_level_notes(*l);
         j["flat_share"] = l->flat_share;
         j["block"] = l->block;
         j["blocks"] = l->blocks;
         j["blocks_usable"] = l->usable_blocks;
         j["blocks_flat"] = l->flat_blocks;
         j["seconds"] = l->seconds;
-        j["map"] = {{"cell", l->map_block}, {"dims", {l->map_dims.nx, l->map_dims.ny, l->map_dims.nz}}, {"rms", map}};
+        j["map"] = {{"cell", l->map_block}, {"dims", {l->map_dims.nx, l->map_dims.ny, l->map_dims.nz}}, {"sigma", map}};
     }
     if (e) j["surface"] = surface_json(*e);
     return j;

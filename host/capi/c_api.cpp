@@ -472,6 +472,19 @@ double clf_analysis_noise_sigma(const clf_analysis* analysis) {
     return got(analysis != nullptr, sigma, double(NAN), "clf_analysis_noise_sigma: analysis is NULL");
 }
 
+clf_status clf_analysis_noise_level(const clf_analysis* analysis, clf_noise_level* out) {
+    return guarded([&] {
+        require(analysis && out, "clf_analysis_noise_level: analysis or out is NULL");
+        require(analysis->analysis.noise_level.has_value(), "clf_analysis_noise_level: the analysis has no noise level");
+        const NoiseLevel& l = *analysis->analysis.noise_level;
+        *out = clf_noise_level{l.sigma,
+                               l.sigma_white,
+                               {l.correlation[0], l.correlation[1], l.correlation[2]},
+                               {l.spread[0], l.spread[1], l.spread[2]},
+                               l.flat_share};
+    });
+}
+
 const char* clf_analysis_json(const clf_analysis* analysis) {
     return got<const char*>(analysis != nullptr, analysis ? analysis->json.c_str() : nullptr, nullptr,
                             "clf_analysis_json: analysis is NULL");

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <type_traits>
 
@@ -48,7 +49,17 @@ NoiseBlocks empty_blocks(const Dims& d, std::size_t block) {
     b.count.assign(n, 0);
     b.low.assign(n, 0.0);
     b.high.assign(n, 0.0);
+    b.strides = noise_strides();
+    b.strided_sums.assign(b.strides.size(), std::vector<double>(n, 0.0));
+    b.strided_counts.assign(b.strides.size(), std::vector<std::uint32_t>(n, 0));
     return b;
+}
+
+// The largest stride along z: the slices a slab reads on each side.
+int largest_z_stride() {
+    int most = 1;
+    for (const NoiseStride& s : noise_strides()) most = std::max(most, s[2]);
+    return most;
 }
 
 // The largest power of two within the kernel's, local memory's and the block's limits, for
@@ -70,6 +81,10 @@ using TiledCall = KernelCall<cl::Buffer, int, int, int, int, int, int, int, int,
                              cl::Buffer, cl::Buffer, cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg,
                              cl::LocalSpaceArg, cl::LocalSpaceArg, cl::LocalSpaceArg>;
 
+// kernels/noise_level.cl block_strided_residuals.
+using StridedCall = KernelCall<cl::Buffer, int, int, int, int, int, int, int, int, int, cl::Buffer, int, int,
+                               cl::Buffer, cl::Buffer, cl::LocalSpaceArg, cl::LocalSpaceArg>;
+
 // Local memory of the tiled kernel's two arrays: (b + 2)^3 and b (b + 2)^2 values.
 std::size_t tile_bytes(SumKind k, std::size_t b) {
     return ((b + 2) * (b + 2) * (b + 2) + b * (b + 2) * (b + 2)) * (k == SumKind::wide ? 8 : 4);
@@ -85,6 +100,39 @@ void read_sums(Context& ctx, const cl::Buffer& buffer, SumKind k, std::size_t co
     if (k == SumKind::integer) read(cl_ulong());
     else if (k == SumKind::wide) read(cl_double());
     else read(cl_float());
+}
+
+// The strided residuals' sums of `rows` block rows of `slab` (as slab_blocks), every stride
+// in one launch.
+void strided_blocks(const DeviceVolume& slab, std::size_t nz, std::size_t z_first, std::size_t z_block,
+                    std::size_t rows, const std::string& options, NoiseBlocks& b) {
+    Context& ctx = slab.context();
+    const Dims d = slab.dims();
+    const SumKind kind = sum_kind(slab.type());
+    const std::size_t per_row = b.grid.nx * b.grid.ny, count = rows * per_row, first = z_block / b.block * per_row;
+    const std::size_t masks = b.strides.size();
+    std::vector<cl_int> strides;
+    for (const NoiseStride& st : b.strides) strides.insert(strides.end(), st.begin(), st.end());
+    const Buffer<cl_int> stride_buffer(ctx, strides);
+    const cl::Buffer sums = create_buffer(ctx, CL_MEM_WRITE_ONLY, masks * count * sum_bytes(kind));
+    Buffer<cl_uint> counts(ctx, masks * count, CL_MEM_WRITE_ONLY);
+    StridedCall kernel(ctx, "noise_level", "block_strided_residuals", options);
+    const std::size_t half = (b.block + 1) / 2;
+    const std::size_t wg = work_group(ctx, kernel.work_group_limit(), sum_bytes(kind) + 4, 0, half);
+    const std::size_t per_group = ctx.is_cpu() ? std::max<std::size_t>(1, count / (16 * ctx.compute_units())) : 1;
+    const std::size_t groups = (count + per_group - 1) / per_group;
+    kernel(cl::NDRange(wg * groups), cl::NDRange(wg), slab.buffer(), int(d.nx), int(d.ny), int(nz), int(z_first),
+           int(z_block), int(b.grid.nx), int(b.grid.ny), int(count), int(per_group), stride_buffer.get(), int(masks),
+           int(count), sums, counts.get(), cl::Local(wg * sum_bytes(kind)), cl::Local(wg * 4));
+    std::vector<double> all_sums(masks * count);
+    std::vector<cl_uint> all_counts(masks * count);
+    read_sums(ctx, sums, kind, masks * count, all_sums.data());
+    counts.read(ctx.queue(), all_counts.data(), masks * count);
+    for (std::size_t m = 0; m < masks; ++m)
+        for (std::size_t i = 0; i < count; ++i) {
+            b.strided_sums[m][first + i] = all_sums[m * count + i];
+            b.strided_counts[m][first + i] = all_counts[m * count + i];
+        }
 }
 
 // The statistics of `rows` block rows of `slab`, from the row starting at volume slice
@@ -138,6 +186,7 @@ void slab_blocks(const DeviceVolume& slab, std::size_t nz, std::size_t z_first, 
             b.high[first + i] = any ? double(hi[i]) : 0.0;
         }
     });
+    strided_blocks(slab, nz, z_first, z_block, rows, options, b);
 }
 
 bool has_residuals(const Dims& d) { return d.nx >= 3 && d.ny >= 3 && d.nz >= 3; }
@@ -147,6 +196,19 @@ bool has_residuals(const Dims& d) { return d.nx >= 3 && d.ny >= 3 && d.nz >= 3; 
 std::size_t noise_block_side(const Dims& d) {
     const Dims g{blocks_along(d.nx, 8), blocks_along(d.ny, 8), blocks_along(d.nz, 8)};
     return g.vertices() >= 64 ? 8 : 4;
+}
+
+const std::vector<NoiseStride>& noise_strides() {
+    static const std::vector<NoiseStride> strides{{2, 1, 1}, {1, 2, 1}, {1, 1, 2}, {4, 1, 1}, {1, 4, 1},
+                                                  {1, 1, 4}, {8, 1, 1}, {1, 8, 1}, {1, 1, 8}, {2, 2, 1},
+                                                  {2, 1, 2}, {1, 2, 2}, {2, 2, 2}};
+    return strides;
+}
+
+double noise_stride_factor(double w, int s) {
+    if (!(w > 0)) return 6;
+    const auto rho = [w](double d) { return std::exp(-d * d / (4 * w * w)); };
+    return 6 - 8 * rho(s) + 2 * rho(2.0 * s);
 }
 
 NoiseBlocks noise_blocks(const DeviceVolume& v, std::size_t block) {
@@ -168,18 +230,19 @@ NoiseBlocks noise_blocks(Context& ctx, const Volume& v, std::size_t block, std::
     SlabNeed need;
     need.nz = d.nz;
     need.input_slice_bytes = slice * bytes;
-    need.halo = 1;
+    need.halo = std::size_t(largest_z_stride());
     need.forced = slab_slices;
     const auto* src = static_cast<const unsigned char*>(v.data());
-    // Slabs of whole block rows, one slice of halo on each side; a block's sums depend only
-    // on its own values, so every depth gives the same statistics.
+    // Slabs of whole block rows, the largest z stride of halo on each side; a block's sums
+    // depend only on its own values and those its taps reach, so every depth gives the same
+    // statistics.
     with_smaller_slabs(plan_slab(ctx, need, d), [&](std::size_t depth) {
         const std::size_t rows_per_slab = std::max<std::size_t>(1, depth / block);
         with_cl_errors([&] {
             for (std::size_t row = 0; row < b.grid.nz; row += rows_per_slab) {
                 const std::size_t rows = std::min(rows_per_slab, b.grid.nz - row), z_block = row * block;
-                const std::size_t z_first = z_block ? z_block - 1 : 0;
-                const std::size_t z_end = std::min(d.nz, z_block + rows * block + 1);
+                const std::size_t z_first = z_block - std::min(z_block, need.halo);
+                const std::size_t z_end = std::min(d.nz, z_block + rows * block + need.halo);
                 const DeviceVolume slab(ctx, src + z_first * slice * bytes, Dims{d.nx, d.ny, z_end - z_first},
                                         v.type());
                 slab_blocks(slab, d.nz, z_first, z_block, rows, b);
@@ -201,6 +264,14 @@ double shorth_centre(const std::vector<double>& sorted) {
     for (std::size_t i = 1; i + h <= n; ++i)
         if (sorted[i + h - 1] - sorted[i] < sorted[best + h - 1] - sorted[best]) best = i;
     return 0.5 * (sorted[best + (h - 1) / 2] + sorted[best + h / 2]);
+}
+
+// The length of that shortest run.
+double shorth_length(const std::vector<double>& sorted) {
+    const std::size_t n = sorted.size(), h = (n + 1) / 2;
+    double best = sorted[h - 1] - sorted[0];
+    for (std::size_t i = 1; i + h <= n; ++i) best = std::min(best, sorted[i + h - 1] - sorted[i]);
+    return best;
 }
 
 // What a block is to the estimate: left out; usable but its residuals all 0 (a constant or
@@ -228,8 +299,10 @@ std::vector<BlockUse> usable_blocks(const NoiseBlocks& b) {
     return use;
 }
 
-// The noise map of `result` from the usable blocks.
-void noise_map(const NoiseBlocks& b, const std::vector<BlockUse>& use, std::size_t map_block, NoiseLevel& result) {
+// The noise map of `result` from the usable blocks: sigma x sqrt(V_cell / pooled), V_cell
+// from `sums` and `counts` (one stride's), then the map's percentiles.
+void noise_map(const NoiseBlocks& b, const std::vector<BlockUse>& use, const std::vector<double>& sums,
+               const std::vector<std::uint32_t>& counts, double pooled, std::size_t map_block, NoiseLevel& result) {
     const std::size_t per = map_block / b.block;
     const Dims g = b.grid;
     const Dims m{blocks_along(g.nx, per), blocks_along(g.ny, per), blocks_along(g.nz, per)};
@@ -240,14 +313,28 @@ void noise_map(const NoiseBlocks& b, const std::vector<BlockUse>& use, std::size
                 const std::size_t i = x + g.nx * (y + g.ny * z);
                 if (use[i] == BlockUse::left_out) continue;
                 const std::size_t c = x / per + m.nx * (y / per + m.ny * (z / per));
-                sum[c] += b.sum_squares[i];
-                count[c] += double(b.count[i]);
+                sum[c] += sums[i];
+                count[c] += double(counts[i]);
             }
+    // White noise at stride 1: the residual's RMS (sigma = sqrt(pooled)); else scaled to sigma.
+    const double scale = pooled > 0 && std::isfinite(result.sigma) ? result.sigma / std::sqrt(pooled) : 1.0;
     result.map_block = map_block;
     result.map_dims = m;
     result.map.resize(m.vertices());
-    for (std::size_t c = 0; c < m.vertices(); ++c)
-        result.map[c] = count[c] > 0 ? float(std::sqrt(sum[c] / count[c])) : std::numeric_limits<float>::quiet_NaN();
+    std::vector<double> values;
+    for (std::size_t c = 0; c < m.vertices(); ++c) {
+        result.map[c] = count[c] > 0 ? float(scale * std::sqrt(sum[c] / count[c])) : std::numeric_limits<float>::quiet_NaN();
+        if (count[c] > 0) values.push_back(double(result.map[c]));
+    }
+    std::sort(values.begin(), values.end());
+    const double qs[] = {0.1, 0.5, 0.9};
+    for (int k = 0; k < 3 && !values.empty(); ++k) {
+        // Linear between order statistics (numpy's default percentile).
+        const double at = qs[k] * double(values.size() - 1);
+        const std::size_t lo = std::size_t(at);
+        const double t = at - double(lo);
+        result.spread[k] = lo + 1 < values.size() ? values[lo] + t * (values[lo + 1] - values[lo]) : values[lo];
+    }
 }
 
 }  // namespace
@@ -269,13 +356,147 @@ double root_spread(std::uint32_t n) { return std::sqrt(2 * residual_correlation 
 
 }  // namespace
 
+namespace {
+
+// A stride's V: the pooled mean of R_s^2 / 216 over the blocks of `flat` (indices) with
+// strided residuals that agree with the rest (the header's window); NaN without any such
+// block, 0 where every one is silent.
+double pooled_strided(const std::vector<double>& sums, const std::vector<std::uint32_t>& counts,
+                      const std::vector<std::size_t>& flat, double clip) {
+    std::vector<double> y;
+    double silent = 0;
+    for (std::size_t i : flat) {
+        if (!counts[i]) continue;
+        if (sums[i] > 0) y.push_back(std::log(sums[i] / double(counts[i])) / 3);
+        else silent += double(counts[i]);
+    }
+    if (y.empty()) return silent > 0 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> sorted = y;
+    std::sort(sorted.begin(), sorted.end());
+    const double centre = shorth_centre(sorted);
+    const double robust = shorth_length(sorted) / 1.349;
+    double sum = 0, count = 0;
+    for (std::size_t i : flat) {
+        if (!counts[i] || !(sums[i] > 0)) continue;
+        if (std::abs(std::log(sums[i] / double(counts[i])) / 3 - centre) > clip * std::max(root_spread(counts[i]), robust))
+            continue;
+        sum += sums[i];
+        count += double(counts[i]);
+    }
+    return sum / count;
+}
+
+// The widths of the model's grid: 0, then 0.2 .. 6 voxels in 400 steps even in log.
+std::vector<double> width_grid() {
+    std::vector<double> w{0.0};
+    for (int i = 0; i < 400; ++i) w.push_back(0.2 * std::pow(30.0, double(i) / 399));
+    return w;
+}
+
+struct CorrelationFit {
+    std::array<double, 3> width{};  // NaN: no strided residual along the axis
+    double white = 0;               // b, the white part's variance
+};
+
+// How a fit weighs the strides: in log, (V(s e_a) - b) / (V(1) - b) against f(s) / f(1); or
+// relative, V(s e_a) against b + (V(1) - b) f(s) / f(1), the difference over V(s e_a).
+enum class FitScale { log, relative };
+
+// The header's fit: per axis the w that fits the strides along a alone best, for the b in
+// [0, V(1)) that fits the axes best.
+CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& v, double v1, FitScale scale) {
+    static const std::vector<double> widths = width_grid();
+    // Per axis, the strides along it alone and their V.
+    std::array<std::vector<std::pair<int, double>>, 3> along;
+    for (std::size_t m = 0; m < b.strides.size(); ++m) {
+        const NoiseStride& st = b.strides[m];
+        const int axes = int(st[0] > 1) + int(st[1] > 1) + int(st[2] > 1);
+        for (int a = 0; a < 3 && axes == 1; ++a)
+            if (st[a] > 1 && std::isfinite(v[m])) along[a].push_back({st[a], v[m]});
+    }
+    // log(f(s) / f(1)) per axis, per stride along it, per width of the grid.
+    std::array<std::vector<std::vector<double>>, 3> model;
+    for (int a = 0; a < 3; ++a)
+        for (const auto& stride_value : along[a]) {
+            std::vector<double> row;
+            for (double w : widths)
+                row.push_back(std::log(noise_stride_factor(w, stride_value.first) / noise_stride_factor(w, 1)));
+            model[a].push_back(row);
+        }
+    const double none = std::numeric_limits<double>::quiet_NaN();
+    CorrelationFit best;
+    best.width = {none, none, none};
+    double best_error = std::numeric_limits<double>::infinity();
+    // b = V(1) (1 - 10^-t) for t = 0, 0.004, .. 3.996: 0, then finer towards V(1).
+    for (int k = 0; k < 1000; ++k) {
+        const double white = v1 * (1 - std::pow(10.0, -0.004 * k));
+        CorrelationFit fit;
+        fit.white = white;
+        fit.width = {none, none, none};
+        double error = 0;
+        bool feasible = true;
+        for (int a = 0; a < 3 && feasible; ++a) {
+            if (along[a].empty()) continue;
+            std::vector<double> measured;
+            for (const auto& stride_value : along[a]) {
+                feasible = feasible && (scale == FitScale::relative || stride_value.second > white);
+                measured.push_back(std::log((stride_value.second - white) / (v1 - white)));
+            }
+            double axis_best = std::numeric_limits<double>::infinity();
+            for (std::size_t j = 0; feasible && j < widths.size(); ++j) {
+                double e = 0;
+                for (std::size_t q = 0; q < measured.size(); ++q) {
+                    const double vs = along[a][q].second;
+                    const double d = scale == FitScale::log
+                                         ? measured[q] - model[a][q][j]
+                                         : (vs - white - (v1 - white) * std::exp(model[a][q][j])) / vs;
+                    e += d * d;
+                }
+                if (e < axis_best) axis_best = e, fit.width[a] = widths[j];
+            }
+            error += axis_best;
+        }
+        if (feasible && error < best_error) best_error = error, best = fit;
+    }
+    return best;
+}
+
+// Widths below this count as white: edges that taps 4 and 8 apart reach raise V(s) a little
+// at every stride, which the model reads as a width of about 0.2 to 0.3 voxels.
+constexpr double least_width = 0.35;
+
+// The strides sigma is read at: 2 along the correlated axes, 1 elsewhere.
+NoiseStride sigma_strides(const std::array<double, 3>& width) {
+    NoiseStride m{1, 1, 1};
+    for (int a = 0; a < 3; ++a)
+        if (width[a] > 0) m[a] = 2;
+    return m;
+}
+
+// correlation, sigma_strides and sigma of `r` from a fit, its widths under least_width taken
+// as 0; true when an axis is correlated.
+bool sigma_at_fit(const NoiseBlocks& b, const std::vector<double>& v, double v1, CorrelationFit fit, NoiseLevel& r) {
+    for (double& w : fit.width)
+        if (w < least_width) w = 0;
+    r.correlation = fit.width;
+    r.sigma_strides = sigma_strides(fit.width);
+    const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
+    const double vm = at == b.strides.end() ? v1 : v[std::size_t(at - b.strides.begin())];
+    double gain = 1;
+    for (int a = 0; a < 3; ++a)
+        gain *= noise_stride_factor(std::isnan(fit.width[a]) ? 0.0 : fit.width[a], r.sigma_strides[a]) / 6;
+    r.sigma = std::isfinite(vm) ? std::sqrt(std::max(vm - fit.white, 0.0) / gain + fit.white) : r.sigma_white;
+    return fit.width[0] > 0 || fit.width[1] > 0 || fit.width[2] > 0;
+}
+
+}  // namespace
+
 NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions& o) {
     check_options(o, b.block);
     NoiseLevel r;
     r.block = b.block;
     r.blocks = b.count.size();
     const std::vector<BlockUse> use = usable_blocks(b);
-    noise_map(b, use, o.map_block, r);
     std::vector<double> y(use.size(), 0.0), sorted;
     double silent = 0;
     for (std::size_t i = 0; i < use.size(); ++i) {
@@ -285,7 +506,9 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     r.usable_blocks = sorted.size() + r.flat_blocks;
     if (sorted.empty()) {
         // No noise anywhere: sigma 0 on the silent blocks, NaN without any usable block.
-        if (r.flat_blocks) r.sigma = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
+        if (r.flat_blocks)
+            r.sigma = r.sigma_white = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
+        noise_map(b, use, b.sum_squares, b.count, 0.0, o.map_block, r);
         return r;
     }
     r.flat_blocks = 0;
@@ -293,15 +516,71 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     const double centre = shorth_centre(sorted);
     r.typical_variance = std::exp(3 * centre);
     double sum = 0, count = 0;
+    std::vector<std::size_t> flat;
     for (std::size_t i = 0; i < use.size(); ++i) {
         if (use[i] != BlockUse::noisy || std::abs(y[i] - centre) > o.clip * root_spread(b.count[i])) continue;
         sum += b.sum_squares[i];
         count += double(b.count[i]);
-        ++r.flat_blocks;
+        flat.push_back(i);
     }
-    r.sigma = std::sqrt(sum / count);
+    r.flat_blocks = flat.size();
+    const double v1 = sum / count;
+    r.sigma_white = std::sqrt(v1);
     r.flat_share = count / double(b.volume.vertices());
+    // The strided V over the flat blocks, the correlation model, sigma at its strides.
+    std::vector<double> v(b.strides.size());
+    for (std::size_t m = 0; m < v.size(); ++m) v[m] = pooled_strided(b.strided_sums[m], b.strided_counts[m], flat, o.clip);
+    // The fit in log; where it finds white noise, the relative fit, taken when its sigma is
+    // over five times sigma_white (the rounding of integer data can hide strongly correlated noise
+    // from the log fit's small differences; edges read by the wider taps give less).
+    NoiseLevel relative = r;
+    const bool white = !sigma_at_fit(b, v, v1, fit_correlation(b, v, v1, FitScale::log), r);
+    if (white && sigma_at_fit(b, v, v1, fit_correlation(b, v, v1, FitScale::relative), relative) &&
+        relative.sigma > 5 * r.sigma_white)
+        r = relative;
+    const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
+    const std::size_t mask = std::size_t(at - b.strides.begin());
+    const double vm = at == b.strides.end() ? v1 : v[mask];
+    if (at == b.strides.end())
+        noise_map(b, use, b.sum_squares, b.count, v1, o.map_block, r);
+    else
+        noise_map(b, use, b.strided_sums[mask], b.strided_counts[mask], vm, o.map_block, r);
     return r;
+}
+
+double noise_variation(const NoiseLevel& l) {
+    return l.spread[0] > 0 ? l.spread[2] / l.spread[0] : std::numeric_limits<double>::quiet_NaN();
+}
+
+namespace {
+
+std::string three_digits(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", x);
+    return text;
+}
+
+}  // namespace
+
+std::vector<std::string> noise_level_notes(const NoiseLevel& l) {
+    std::vector<std::string> notes;
+    const double variation = noise_variation(l);
+    if (variation > 1.5)
+        notes.push_back("noise varies " + three_digits(variation) + "x across the volume (the map's 90th percentile " +
+                        three_digits(l.spread[2]) + " over its 10th " + three_digits(l.spread[0]) +
+                        "; cells holding structure read high too)");
+    if (l.sigma > 1.5 * l.sigma_white) {
+        std::string widths;
+        for (int a = 0; a < 3; ++a)
+            widths += (a ? ", " : "") + (std::isnan(l.correlation[a]) ? std::string("n/a") : three_digits(l.correlation[a]));
+        notes.push_back("the noise is correlated (widths " + widths + " voxels along x, y, z): a white-noise estimate "
+                        "reads its white part, " + three_digits(l.sigma_white) + ", " +
+                        three_digits(l.sigma / l.sigma_white) + "x less than sigma " + three_digits(l.sigma) +
+                        "; Theorem 1 (r(s) and its amplitudes) assumes independent noise as well, and correlated "
+                        "noise roughens surfaces less than independent noise of the same sigma, so it under-states "
+                        "this noise too");
+    }
+    return notes;
 }
 
 NoiseLevel estimate_noise_level(const DeviceVolume& v, const NoiseLevelOptions& o) {

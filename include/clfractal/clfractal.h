@@ -250,6 +250,18 @@ clf_status clf_analysis_recommendation(const clf_analysis* analysis, size_t i, c
 int clf_analysis_clean(const clf_analysis* analysis);
 /* noise.sigma in grey values; NaN when not computed or no block is usable. */
 double clf_analysis_noise_sigma(const clf_analysis* analysis);
+/* The noise level in full (docs/definitions.md §34); NaN where not computed or
+ * n/a. */
+typedef struct clf_noise_level {
+    double sigma;          /* the noise's standard deviation, correlation allowed for */
+    double sigma_white;    /* its white (vertex-to-vertex) part */
+    double correlation[3]; /* the correlation model's width along x, y, z in voxels; 0: white */
+    double spread[3];      /* the noise map's 10th, 50th and 90th percentiles */
+    double flat_share;     /* the share of the voxels the estimate reads */
+} clf_noise_level;
+/* Fills `out`; CLF_ERROR_INPUT when analysis or out is NULL or the analysis has no noise
+ * level (options.noise_level was 0). */
+clf_status clf_analysis_noise_level(const clf_analysis* analysis, clf_noise_level* out);
 /* The whole analysis as JSON (the schema of `clfractal fd --json`'s shared part), valid
  * while the analysis lives. */
 const char* clf_analysis_json(const clf_analysis* analysis);

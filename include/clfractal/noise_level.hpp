@@ -31,13 +31,44 @@
 // flat blocks' residuals over all vertices. Where the noise itself varies across the volume,
 // sigma is the level most blocks share, and flat_share says how many.
 //
-// What it measures: the noise's white (vertex-to-vertex) part. Noise correlated across
-// neighbouring vertices (a reconstruction kernel, earlier smoothing) reads lower, as it does
-// for every residual-based estimator.
+// That pooled value is sigma_white: the noise's white (vertex-to-vertex) part. Noise
+// correlated across neighbouring vertices (a reconstruction kernel, earlier smoothing) reads
+// lower, as it does for every residual-based estimator; sigma itself allows for correlation:
+//
+// Strided residuals. R_s is R with the taps s_a apart along axis a (the mask's 27 values at
+// x + (dx sx, dy sy, dz sz)), taken at the vertices whose coordinates are all even. For noise
+// of standard deviation sigma whose autocorrelation is a product of per-axis functions
+// rho_a(d), E[R_s^2] = sigma^2 prod_a f_a(s_a), f_a(s) = 6 - 8 rho_a(s) + 2 rho_a(2 s) (6 for
+// white noise). The strides are noise_strides(): 2, 4, 8 along one axis at a time (the other
+// two at 1, which keeps anatomy out as R does), and 2 along two or three axes. V(s) is the
+// pooled mean of R_s^2 / 216 over the flat blocks that agree with the rest (the shorth of
+// log(V_b(s)) / 3 and a window of clip times the larger of its white spread and its robust
+// spread, the shorth's length / 1.349), so that a block flat to R but reaching an edge at
+// stride s drops out.
+//
+// Correlation model. The noise is a white part of variance b plus a correlated part of
+// variance a whose autocorrelation along axis a is Gaussian, rho_a(d) = exp(-d^2 / (4 w_a^2)):
+// white noise smoothed by a Gaussian of standard deviation w_a voxels (w_a = 0: white). So
+// V(s) = a prod_a f_a(s_a) / 216 + b. Per axis, (V(s e_a) - b) / (V(1) - b) = f_a(s) / f_a(1)
+// for s = 2, 4, 8 fixes w_a (least squares in log over a grid of w: 0 and 400 widths from 0.2 to
+// 6 voxels, even in log); b is the value of V(1) (1 - 10^-t), t = 0, 0.004, .., 3.996, that fits
+// the three axes best. Where that finds white noise, the same fit of V(s e_a) against
+// b + (V(1) - b) f_a(s) / f_a(1), the differences over V(s e_a), is taken instead when its sigma
+// is over five times sigma_white: where rounding dominates V(1) (8-bit data, widths near 1.5), the
+// log fit's small differences hide strongly correlated noise. correlation = (w_x, w_y, w_z), a width under 0.35 voxels taken as 0
+// (white): edges that the wider taps reach raise every V(s) a little, which reads as widths of
+// 0.2 to 0.3 on white noise.
+//
+// sigma. sigma^2 = (V(m) - b) / (prod_a f_a(m_a) / 216) + b, with m_a = 2 where w_a > 0 and
+// 1 elsewhere: the two-apart taps share little of the noise, so the
+// model matters less than at stride 1, and they keep anatomy out better than wider ones. For
+// white noise m = (1, 1, 1) and sigma = sigma_white.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "clfractal/device.hpp"
@@ -61,6 +92,17 @@ struct NoiseLevelOptions {
 /// y varies by s = 5.7% from noise alone) while still fitting between clipped regions.
 std::size_t noise_block_side(const Dims& d);
 
+/// Taps spacing of a strided residual along x, y, z.
+using NoiseStride = std::array<int, 3>;
+
+/// The strides the block statistics hold: (2,1,1), (1,2,1), (1,1,2), the same with 4 and 8,
+/// then (2,2,1), (2,1,2), (1,2,2), (2,2,2).
+const std::vector<NoiseStride>& noise_strides();
+
+/// The 1D factor of the Gaussian correlation model for width w (voxels) at stride s:
+/// 6 - 8 rho(s) + 2 rho(2 s), rho(d) = exp(-d^2 / (4 w^2)); 6 for w = 0.
+double noise_stride_factor(double w, int s);
+
 /// The per-block statistics, blocks x fastest, then y, then z; block (i, j, k) covers
 /// vertices [i b, (i + 1) b) x [j b, (j + 1) b) x [k b, (k + 1) b) of the volume.
 struct NoiseBlocks {
@@ -70,20 +112,42 @@ struct NoiseBlocks {
     std::vector<double> sum_squares;    ///< sum of R^2 / 216 over the block's residuals
     std::vector<std::uint32_t> count;   ///< residuals (interior vertices) of the block
     std::vector<double> low, high;      ///< range of the values its residuals read (0 if none)
+    /// The strided residuals, per stride of `strides` (noise_strides()), per block: the sum of
+    /// R_s^2 / 216 over the block's vertices with even coordinates whose taps lie in the
+    /// volume, and their count.
+    std::vector<NoiseStride> strides;
+    std::vector<std::vector<double>> strided_sums;
+    std::vector<std::vector<std::uint32_t>> strided_counts;
 };
 
 struct NoiseLevel {
-    double sigma = std::numeric_limits<double>::quiet_NaN();  ///< NaN: no usable block
+    /// The noise's standard deviation, correlation allowed for (the header's definition):
+    /// what a uniform region shows. NaN: no usable block.
+    double sigma = std::numeric_limits<double>::quiet_NaN();
+    double sigma_white = std::numeric_limits<double>::quiet_NaN();  ///< the pooled R: the white part
+    /// The correlation model's width w per axis (x, y, z) in voxels: 0 for white noise; NaN
+    /// where an axis has no strided residual or no noise was found.
+    std::array<double, 3> correlation{std::numeric_limits<double>::quiet_NaN(),
+                                      std::numeric_limits<double>::quiet_NaN(),
+                                      std::numeric_limits<double>::quiet_NaN()};
+    NoiseStride sigma_strides{1, 1, 1};  ///< the strides sigma was read at
     double flat_share = 0;              ///< residuals of the flat blocks / all vertices
     std::size_t blocks = 0, usable_blocks = 0, flat_blocks = 0;
     std::size_t block = 0;
     double typical_variance = std::numeric_limits<double>::quiet_NaN();  ///< exp(3 c), grey values^2
-    /// The noise map: per cell of map_block^3 vertices (x fastest), the residual's RMS over
-    /// the cell's usable blocks (silent ones included), sqrt(sum of R^2 / 216 / count): the local noise where the
-    /// cell is flat, more where it holds structure; NaN where the cell has no usable block.
+    /// The noise map: per cell of map_block^3 vertices (x fastest), sigma in the cell: sigma x
+    /// sqrt(V_cell / V), V_cell the mean of R_m^2 / 216 over the cell's usable blocks (silent
+    /// ones included) at sigma's strides m, V the flat blocks' (for white noise the residual's
+    /// RMS in the cell): the local noise where the cell is flat, more where it holds
+    /// structure; NaN where the cell has no usable block with residuals at those strides.
     std::size_t map_block = 0;
     Dims map_dims{};
     std::vector<float> map;
+    /// The 10th, 50th and 90th percentiles of the map over its cells with a value (NaN
+    /// without any): how much the noise varies across the volume.
+    std::array<double, 3> spread{std::numeric_limits<double>::quiet_NaN(),
+                                 std::numeric_limits<double>::quiet_NaN(),
+                                 std::numeric_limits<double>::quiet_NaN()};
     double seconds = 0;                 ///< device time of the block statistics (no compilation)
 };
 
@@ -98,6 +162,16 @@ NoiseBlocks noise_blocks(Context& ctx, const Volume& v, std::size_t block = 16, 
 /// The estimate from block statistics (the header's definition). Throws InputError for a
 /// map_block that is not a positive multiple of the blocks' side or a clip that is not > 0.
 NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions& o = {});
+
+/// The noise's variation across the volume: the map's 90th percentile over its 10th (NaN
+/// without a map value or where the 10th is 0).
+double noise_variation(const NoiseLevel& l);
+
+/// Plain statements for the front ends, empty when neither holds: "noise varies 3.1x across
+/// the volume ..." when noise_variation > 1.5, and when sigma > 1.5 sigma_white, that the noise
+/// is correlated, that a white-noise estimate reads sigma / sigma_white times less, and that
+/// Theorem 1 (independent noise: r(s), its amplitudes) under-states it too.
+std::vector<std::string> noise_level_notes(const NoiseLevel& l);
 
 /// noise_blocks, then noise_level_from_blocks.
 NoiseLevel estimate_noise_level(const DeviceVolume& v, const NoiseLevelOptions& o = {});

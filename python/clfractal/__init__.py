@@ -962,7 +962,21 @@ class NoiseLevel(_Record):
     Attributes
     ----------
     sigma : float
-        The noise's standard deviation in grey values.
+        The noise's standard deviation in grey values, correlation allowed for: what a
+        uniform region shows.
+    sigma_white : float
+        Its white (vertex-to-vertex) part: the pooled residual of the flat blocks.
+    correlation : tuple of float
+        The correlation model's width along x, y, z in voxels (the Gaussian smoothing whose
+        correlation the noise's matches; 0: white; NaN: n/a).
+    sigma_strides : tuple of int
+        The taps spacing along x, y, z sigma was read at.
+    spread : tuple of float
+        The map's 10th, 50th and 90th percentiles.
+    variation : float
+        The 90th percentile over the 10th.
+    notes : list of str
+        Plain statements: how much the noise varies, whether it is correlated.
     flat_share : float
         The flat blocks' voxels over all voxels.
     block, blocks, blocks_usable, blocks_flat : int
@@ -972,9 +986,15 @@ class NoiseLevel(_Record):
     map_cell : int
         The edge of a map cell.
     map : ndarray of float32
-        The residual's RMS per cell, (z, y, x), NaN where a cell has no usable block.
+        sigma per cell, (z, y, x), NaN where a cell has no usable block.
     """
     sigma: float
+    sigma_white: float
+    correlation: tuple
+    sigma_strides: tuple
+    spread: tuple
+    variation: float
+    notes: list
     flat_share: float
     block: int
     blocks: int
@@ -986,12 +1006,15 @@ class NoiseLevel(_Record):
     map: np.ndarray
 
     def to_dict(self) -> dict:
-        """The object ``clfractal fd --noise-level --json`` writes under ``noise``: the map as
-        ``{"cell", "dims": [nx, ny, nz], "rms": [x fastest, null where no block is usable]}``."""
-        d = {k: _plain(getattr(self, k)) for k in ("sigma", "flat_share", "block", "blocks", "blocks_usable",
-                                                   "blocks_flat", "seconds")}
+        """The object ``clfractal fd --noise-level --json`` writes under ``noise``: the spread as
+        ``{"p10", "p50", "p90"}``, the map as ``{"cell", "dims": [nx, ny, nz], "sigma": [x
+        fastest, null where no block is usable]}``."""
+        d = {k: _plain(getattr(self, k)) for k in ("sigma", "sigma_white", "correlation", "sigma_strides",
+                                                   "variation", "notes", "flat_share", "block", "blocks",
+                                                   "blocks_usable", "blocks_flat", "seconds")}
+        d["spread"] = dict(zip(("p10", "p50", "p90"), _plain(self.spread)))
         nz, ny, nx = self.map.shape
-        d["map"] = {"cell": self.map_cell, "dims": [nx, ny, nz], "rms": _plain(self.map.astype(np.float64).ravel())}
+        d["map"] = {"cell": self.map_cell, "dims": [nx, ny, nz], "sigma": _plain(self.map.astype(np.float64).ravel())}
         return d
 
 
@@ -1006,8 +1029,12 @@ def noise_level(volume, block: int = 0, map_block: int = 32, clip: float = 3.0,
     block of ``block**3`` vertices (0: 8, or 4 for volumes that hold fewer than 64 blocks of
     8), blocks that read the volume's smallest or largest value (clipping) are left out; the
     centre is the shorth of ``log(v) / 3`` over the block variances ``v``, the flat blocks lie
-    within ``clip`` white-noise spreads of it, and ``sigma**2`` is their pooled mean (0 when no
-    usable block has any residual, NaN when no block is usable).
+    within ``clip`` white-noise spreads of it, and their pooled mean is ``sigma_white**2`` (0
+    when no usable block has any residual, NaN when no block is usable): the noise's white
+    part. Residuals with the taps 2, 4 and 8 apart along one axis fit a model of white noise
+    plus noise smoothed by a Gaussian of width ``correlation`` (x, y, z) voxels, and ``sigma``
+    is read at taps two apart along the correlated axes: the noise's standard deviation,
+    correlated or not (docs/definitions.md, section 34).
 
     Parameters
     ----------
@@ -1201,8 +1228,9 @@ def _analysis_html(a: Analysis) -> str:
     noise = j.get("noise", {})
     parts = [f"<div class=\"clfractal-analysis\"><p><b>{html.escape(answer)}</b></p>"]
     if "sigma" in noise:
-        parts.append(f"<p>Noise: &sigma; = {num(noise['sigma'])} grey values (flat share "
-                     f"{num(noise['flat_share'], 3)}).</p>")
+        parts.append(f"<p>Noise: &sigma; = {num(noise['sigma'])} grey values, white part "
+                     f"{num(noise['sigma_white'])} (flat share {num(noise['flat_share'], 3)}).</p>")
+        parts.extend(f"<p>{html.escape(note)}</p>" for note in noise.get("notes", []))
     tried = [t for t in a.denoise if t["clean"] and t["recommended"]]
     if tried:
         parts.append(f"<p>Denoising: <code>{html.escape(tried[0]['command'])}</code> leaves isovalue "

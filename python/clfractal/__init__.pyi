@@ -139,6 +139,12 @@ def write_ply(path: str | PathLike[str], vertices: npt.ArrayLike, faces: npt.Arr
 
 class NoiseLevel(_Record):
     sigma: float
+    sigma_white: float
+    correlation: tuple[float, float, float]
+    sigma_strides: tuple[int, int, int]
+    spread: tuple[float, float, float]
+    variation: float
+    notes: list[str]
     flat_share: float
     block: int
     blocks: int

@@ -158,8 +158,9 @@ class FractalWidget(QWidget):
         a, best = self.analysis, self.analysis.best
         self.recommended_label.setText("Recommended: " + ", ".join(
             f"s = {e.isovalue:g} (D = {e.fd:.3f}, {e.verdict})" for e in a.recommended))
-        self.noise_label.setText(f"Noise level: sigma = {self.noise.sigma:.4g} grey values "
-                                 f"(flat blocks {100 * self.noise.flat_share:.1f}% of the volume)")
+        self.noise_label.setText(f"Noise level: sigma = {self.noise.sigma:.4g} grey values, white part "
+                                 f"{self.noise.sigma_white:.4g} (flat blocks {100 * self.noise.flat_share:.1f}% "
+                                 "of the volume)")
         self.slider.blockSignals(True)
         self.slider.setRange(0, len(self.isovalues) - 1)
         self.slider.setValue(int(np.argmin(np.abs(self.isovalues - best.isovalue))))

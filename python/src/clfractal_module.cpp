@@ -542,7 +542,16 @@ nb::dict noise_level_call(nb::handle a, const std::string& type, std::size_t blo
         return in.device() ? estimate_noise_level(*in.device(), o) : estimate_noise_level(ctx, in.host(), o);
     });
     const Dims m = r.map_dims;
+    const auto triple = [](const std::array<double, 3>& t) { return nb::make_tuple(t[0], t[1], t[2]); };
+    nb::list notes;
+    for (const std::string& note : noise_level_notes(r)) notes.append(note);
     return make_dict({{"sigma", nb::cast(r.sigma)},
+                      {"sigma_white", nb::cast(r.sigma_white)},
+                      {"correlation", triple(r.correlation)},
+                      {"sigma_strides", nb::make_tuple(r.sigma_strides[0], r.sigma_strides[1], r.sigma_strides[2])},
+                      {"spread", triple(r.spread)},
+                      {"variation", nb::cast(noise_variation(r))},
+                      {"notes", notes},
                       {"flat_share", nb::cast(r.flat_share)},
                       {"block", nb::cast(r.block)},
                       {"blocks", nb::cast(r.blocks)},

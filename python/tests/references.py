@@ -225,7 +225,7 @@ def noise_level(v, block, clip=3.0):
     the sum of R**2 / 216, the count and the range of the values read; blocks reading the
     volume's extremes or with fewer than min(block**3 / 8, the largest count) residuals left
     out, and those whose residuals are all 0; the shorth of log(v) / 3 and the pooled mean within clip white-noise
-    spreads. Returns (sigma, flat_share, usable blocks, flat blocks)."""
+    spreads. Returns (sigma_white, flat_share, usable blocks, flat blocks)."""
     f = v.astype(np.float64)
     nz, ny, nx = f.shape
     w = {-1: 1.0, 0: -2.0, 1: 1.0}

@@ -178,15 +178,27 @@ def test_noise_level_matches_definition_and_cli(dtype, cli, tmp_path):
         r = clfractal.noise_level(v, block=block)
         sigma, share, usable, flat = ref.noise_level(v, block)
         assert (r.blocks_usable, r.blocks_flat) == (usable, flat)
-        assert r.sigma == pytest.approx(sigma, rel=1e-5) and r.flat_share == pytest.approx(share, rel=1e-12)
-        assert r.sigma == pytest.approx(3.0, rel=0.08)
+        assert r.sigma_white == pytest.approx(sigma, rel=1e-5) and r.flat_share == pytest.approx(share, rel=1e-12)
+        assert r.sigma == pytest.approx(3.0, rel=0.08)  # white noise: sigma is its white part
+        assert len(r.correlation) == 3 and len(r.spread) == 3
         assert r.map.dtype == np.float32 and r.map.shape == (1, 1, 2)
         assert r.to_dict()["sigma"] == r.sigma
     assert clfractal.noise_level(clfractal.DeviceVolume(v)).sigma == clfractal.noise_level(v).sigma
     out = tmp_path / "fd.json"
     cli("fd", write_raw(tmp_path, "v", v), "--noise-level", "--isovalues", "150", "--json", out)
     j = json.loads(out.read_text())["noise"]
-    assert j["sigma"] == pytest.approx(clfractal.noise_level(v).sigma, rel=1e-12)
+    mine = clfractal.noise_level(v).to_dict()
+    assert j["sigma"] == pytest.approx(mine["sigma"], rel=1e-12)
+    def close(a, b):  # plain JSON values equal, numbers to 1e-9
+        if isinstance(a, dict):
+            return a.keys() == b.keys() and all(close(a[k], b[k]) for k in a)
+        if isinstance(a, list):
+            return isinstance(b, list) and len(a) == len(b) and all(close(x, y) for x, y in zip(a, b))
+        if isinstance(a, float) and b is not None:
+            return b == pytest.approx(a, rel=1e-9)
+        return a == b
+    for key in ("sigma_white", "correlation", "sigma_strides", "spread", "variation", "notes", "map"):
+        assert close(json.loads(json.dumps(mine[key])), j[key]), (key, mine[key], j[key])
     with pytest.raises(ValueError, match="block"):
         clfractal.noise_level(v, block=1)
 

@@ -371,7 +371,7 @@ expect 0 '' -- "$bin" -q gen sphere --size 32 --noise 60 -o rough.nrrd
 expect 0 'uniform r [0-9.]+ \(\+-[0-9.]+ grey values' -- "$bin" -q fd rough.nrrd --noise-level --json rough.json
 # The noise level: uniform noise +-6 on a uint8 sphere, rounded (std sqrt(12 + 1/12) = 3.476).
 expect 0 '' -- "$bin" -q gen sphere --size 64 --noise 6 -o grainy.nrrd
-expect 0 'noise sigma 3\.[0-9]+ grey levels \(estimated on [0-9.]+% of voxels\)' -- "$bin" -q fd grainy.nrrd --noise-level --json grainy.json
+expect 0 'noise sigma 3\.[0-9]+ grey levels \(estimated on [0-9.]+% of voxels; white part 3\.[0-9]+\)' -- "$bin" -q fd grainy.nrrd --noise-level --json grainy.json
 python3 - <<'PY' && pass || fail "fd JSON clean_bands/noise"
 import json
 j = json.load(open("adv.json"))
@@ -391,7 +391,7 @@ assert surface["sigma_gaussian"] > 0 and all("ratio_gaussian" in p for p in surf
 assert j["noise"]["sigma"] < 0.5, j["noise"]
 g = json.load(open("grainy.json"))["noise"]
 assert abs(g["sigma"] / (12 + 1 / 12) ** 0.5 - 1) < 0.03, g
-assert 0 < g["flat_share"] <= 1 and g["block"] == 8 and g["map"]["dims"] == [2, 2, 2] and len(g["map"]["rms"]) == 8, g
+assert 0 < g["flat_share"] <= 1 and g["block"] == 8 and g["map"]["dims"] == [2, 2, 2] and len(g["map"]["sigma"]) == 8, g
 PY
 expect 0 'clfractal: --iso auto: isovalue [0-9]+ \(clean, D [0-9.]+\), the first recommendation, from the clean band [0-9]+ \.\. [0-9]+: the first clean band.s representative' -- "$bin" local synthetic:sphere:40 --iso auto -o auto_ld.nrrd
 # Nothing clean: --iso auto still answers, with the cleanest isovalue, its verdict and why,

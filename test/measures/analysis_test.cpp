@@ -413,6 +413,17 @@ TEST_CASE("the C ABI gives the C++ analysis: the same recommendations and JSON e
     CHECK(clf_analysis_recommendation(ca, a.recommended.size(), &out) == CLF_ERROR_INPUT);
     CHECK(clf_analysis_clean(ca) == int(a.clean));
     CHECK(clf_analysis_noise_sigma(ca) == a.noise_level->sigma);
+    clf_noise_level nl;
+    REQUIRE(clf_analysis_noise_level(ca, &nl) == CLF_OK);
+    const auto same = [](double x, double y) { return std::isnan(y) ? std::isnan(x) : x == y; };
+    CHECK(same(nl.sigma, a.noise_level->sigma));
+    CHECK(same(nl.sigma_white, a.noise_level->sigma_white));
+    CHECK(nl.flat_share == a.noise_level->flat_share);
+    for (int k = 0; k < 3; ++k) {
+        CHECK(same(nl.correlation[k], a.noise_level->correlation[k]));
+        CHECK(same(nl.spread[k], a.noise_level->spread[k]));
+    }
+    CHECK(clf_analysis_noise_level(ca, nullptr) == CLF_ERROR_INPUT);
     const nlohmann::json jc = nlohmann::json::parse(clf_analysis_json(ca));
     const nlohmann::json jx = nlohmann::json::parse(to_json(a));
     CHECK(jc["recommended"] == jx["recommended"]);

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "clfractal/device_volume.hpp"
+#include "clfractal/filter.hpp"
 #include "clfractal/noise.hpp"
 #include "clfractal/noise_level.hpp"
 #include "clfractal/synthetic.hpp"
@@ -61,6 +62,16 @@ void check_blocks(const NoiseBlocks& got, const NoiseBlocks& want, ValueType t) 
         if (exact ? a != b : std::abs(a - b) > tolerance * std::max(1.0, std::abs(b))) ++bad;
     }
     CHECK(bad == 0);
+    // The strided residuals, every stride.
+    REQUIRE(got.strides == want.strides);
+    std::size_t strided_bad = 0;
+    for (std::size_t m = 0; m < want.strides.size(); ++m)
+        for (std::size_t i = 0; i < want.count.size(); ++i) {
+            const double a = got.strided_sums[m][i], b = want.strided_sums[m][i];
+            if (got.strided_counts[m][i] != want.strided_counts[m][i]) ++strided_bad;
+            if (exact ? a != b : std::abs(a - b) > tolerance * std::max(1.0, std::abs(b))) ++strided_bad;
+        }
+    CHECK(strided_bad == 0);
 }
 
 void check_level(const NoiseLevel& got, const NoiseLevel& want, ValueType t) {
@@ -70,19 +81,26 @@ void check_level(const NoiseLevel& got, const NoiseLevel& want, ValueType t) {
     CHECK(got.flat_blocks == want.flat_blocks);
     CHECK(got.map_dims == want.map_dims);
     REQUIRE(got.map.size() == want.map.size());
-    if (std::isnan(want.sigma)) {
+    if (std::isnan(want.sigma_white)) {
+        CHECK(std::isnan(got.sigma_white));
         CHECK(std::isnan(got.sigma));
     } else if (exact) {
-        CHECK(got.sigma == want.sigma);
+        CHECK(got.sigma_white == want.sigma_white);
         CHECK(got.flat_share == want.flat_share);
     } else {
-        CHECK(got.sigma == doctest::Approx(want.sigma).epsilon(2e-5));
+        CHECK(got.sigma_white == doctest::Approx(want.sigma_white).epsilon(2e-5));
         CHECK(got.flat_share == doctest::Approx(want.flat_share).epsilon(1e-12));
     }
+    // The reference's map is the residual's RMS: at strides (1, 1, 1) the map is that in sigma
+    // units; at other strides a cell without a usable block has no value either.
+    const bool unit = got.sigma_strides == NoiseStride{1, 1, 1};
+    const double scale = unit && got.sigma_white > 0 ? got.sigma / got.sigma_white : 1.0;
     std::size_t bad = 0;
     for (std::size_t c = 0; c < got.map.size(); ++c) {
-        const float a = got.map[c], b = want.map[c];
-        if (std::isnan(a) != std::isnan(b) || (!std::isnan(b) && std::abs(a - b) > 2e-5f * std::max(1.0f, b))) ++bad;
+        const double a = got.map[c], b = scale * double(want.map[c]);
+        if (unit ? std::isnan(a) != std::isnan(b) || (!std::isnan(b) && std::abs(a - b) > 2e-5 * std::max(1.0, b))
+                 : std::isnan(b) && !std::isnan(a))
+            ++bad;
     }
     CHECK(bad == 0);
 }
@@ -105,18 +123,18 @@ TEST_SUITE("noise") {
 TEST_CASE("Noise level: device block statistics equal the reference on awkward sizes and every type") {
     testutil::TuningGuard guard;
     const Dims sizes[] = {{37, 23, 19}, {5, 40, 3}, {18, 3, 33}, {64, 17, 9}};
-    for (bool tiles : {true, false})
     for (ValueType t : all_value_types)
         for (const Dims& d : sizes)
             for (std::size_t block : {std::size_t(4), std::size_t(7), std::size_t(16)}) {
-                ctx().tuning.noise_tiles = tiles;
-                CAPTURE(tiles);
                 CAPTURE(value_type_name(t));
                 CAPTURE(dims_string(d));
                 CAPTURE(block);
                 const Volume v = field_volume(d, t, 6.0, std::uint32_t(d.nx * 131 + block));
                 const NoiseBlocks want = ref::noise_blocks(v, block);
                 const DeviceVolume dv(ctx(), v);
+                for (bool tiles : {true, false}) {
+                ctx().tuning.noise_tiles = tiles;
+                CAPTURE(tiles);
                 check_blocks(noise_blocks(dv, block), want, t);
                 // Host overload, whole and in slabs of one and two block rows.
                 for (std::size_t slab : {std::size_t(0), block, 2 * block + 1})
@@ -126,6 +144,7 @@ TEST_CASE("Noise level: device block statistics equal the reference on awkward s
                 o.block = block;
                 o.map_block = map_block;
                 check_level(estimate_noise_level(dv, o), ref::noise_level(want, map_block, 3.0), t);
+                }
             }
 }
 
@@ -178,6 +197,8 @@ TEST_CASE("Noise level: Gaussian and uniform noise of known standard deviation o
             const double truth = std_of_difference(noisy, sphere);
             const NoiseLevel l = estimate_noise_level(ctx(), noisy);
             CHECK(l.sigma == doctest::Approx(truth).epsilon(0.02));
+            CHECK(l.sigma_white == doctest::Approx(truth).epsilon(0.02));
+            for (int k = 0; k < 3; ++k) CHECK(l.correlation[k] < 0.3);
             CHECK(l.flat_share > 0.5);
         }
 }
@@ -203,6 +224,76 @@ TEST_CASE("Noise level: rounding and clipping of integer data") {
     CHECK(l.sigma == doctest::Approx(std::sqrt(9.0 + 1.0 / 12)).epsilon(0.03));
     CHECK(l.flat_share < 0.5);
     CHECK(l.flat_share > 0.3);
+}
+
+TEST_CASE("Noise level: the correlation model's fit recovers its own widths and sigma") {
+    // Block statistics made from the model, V(s) = a prod f_a(s_a) / 216 + b, on 64 blocks
+    // whose variances differ by a few percent (the same in every stride): the fit returns
+    // the widths on its grid (0.9% apart) and sigma^2 = a + b.
+    const double a = 100, b = 1.0 / 12;
+    for (const std::array<double, 3>& w : {std::array<double, 3>{1.0, 1.0, 1.0}, std::array<double, 3>{0.0, 0.0, 1.5},
+                                           std::array<double, 3>{0.8, 0.8, 0.0}, std::array<double, 3>{0.0, 0.0, 0.0}}) {
+        CAPTURE(w[0]);
+        CAPTURE(w[2]);
+        NoiseBlocks blocks;
+        blocks.block = 8;
+        blocks.grid = {4, 4, 4};
+        blocks.volume = {32, 32, 32};
+        blocks.strides = noise_strides();
+        const auto model = [&](const NoiseStride& s) {
+            double g = 1;
+            for (int k = 0; k < 3; ++k) g *= noise_stride_factor(w[k], s[k]) / 6;
+            return a * g + b;
+        };
+        blocks.strided_sums.assign(blocks.strides.size(), {});
+        blocks.strided_counts.assign(blocks.strides.size(), {});
+        for (std::size_t i = 0; i < 64; ++i) {
+            const double scale = 1 + 0.002 * double(i % 7);
+            blocks.count.push_back(512);
+            blocks.sum_squares.push_back(512 * scale * model({1, 1, 1}));
+            blocks.low.push_back(i == 0 ? 0.0 : 1.0);
+            blocks.high.push_back(i == 1 ? 3.0 : 2.0);
+            for (std::size_t m = 0; m < blocks.strides.size(); ++m) {
+                blocks.strided_counts[m].push_back(64);
+                blocks.strided_sums[m].push_back(64 * scale * model(blocks.strides[m]));
+            }
+        }
+        const NoiseLevel l = noise_level_from_blocks(blocks);
+        CHECK(l.flat_blocks == 62);  // blocks 0 and 1 read the extremes
+        for (int k = 0; k < 3; ++k) CHECK(l.correlation[k] == doctest::Approx(w[k]).epsilon(0.01));
+        CHECK(l.sigma == doctest::Approx(std::sqrt((a + b) * 1.006)).epsilon(0.01));
+        CHECK(l.sigma_white == doctest::Approx(std::sqrt(model({1, 1, 1}) * 1.006)).epsilon(0.01));
+        CHECK(l.sigma_strides == NoiseStride{w[0] > 0 ? 2 : 1, w[1] > 0 ? 2 : 1, w[2] > 0 ? 2 : 1});
+        CHECK(l.spread[0] <= l.spread[1]);
+        CHECK(l.spread[1] <= l.spread[2]);
+    }
+}
+
+TEST_CASE("Noise level: Gaussian-smoothed noise reads as its standard deviation, its width as the correlation") {
+    // A sphere's distance field plus white Gaussian noise smoothed by a Gaussian of width w
+    // (the filter's clamp-to-edge borders included in the truth), scaled to sigma 6.
+    SyntheticOptions so;
+    so.size = 96;
+    so.type = ValueType::float32;
+    const Volume sphere = make_synthetic("sphere", so);
+    for (double w : {0.8, 1.5}) {
+        CAPTURE(w);
+        NoiseOptions no;
+        no.kind = NoiseKind::gaussian;
+        no.amplitude = 1;
+        no.seed = 11;
+        const Volume zero(sphere.dims(), ValueType::float32);
+        const Volume smoothed = gaussian_filter(ctx(), add_noise(ctx(), zero, no), w);
+        const double sd = std_of_difference(smoothed, zero);
+        Volume noisy(sphere.dims(), ValueType::float32);
+        for (std::size_t i = 0; i < noisy.vertices(); ++i)
+            noisy.as<float>()[i] = sphere.as<float>()[i] + float(6.0 / sd) * smoothed.as<float>()[i];
+        const double truth = std_of_difference(noisy, sphere);
+        const NoiseLevel l = estimate_noise_level(ctx(), noisy);
+        CHECK(l.sigma == doctest::Approx(truth).epsilon(0.05));
+        CHECK(l.sigma_white < 0.5 * truth);
+        for (int k = 0; k < 3; ++k) CHECK(l.correlation[k] == doctest::Approx(w).epsilon(0.1));
+    }
 }
 
 TEST_CASE("Noise level: no residual, no usable block, bad options") {

@@ -14,21 +14,25 @@ namespace {
 // w(d) of the second difference [1 -2 1].
 int weight(int d) { return d == 0 ? -2 : 1; }
 
-// R^2 of interior vertex (x, y, z) and the range of the 27 values it reads.
-long double residual_squared(const Volume& v, std::size_t x, std::size_t y, std::size_t z, double& lo, double& hi) {
+// R_s of vertex (x, y, z): the 27 values at x + (dx sx, dy sy, dz sz), weighted; widens
+// [lo, hi] by the values it reads. R itself is stride (1, 1, 1).
+long double strided_residual(const Volume& v, std::size_t x, std::size_t y, std::size_t z, const NoiseStride& s,
+                             double& lo, double& hi) {
     const Dims d = v.dims();
     long double r = 0;
     visit(v, [&](const auto* p) {
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
-                    const double u = double(p[(x + dx) + d.nx * ((y + dy) + d.ny * (z + dz))]);
+                    const std::size_t i = std::size_t(long(x) + dx * s[0]) +
+                                          d.nx * (std::size_t(long(y) + dy * s[1]) + d.ny * std::size_t(long(z) + dz * s[2]));
+                    const double u = double(p[i]);
                     lo = std::min(lo, u);
                     hi = std::max(hi, u);
                     r += (long double)(weight(dx) * weight(dy) * weight(dz)) * (long double)u;
                 }
     });
-    return r * r;
+    return r;
 }
 
 }  // namespace
@@ -50,12 +54,35 @@ NoiseBlocks noise_blocks(const Volume& v, std::size_t block) {
         for (std::size_t y = 1; y + 1 < d.ny; ++y)
             for (std::size_t x = 1; x + 1 < d.nx; ++x) {
                 const std::size_t i = x / block + b.grid.nx * (y / block + b.grid.ny * (z / block));
-                sums[i] += residual_squared(v, x, y, z, lo[i], hi[i]);
+                const long double r = strided_residual(v, x, y, z, {1, 1, 1}, lo[i], hi[i]);
+                sums[i] += r * r;
                 ++b.count[i];
             }
     for (std::size_t i = 0; i < n; ++i) {
         b.sum_squares[i] = double(sums[i]) / 216.0;
         if (b.count[i]) b.low[i] = lo[i], b.high[i] = hi[i];
+    }
+    // The strided residuals at the vertices with even coordinates whose taps lie in the volume.
+    b.strides = noise_strides();
+    for (const NoiseStride& s : b.strides) {
+        std::vector<long double> strided(n, 0.0L);
+        std::vector<std::uint32_t> counts(n, 0);
+        for (std::size_t z = 0; z < d.nz; z += 2)
+            for (std::size_t y = 0; y < d.ny; y += 2)
+                for (std::size_t x = 0; x < d.nx; x += 2) {
+                    if (x < std::size_t(s[0]) || y < std::size_t(s[1]) || z < std::size_t(s[2]) ||
+                        x + s[0] >= d.nx || y + s[1] >= d.ny || z + s[2] >= d.nz)
+                        continue;
+                    const std::size_t i = x / block + b.grid.nx * (y / block + b.grid.ny * (z / block));
+                    double unused_lo = 0, unused_hi = 0;
+                    const long double r = strided_residual(v, x, y, z, s, unused_lo, unused_hi);
+                    strided[i] += r * r;
+                    ++counts[i];
+                }
+        std::vector<double> sums216(n);
+        for (std::size_t i = 0; i < n; ++i) sums216[i] = double(strided[i]) / 216.0;
+        b.strided_sums.push_back(sums216);
+        b.strided_counts.push_back(counts);
     }
     return b;
 }
@@ -95,7 +122,8 @@ NoiseLevel noise_level(const NoiseBlocks& b, std::size_t map_block, double clip)
     }
     if (variances.empty()) {
         r.flat_blocks = r.usable_blocks;
-        if (r.usable_blocks) r.sigma = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
+        if (r.usable_blocks)
+            r.sigma = r.sigma_white = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
         return r;
     }
     // The shorth of y = log(v) / 3: the shortest run of ceil(N / 2) sorted values, its median.
@@ -115,7 +143,7 @@ NoiseLevel noise_level(const NoiseBlocks& b, std::size_t map_block, double clip)
         if (std::abs(std::log(b.sum_squares[i] / b.count[i]) / 3 - centre) <= clip * spread)
             sum += b.sum_squares[i], count += b.count[i], ++r.flat_blocks;
     }
-    r.sigma = std::sqrt(sum / count);
+    r.sigma_white = std::sqrt(sum / count);
     r.flat_share = count / double(b.volume.vertices());
     return r;
 }

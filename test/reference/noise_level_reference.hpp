@@ -10,10 +10,12 @@
 
 namespace ref {
 
-/// The block statistics of `v` for blocks of side `block`.
+/// The block statistics of `v` for blocks of side `block`, the strided residuals included.
 clfractal::NoiseBlocks noise_blocks(const clfractal::Volume& v, std::size_t block);
 
-/// The estimate from block statistics, with map cells of side `map_block` and clip `clip`.
+/// The white part of the estimate from block statistics (sigma_white, the blocks, the flat
+/// share; sigma and correlation left NaN), with map cells of side `map_block` and clip `clip`:
+/// the map is the residual's RMS per cell.
 clfractal::NoiseLevel noise_level(const clfractal::NoiseBlocks& b, std::size_t map_block, double clip);
 
 }  // namespace ref

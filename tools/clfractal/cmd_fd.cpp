@@ -145,17 +145,19 @@ void print_noise_level(std::ostream& out, const NoiseLevel& l, const NoiseEstima
             << "or largest value, or has too few interior voxels)\n";
     } else {
         out << "noise sigma " << short_number(l.sigma) << " grey levels (estimated on "
-            << short_number(100 * l.flat_share) << "% of voxels)\n";
-        std::vector<float> cells;
-        for (float c : l.map)
-            if (!std::isnan(c)) cells.push_back(c);
-        std::sort(cells.begin(), cells.end());
-        out << "noise map   " << dims_string(l.map_dims) << " cells of " << l.map_block << "^3: residual RMS "
-            << short_number(cells.front()) << " .. " << short_number(cells.back()) << ", median "
-            << short_number(cells[cells.size() / 2]) << " (" << cells.size() << " cells with usable blocks)\n";
+            << short_number(100 * l.flat_share) << "% of voxels; white part " << short_number(l.sigma_white) << ")\n";
+        out << "correlation";
+        for (int a = 0; a < 3; ++a)
+            out << (a ? ", " : " ") << "xyz"[a] << " "
+                << (std::isnan(l.correlation[a]) ? std::string("n/a") : short_number(l.correlation[a]));
+        out << " voxels (width of the Gaussian smoothing the noise's correlation matches; 0: white)\n";
+        out << "noise map   " << dims_string(l.map_dims) << " cells of " << l.map_block << "^3: sigma percentiles "
+            << "10/50/90 " << short_number(l.spread[0]) << " / " << short_number(l.spread[1]) << " / "
+            << short_number(l.spread[2]) << "\n";
+        for (const std::string& note : noise_level_notes(l)) out << "note        " << note << "\n";
     }
     out << "surface     is the surface at s noise-dominated? r(s) = noise / gradient per isovalue (Theorem 1 "
-           "inverted)\n";
+           "inverted; it assumes independent noise)\n";
     if (e.used == 0) {
         out << "            n/a: no well-populated isovalue has an edge dimension in [" << noise_fd_min << ", "
             << noise_fd_max << "] (below: too clean to measure; above: noise dominates)\n";

@@ -211,10 +211,17 @@ std::string answer_section(const json& j) {
         o << "&sigma; " << number(j, "/noise/sigma") << " (no block of the volume is usable)";
     else
         o << "&sigma; = " << number(j, "/noise/sigma", 4) << " grey values, estimated on a share "
-          << number(j, "/noise/flat_share", 3) << " of the voxels (second differences of flat blocks)";
-    o << ". Per isovalue (Theorem 1 inverted) r = noise / gradient " << number(j, "/noise/surface/ratio", 4)
-      << " (median over " << number(j, "/noise/surface/isovalues_used") << " isovalues). 4D dimension D4 = "
-      << number(j, "/fd4/d4", 5) << " (3: a smooth field, towards 4: noise).</p></section>\n";
+          << number(j, "/noise/flat_share", 3) << " of the voxels (second differences of flat blocks); white part "
+          << number(j, "/noise/sigma_white", 4) << ", correlation widths " << number(j, "/noise/correlation/0", 3)
+          << ", " << number(j, "/noise/correlation/1", 3) << ", " << number(j, "/noise/correlation/2", 3)
+          << " voxels (x, y, z; 0: white); the map's percentiles 10/50/90 " << number(j, "/noise/spread/p10", 3)
+          << " / " << number(j, "/noise/spread/p50", 3) << " / " << number(j, "/noise/spread/p90", 3);
+    o << ". Per isovalue (Theorem 1 inverted, independent noise assumed) r = noise / gradient "
+      << number(j, "/noise/surface/ratio", 4) << " (median over " << number(j, "/noise/surface/isovalues_used")
+      << " isovalues). 4D dimension D4 = " << number(j, "/fd4/d4", 5) << " (3: a smooth field, towards 4: noise).</p>\n";
+    for (const json& note : j["noise"].value("notes", json::array()))
+        o << "<p class=\"note\">" << escape(note.get<std::string>()) << "</p>\n";
+    o << "</section>\n";
     return o.str();
 }
 
