@@ -396,6 +396,7 @@ std::vector<double> width_grid() {
 struct CorrelationFit {
     std::array<double, 3> width{};  // NaN: no strided residual along the axis
     double white = 0;               // b, the white part's variance
+    double error = 0;               // the fit's sum of squares
 };
 
 // How a fit weighs the strides: in log, (V(s e_a) - b) / (V(1) - b) against f(s) / f(1); or
@@ -456,7 +457,7 @@ CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& 
             }
             error += axis_best;
         }
-        if (feasible && error < best_error) best_error = error, best = fit;
+        if (feasible && error < best_error) best_error = error, best = fit, best.error = error;
     }
     return best;
 }
@@ -531,13 +532,24 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     std::vector<double> v(b.strides.size());
     for (std::size_t m = 0; m < v.size(); ++m) v[m] = pooled_strided(b.strided_sums[m], b.strided_counts[m], flat, o.clip);
     // The fit in log; where it finds white noise, the relative fit, taken when its sigma is
-    // over five times sigma_white (the rounding of integer data can hide strongly correlated noise
-    // from the log fit's small differences; edges read by the wider taps give less).
+    // over five times sigma_white and it fits ten times better than white noise (V(s) = V(1))
+    // does (the rounding of integer data can hide strongly correlated noise from the log fit's
+    // small differences; edges read by the wider taps give less, and on white noise any width
+    // with b near V(1) fits about as well as none).
     NoiseLevel relative = r;
     const bool white = !sigma_at_fit(b, v, v1, fit_correlation(b, v, v1, FitScale::log), r);
-    if (white && sigma_at_fit(b, v, v1, fit_correlation(b, v, v1, FitScale::relative), relative) &&
-        relative.sigma > 5 * r.sigma_white)
-        r = relative;
+    if (white) {
+        const CorrelationFit fit = fit_correlation(b, v, v1, FitScale::relative);
+        double white_error = 0;
+        for (std::size_t m = 0; m < b.strides.size(); ++m) {
+            const NoiseStride& st = b.strides[m];
+            if (int(st[0] > 1) + int(st[1] > 1) + int(st[2] > 1) == 1 && v[m] > 0)
+                white_error += (v[m] - v1) * (v[m] - v1) / (v[m] * v[m]);
+        }
+        if (sigma_at_fit(b, v, v1, fit, relative) && relative.sigma > 5 * r.sigma_white &&
+            fit.error * 10 < white_error)
+            r = relative;
+    }
     const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
     const std::size_t mask = std::size_t(at - b.strides.begin());
     const double vm = at == b.strides.end() ? v1 : v[mask];

@@ -54,7 +54,8 @@
 // 6 voxels, even in log); b is the value of V(1) (1 - 10^-t), t = 0, 0.004, .., 3.996, that fits
 // the three axes best. Where that finds white noise, the same fit of V(s e_a) against
 // b + (V(1) - b) f_a(s) / f_a(1), the differences over V(s e_a), is taken instead when its sigma
-// is over five times sigma_white: where rounding dominates V(1) (8-bit data, widths near 1.5), the
+// is over five times sigma_white and its sum of squares under a tenth of white noise's (V(s) =
+// V(1)): where rounding dominates V(1) (8-bit data, widths near 1.5), the
 // log fit's small differences hide strongly correlated noise. correlation = (w_x, w_y, w_z), a width under 0.35 voxels taken as 0
 // (white): edges that the wider taps reach raise every V(s) a little, which reads as widths of
 // 0.2 to 0.3 on white noise.
