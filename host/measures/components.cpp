@@ -528,8 +528,9 @@ private:
 
 // The links of one sweep between the boundary vertices of a slab (components_slab.hpp): the
 // roots that hold a boundary vertex (one bit a vertex), the representative boundary vertex of
-// each (an array over the vertices, read at held roots only: a hash map's node per entry cost
-// the 384^3 phantom's slabs a fifth of their time), and a link whenever a union joins two
+// each (an array over the vertices, read at held roots only: with a hash map, a node
+// allocated per entry, the 384^3 phantom's slabs of 3.5 Mi vertices took 25.6 CPU seconds
+// instead of 17.7), and a link whenever a union joins two
 // roots that both hold one. Inactive without an output.
 template <class I> class BoundaryLinks {
 public:
