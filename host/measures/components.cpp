@@ -905,16 +905,20 @@ ComponentCurve counted_whole(Context& ctx, const Volume& v, const IsovalueSet& i
 }
 
 // Vertices a slab of the sliced sweeps aims at (slab_step): its order, masks and forest (12
-// bytes a vertex, 48 MiB) within reach of the caches and TLB, and a shared slice in every few
+// bytes a vertex, 12 MiB) within reach of the caches and TLB, and a shared slice in every few
 // of its own. Measured on the 384^3 uint16 phantom (CPU seconds of the whole curve, 2 cores):
-// 1.3 Mi vertices a slab 24.1, 3.5 Mi 17.7, 8.3 Mi 18.1, the volume in one piece 28.4.
-constexpr std::size_t slab_vertices = std::size_t(1) << 22;
+// 1.3 Mi vertices a slab 24.1, 2 Mi 17.7, 3.5 Mi 17.7, 8.3 Mi 18.1, the volume in one piece
+// 28.4. 2^20 rather than the fastest 2^21..2^22: each thread's slab holds about 20 bytes a
+// vertex beside what `report` holds, and that phantom's report (bound 688 MiB) read a peak of
+// 695 MiB at 2^22 and 686 MiB at 2^21.
+constexpr std::size_t slab_vertices = std::size_t(1) << 20;
 
 // Slices between the starts of consecutive slabs of the sliced sweeps (each slab holds one
 // more, shared with the next), 0 for the volume in one piece: Tuning::component_slab_slices
-// when set, else slab_vertices / (nx ny), at least 2. One piece when the volume is no larger
-// than two such slabs, has fewer than 3 slices, or its slices or isovalues pass what the
-// links number (2 nx ny and K + 1 below 2^32).
+// when set, else slab_vertices / (nx ny), at least 4 (a slab of 3 slices would be two thirds
+// boundary). One piece when the volume is no larger than two such slabs, has fewer than 3
+// slices, or its slices or isovalues pass what the links number (2 nx ny and K + 1 below
+// 2^32).
 std::size_t slab_step(const Context& ctx, const Volume& v, const IsovalueSet& iso) {
     const Dims d = v.dims();
     const std::size_t nxy = d.nx * d.ny;
@@ -923,7 +927,7 @@ std::size_t slab_step(const Context& ctx, const Volume& v, const IsovalueSet& is
     std::size_t step = ctx.tuning.component_slab_slices;
     if (!step) {
         if (v.vertices() <= 2 * slab_vertices) return 0;
-        step = std::max<std::size_t>(2, slab_vertices / nxy);
+        step = std::max<std::size_t>(4, slab_vertices / nxy);
     }
     return step < d.nz - 1 ? step : 0;
 }

@@ -46,7 +46,7 @@ struct ComponentCurve {
 /// whose range holds at most 2^20 values (histogram on the device), else a parallel sort
 /// (32-bit keys for 32-bit types, comparisons for float64); the two sweeps run
 /// on the host (they are sequential). Memory: 8 bytes per vertex (16 above 2^32 vertices)
-/// beyond the volume. A volume of more than 2^23 vertices is cut into z-slabs of about 2^22
+/// beyond the volume. A volume of more than 2^21 vertices is cut into z-slabs of about 2^20
 /// vertices sharing a slice (Tuning::component_slab_slices), each ordered and swept on the
 /// host on every core at once and all joined exactly by their boundary links
 /// (docs/definitions.md §28): the same curve, memory the volume + 12 bytes a slab vertex a
