@@ -7,6 +7,7 @@
 // first and of its current plane only (memory O(slice)); the chunks are then joined at their
 // seams. b0 of a set = its runs - the unions that joined two of its components.
 #include "clfractal/components.hpp"
+#include "measures/components_slab.hpp"
 #include "clfractal/error.hpp"
 #include "measures/row_mask.hpp"
 
@@ -472,12 +473,12 @@ void check_slice(std::size_t nx, std::size_t ny) {
         throw InputError("components at an isovalue: at most 2^30 vertices a slice");
 }
 
+}  // namespace
+
 void check_isovalues(const std::vector<double>& isovalues) {
     for (double s : isovalues)
         if (!std::isfinite(s)) throw InputError("isovalue must be finite");
 }
-
-}  // namespace
 
 std::vector<std::int64_t> count_components_at(const Volume& v, const std::vector<double>& isovalues,
                                               Connectivity mode) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "clfractal/components.hpp"
+#include "measures/components_slab.hpp"
 #include "device/kernel_call.hpp"
 #include "device/type_options.hpp"
 
@@ -22,11 +23,6 @@ bool device_labelling_takes(const Context& ctx, std::size_t vertices) {
 
 bool on_device(const Context& ctx, std::size_t vertices) {
     return ctx.tuning.labelling == LabellingPath::device && device_labelling_takes(ctx, vertices);
-}
-
-void check_isovalues(const std::vector<double>& isovalues) {
-    for (double s : isovalues)
-        if (!std::isfinite(s)) throw InputError("isovalue must be finite");
 }
 
 // Whether isovalue s puts every value of `type` in A or every one in C before any comparison:

@@ -34,6 +34,9 @@ struct SlabComponents {
     double seconds = 0;  ///< as ComponentCurve::seconds
 };
 
+/// InputError unless every isovalue is finite (count_components_at, on the host or the device).
+void check_isovalues(const std::vector<double>& isovalues);
+
 /// The curve of `slab` and its links; `first` / `last`: the first / last slice is shared with
 /// the slab before / after (a slab of one slice cannot share both).
 SlabComponents count_slab_components(Context& ctx, const Volume& slab, const IsovalueSet& iso, Connectivity mode,

@@ -255,23 +255,27 @@ NoiseBlocks noise_blocks(Context& ctx, const Volume& v, std::size_t block, std::
 
 namespace {
 
-// The middle of the shortest run of ceil(n / 2) consecutive sorted values (the first such
-// run on ties): the median of that run, the midpoint of its two middle values when it has an
-// even count.
-double shorth_centre(const std::vector<double>& sorted) {
+// The start of the shortest run of ceil(n / 2) consecutive sorted values (the first such run
+// on ties).
+std::size_t shorth_start(const std::vector<double>& sorted) {
     const std::size_t n = sorted.size(), h = (n + 1) / 2;
     std::size_t best = 0;
     for (std::size_t i = 1; i + h <= n; ++i)
         if (sorted[i + h - 1] - sorted[i] < sorted[best + h - 1] - sorted[best]) best = i;
+    return best;
+}
+
+// The middle of that run: its median, the midpoint of its two middle values when it has an
+// even count.
+double shorth_centre(const std::vector<double>& sorted) {
+    const std::size_t h = (sorted.size() + 1) / 2, best = shorth_start(sorted);
     return 0.5 * (sorted[best + (h - 1) / 2] + sorted[best + h / 2]);
 }
 
-// The length of that shortest run.
+// The length of that run.
 double shorth_length(const std::vector<double>& sorted) {
-    const std::size_t n = sorted.size(), h = (n + 1) / 2;
-    double best = sorted[h - 1] - sorted[0];
-    for (std::size_t i = 1; i + h <= n; ++i) best = std::min(best, sorted[i + h - 1] - sorted[i]);
-    return best;
+    const std::size_t h = (sorted.size() + 1) / 2, best = shorth_start(sorted);
+    return sorted[best + h - 1] - sorted[best];
 }
 
 // What a block is to the estimate: left out; usable but its residuals all 0 (a constant or
