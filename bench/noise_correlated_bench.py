@@ -8,7 +8,9 @@ CTs against the standard deviation of their uniform regions.
 
 Bases. Real anatomy of DIR smoothed with a Gaussian of 1.5 (seg3d_mr, an MRI head, cropped to
 96 x 128 x 96; mni_avg152t1; niivue_ct_pitch, a head CT, cropped to 96 x 128 x 56), and a
-sharp phantom (96^3: three nested spheres and a box, piecewise constant). Each is scaled into
+sharp phantom (96^3: three nested spheres and a box, piecewise constant) and a shaded one (96^3:
+the memory benchmark's ellipsoid shaded by a sinusoid, a bright ring, a dark background,
+without its noise; structure that the wider taps reach). Each is scaled into
 its value type with room for the noise (no clipping): uint8 (x 0.7 + 40); seg3d_mr and the
 phantom also int16 (grey values and noise x 8) and float32.
 
@@ -78,6 +80,19 @@ def phantom(n):
     return v + np.where(box, 90.0, 0.0)
 
 
+def shaded(n):
+    """The structure of bench/memory_bench.py's phantom without its noise: an ellipsoid body
+    shaded by 150 sin(0.05 x) cos(0.07 y) (in voxels of a 384^3 volume, scaled to n), a bright
+    ring inside it and a dark background, n^3."""
+    z, y, x = np.meshgrid(*[np.arange(n, dtype=np.float64) * (384.0 / n)] * 3, indexing="ij")
+    c, m = 383 / 2.0, 384.0
+    r = np.sqrt(((x - c) / (0.45 * m)) ** 2 + ((y - c) / (0.38 * m)) ** 2 + ((z - c) / (0.48 * m)) ** 2)
+    body = 1000 + 150 * np.sin(x * 0.05) * np.cos(y * 0.07)
+    rb = np.sqrt(((x - c) / (0.15 * m)) ** 2 + ((y - c - 0.1 * m) / (0.12 * m)) ** 2)
+    bone = 1800 + 1700 * np.clip(1 - np.abs(rb - 0.9) / 0.1, 0, 1)
+    return np.where(r > 1, 40.0, np.where((rb > 0.8) & (rb < 1.0), bone, body))
+
+
 def bases(data):
     out = []
     if data:
@@ -96,6 +111,7 @@ def bases(data):
             if a is not None:
                 out.append((name, a, mri, types))
     out.append(("phantom", phantom(96), False, (np.uint8, np.int16, np.float32)))
+    out.append(("shaded", shaded(96), False, (np.uint8, np.int16, np.float32)))
     return out
 
 
@@ -215,8 +231,11 @@ def summary(rows):
         if family_group(r["family"]) == "correlated" and r["family"] not in fams:
             fams.append(r["family"])
     keys += [(f, lambda r, f=f: r["family"] == f) for f in fams]
-    keys += [("correlated, anatomy", lambda r: family_group(r["family"]) == "correlated" and r["base"] != "phantom"),
-             ("correlated, phantom", lambda r: family_group(r["family"]) == "correlated" and r["base"] == "phantom")]
+    keys += [("correlated, anatomy",
+              lambda r: family_group(r["family"]) == "correlated" and r["base"] not in ("phantom", "shaded")),
+             ("correlated, phantom", lambda r: family_group(r["family"]) == "correlated" and r["base"] == "phantom"),
+             ("correlated, shaded", lambda r: family_group(r["family"]) == "correlated" and r["base"] == "shaded"),
+             ("white, shaded", lambda r: r["family"] == "white" and r["base"] == "shaded")]
     for label, pick in keys:
         sel = [r for r in rows if pick(r)]
         if not sel:

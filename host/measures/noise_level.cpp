@@ -494,6 +494,38 @@ bool sigma_at_fit(const NoiseBlocks& b, const std::vector<double>& v, double v1,
     return fit.width[0] > 0 || fit.width[1] > 0 || fit.width[2] > 0;
 }
 
+// Whether the correlated part the fit finds can be told from structure. Structure that the
+// wider taps reach (edges, shading) raises V(s) a little, faster the wider the taps (a smooth
+// field's second difference grows as s^2, its square as s^4), which the model can read as a
+// sliver of noise two or more voxels wide and so as a sigma many times sigma_white (the
+// white-noise phantom of bench/memory_bench.py read 11x its noise). Such a fit is refused when
+// both hold over the axes it calls correlated: V(s) rises faster at wider taps, the sums of
+// V(8 e_a) - V(4 e_a) over 1.5 times those of V(4 e_a) - V(2 e_a) (the model's own f gives at
+// most 1.43 up to w = 2.2 voxels: 0.05 at w = 1, 0.39 at 1.5), and the correlated part is a
+// sliver, under a quarter of V(4 e_a) along some axis, (V(4 e_a) - b) / V(4 e_a) < 1/4 with b
+// the fit's white part. Axes without strides 2, 4 and 8 are not counted.
+bool told_from_structure(const NoiseBlocks& b, const std::vector<double>& v, const std::array<double, 3>& width,
+                         double white) {
+    double rise_wide = 0, rise_near = 0, least_share = 1;
+    for (int a = 0; a < 3; ++a) {
+        if (!(width[a] > 0)) continue;
+        double at[9] = {};
+        bool found[9] = {};
+        for (std::size_t m = 0; m < b.strides.size(); ++m) {
+            const NoiseStride& st = b.strides[m];
+            const int s = st[a];
+            if (int(st[0] > 1) + int(st[1] > 1) + int(st[2] > 1) != 1 || s <= 1 || s > 8 || !std::isfinite(v[m]))
+                continue;
+            at[s] = v[m], found[s] = true;
+        }
+        if (!found[2] || !found[4] || !found[8] || !(at[4] > 0)) continue;
+        rise_wide += at[8] - at[4];
+        rise_near += at[4] - at[2];
+        least_share = std::min(least_share, (at[4] - white) / at[4]);
+    }
+    return !(rise_wide > 1.5 * rise_near && least_share < 0.25);
+}
+
 }  // namespace
 
 NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions& o) {
@@ -540,8 +572,20 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     // does (the rounding of integer data can hide strongly correlated noise from the log fit's
     // small differences; edges read by the wider taps give less, and on white noise any width
     // with b near V(1) fits about as well as none).
-    NoiseLevel relative = r;
-    const bool white = !sigma_at_fit(b, v, v1, fit_correlation(b, v, v1, FitScale::log), r);
+    // Either fit is taken only where its correlated part can be told from structure
+    // (told_from_structure);
+    // else the noise reads as white, sigma = sigma_white.
+    NoiseLevel relative = r, white_level = r;
+    const CorrelationFit log_fit = fit_correlation(b, v, v1, FitScale::log);
+    bool white = !sigma_at_fit(b, v, v1, log_fit, r);
+    if (!white && !told_from_structure(b, v, r.correlation, log_fit.white)) {
+        CorrelationFit none{r.correlation, 0.0, 0.0};
+        for (double& w : none.width)
+            if (!std::isnan(w)) w = 0;
+        r = white_level;
+        sigma_at_fit(b, v, v1, none, r);
+        white = true;
+    }
     if (white) {
         const CorrelationFit fit = fit_correlation(b, v, v1, FitScale::relative);
         double white_error = 0;
@@ -551,7 +595,7 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
                 white_error += (v[m] - v1) * (v[m] - v1) / (v[m] * v[m]);
         }
         if (sigma_at_fit(b, v, v1, fit, relative) && relative.sigma > 5 * r.sigma_white &&
-            fit.error * 10 < white_error)
+            fit.error * 10 < white_error && told_from_structure(b, v, relative.correlation, fit.white))
             r = relative;
     }
     const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);

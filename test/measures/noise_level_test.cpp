@@ -296,6 +296,33 @@ TEST_CASE("Noise level: Gaussian-smoothed noise reads as its standard deviation,
     }
 }
 
+TEST_CASE("Noise level: white noise on shaded and edged structure reads as white, not as wide correlation") {
+    // An ellipsoid body shaded by 150 sin(0.05 x) cos(0.07 y), a bright ring inside it and a
+    // dark background, uniform white noise of standard deviation 80 / sqrt(12) = 23.09 in the
+    // body (uint16). The structure the wider taps reach raises V(s) as s grows, faster the
+    // wider: read as correlation, it gave sigma 571 here (24.7x).
+    const std::size_t n = 128;
+    Volume v(Dims{n, n, n}, ValueType::uint16);
+    std::mt19937 rng(88172645);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double c = (n - 1) / 2.0;
+    for (std::size_t z = 0; z < n; ++z)
+        for (std::size_t y = 0; y < n; ++y)
+            for (std::size_t x = 0; x < n; ++x) {
+                const double X = double(x), Y = double(y), Z = double(z);
+                const double r = std::hypot(std::hypot((X - c) / (0.45 * n), (Y - c) / (0.38 * n)), (Z - c) / (0.48 * n));
+                const double rb = std::hypot((X - c) / (0.15 * n), (Y - c - 0.1 * n) / (0.12 * n));
+                const double body = 1000 + 150 * std::sin(X * 0.05) * std::cos(Y * 0.07) + 80 * (u(rng) - 0.5);
+                const double bone = 1800 + 1700 * (1 - std::abs(rb - 0.9) / 0.1) + 100 * (u(rng) - 0.5);
+                const double value = r > 1 ? 20 + 40 * u(rng) : rb > 0.8 && rb < 1.0 ? bone : body;
+                v.as<std::uint16_t>()[v.index(x, y, z)] = std::uint16_t(std::lround(value));
+            }
+    const NoiseLevel l = estimate_noise_level(ctx(), v);
+    CHECK(l.sigma == doctest::Approx(80 / std::sqrt(12.0)).epsilon(0.05));
+    CHECK(l.sigma == l.sigma_white);
+    for (int k = 0; k < 3; ++k) CHECK(l.correlation[k] == 0);
+}
+
 TEST_CASE("Noise level: no residual, no usable block, bad options") {
     const Volume flat(Dims{20, 20, 20}, ValueType::uint8);  // all 0: every block reads the extremes
     NoiseLevel l = estimate_noise_level(ctx(), flat);
