@@ -13,7 +13,8 @@
 #   bench/components_peer.sh [--build DIR] [--volume F] [--ijk PATH] [--runs R]
 #
 # Default: build/, ../shared/data/bonsai_256x256x256_uint8.raw, R = 5. ijkscalarinfo reads
-# NRRD: with --ijk, give a .nrrd volume.
+# NRRD: a raw volume named NAME_XxYxZ_TYPE.raw gets a detached header (.nhdr) naming it, in
+# the work folder; clfractal reads the raw file itself.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=build volume=$here/../shared/data/bonsai_256x256x256_uint8.raw ijk=$(command -v ijkscalarinfo || true) runs=5
@@ -32,17 +33,23 @@ mkdir -p "$work"
 timed() { /usr/bin/time -f "%e" -o "$work/time.txt" "$@" >/dev/null 2>"$work/stderr.txt" || {
   cat "$work/stderr.txt" >&2; exit 1; }; cat "$work/time.txt"; }
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+peer_volume=$volume
+if [[ -n "$ijk" && $volume =~ _([0-9]+)x([0-9]+)x([0-9]+)_([a-z0-9]+)\.raw$ ]]; then
+  peer_volume=$work/peer_volume.nhdr
+  printf 'NRRD0004\ntype: %s\ndimension: 3\nsizes: %s %s %s\nendian: little\nencoding: raw\ndata file: %s\n' \
+    "${BASH_REMATCH[4]}" "${BASH_REMATCH[1]}" "${BASH_REMATCH[2]}" "${BASH_REMATCH[3]}" "$(realpath "$volume")" > "$peer_volume"
+fi
 declare -a ours peer
 for ((i = 0; i < runs; i++)); do
   ours+=("$(timed "$clf" -q components "$volume" --csv "$work/components.csv")")
-  [ -z "$ijk" ] || peer+=("$(timed "$ijk" -components "$volume")")
+  [ -z "$ijk" ] || peer+=("$(timed "$ijk" -components "$peer_volume")")
 done
 echo "volume                  $volume, $runs runs, interleaved"
 echo "clfractal components    wall ${ours[*]} s (median $(median "${ours[@]}"))"
 if [ -n "$ijk" ]; then
   echo "ijkscalarinfo           wall ${peer[*]} s (median $(median "${peer[@]}"))"
   awk -v a="$(median "${ours[@]}")" -v b="$(median "${peer[@]}")" 'BEGIN { printf "ijkscalarinfo / clfractal: %.1fx\n", b / a }'
-  (cd "$work" && rm -f ./*.num_components.gplt && "$ijk" -components -plot "$volume" >/dev/null)
+  (cd "$work" && rm -f ./*.num_components.gplt && "$ijk" -components -plot "$peer_volume" >/dev/null)
   awk -F'[ ,]+' 'FNR == 1 { file++; next } file == 1 { ijk[$1 + 1] = $2; next }
     ($1 in ijk) { n++; if (ijk[$1] != $2) { bad++; if (bad <= 5) print "  differs at isovalue " $1 ": " ijk[$1] " vs " $2 } }
     END { printf "counts: %d isovalues compared, %d differ\n", n, bad; exit (n == 0 || bad > 0) }' \

@@ -18,6 +18,7 @@ import datetime
 import os
 import platform
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -26,9 +27,11 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def sections(b, py, data, tmp):
+def sections(b, py, data, tmp, ijk):
     """NAME -> (page, command, how its output becomes markdown: text | markdown | file:PATH)."""
     md = lambda name: os.path.join(tmp, name + ".md")
+    peer = lambda volume: ["bash", "bench/components_peer.sh", "--build", b, "--volume", os.path.join(data, volume),
+                           "--runs", "5"] + (["--ijk", ijk] if ijk else [])
     return {
         "span": ("performance.md", [f"{b}/clfractal", "-q", "bench", "--size", "256", "--repeats", "3"], "text"),
         "local": ("performance.md", [py, "bench/local_bench.py", "--bench", f"{b}/clfractal_local_bench",
@@ -36,6 +39,8 @@ def sections(b, py, data, tmp):
         "components": ("performance.md", [f"{b}/clfractal_components_bench", "--size", "256",
                                           "--uint16-size", "128", "--bfs-isovalues", "4", "--path-isovalues", "3"],
                        "text"),
+        "components_peer": ("performance.md", peer("bonsai_256x256x256_uint8.raw"), "text"),
+        "components_peer_mr": ("performance.md", peer("seg3d_mr_160x232x160_uint8.raw"), "text"),
         "components_scale": ("performance.md", [py, "bench/components_scale_bench.py", f"{b}/clfractal",
                                                 "--work", os.path.join(tmp, "components_scale"), "--markdown"],
                              "markdown"),
@@ -136,14 +141,19 @@ def main():
     ap.add_argument("--only", action="append", help="run only these sections")
     ap.add_argument("--denoise", action="store_true", help="also rerun bench/denoise_benchmark.py (minutes)")
     ap.add_argument("--list", action="store_true", help="list the sections and their commands")
+    ap.add_argument("--ijk", default=shutil.which("ijkscalarinfo"),
+                    help="Wenger's ijkscalarinfo for the components_peer sections (bench/components_peer.sh says "
+                         "how to build it; default: the one on PATH, else clfractal alone)")
     a = ap.parse_args()
     b = os.path.abspath(a.build)
     py = a.python or os.path.join(b, "python-venv", "bin", "python")
     with tempfile.TemporaryDirectory() as tmp:
         data = os.path.abspath(a.data)
-        table = sections(b, py, data, tmp)
+        table = sections(b, py, data, tmp, a.ijk and os.path.abspath(a.ijk))
         subs = {b: "build", py: "build/python-venv/bin/python" if a.python is None else "python3",
                 data: "../shared/data", tmp: "OUT"}
+        if a.ijk:
+            subs[os.path.abspath(a.ijk)] = "ijkscalarinfo"
         if a.list:
             for name, (page, cmd, _) in table.items():
                 print(f"{name:11s} {page:15s} {shown(cmd, subs)}")
