@@ -10,7 +10,9 @@ Clean volumes (float32, so that neither noise nor filters are clipped or quantis
            Otsu's rule on the clean volume.
 Known noise from a fixed seed: uniform [-mu, mu] with mu = 0.3 c and 0.6 c, Gaussian with
 sigma = 0.15 c and 0.3 c, c the contrast (100 for the phantoms, half the 1..99 percentile
-range for the real volumes).
+range for the real volumes); and in tables of their own (", correlated noise") correlated
+Gaussian noise of sigma 0.15 c and 0.3 c, white noise smoothed by a Gaussian of 1 voxel and
+rescaled, as a reconstruction kernel or an earlier filter leaves it.
 
 Every method runs through the command-line tool (`clfractal filter`, `clfractal smooth`) on
 the noisy volume; each result is scored against the clean volume at the isovalue s:
@@ -106,14 +108,21 @@ def real_volume(data, name, crop):
 
 def noises(c, smoke):
     cases = [("gaussian", 0.3 * c)] if smoke else [("uniform", 0.3 * c), ("uniform", 0.6 * c),
-                                                   ("gaussian", 0.15 * c), ("gaussian", 0.3 * c)]
+                                                   ("gaussian", 0.15 * c), ("gaussian", 0.3 * c),
+                                                   ("correlated", 0.15 * c), ("correlated", 0.3 * c)]
     return cases
 
 
 def add_noise(clean, kind, level, seed):
+    """(noisy volume, the noise's standard deviation). correlated: Gaussian noise smoothed by a
+    Gaussian of 1 voxel (periodic borders, so that every voxel's noise is alike), rescaled to
+    standard deviation `level`: the noise of a reconstruction kernel or an earlier filter."""
     rng = np.random.default_rng(seed)
     if kind == "uniform":
         noise, sigma = rng.uniform(-level, level, clean.shape), level / math.sqrt(3)
+    elif kind == "correlated":
+        noise = ndimage.gaussian_filter(rng.normal(0, 1, clean.shape), 1.0, mode="wrap")
+        noise, sigma = noise * (level / noise.std()), level
     else:
         noise, sigma = rng.normal(0, level, clean.shape), level
     return (clean + noise).astype(np.float32), sigma
@@ -297,9 +306,11 @@ def main():
         for family, name, clean, s, contrast in cases(args):
             thin = (clean >= s) & ~ndimage.binary_opening(clean >= s, structure=CROSS6)
             c_comp, c_d = components(clean, s), box_dimension(clean, s)
-            clean_stats.setdefault(family, []).append((name, s, c_comp, c_d, int(thin.sum())))
+            for table in (family, family + ", correlated noise"):
+                clean_stats.setdefault(table, []).append((name, s, c_comp, c_d, int(thin.sum())))
             for j, (kind, level) in enumerate(noises(contrast, args.smoke)):
                 noisy, sigma = add_noise(clean, kind, level, seed=1000 + j)
+                table = family + (", correlated noise" if kind == "correlated" else "")
                 for method, steps in methods(s, sigma).items():
                     try:
                         f, seconds = run_method(args.clfractal, work, noisy, steps)
@@ -308,7 +319,7 @@ def main():
                         continue
                     sc = scores(f, noisy, clean, s, thin)
                     sc.update(seconds=seconds, dcomp=abs(sc["comp"] - c_comp), dD=abs(sc["D"] - c_d))
-                    rows.setdefault(family, {}).setdefault(method, []).append(sc)
+                    rows.setdefault(table, {}).setdefault(method, []).append(sc)
                     if args.smoke and method.startswith("small comp."):
                         k = int(method.split("K")[1])
                         if not small_components_guarantee(f, s, k):
