@@ -4,13 +4,13 @@ and `clfractal report` on bench/memory_bench.py's uint16 CT-like phantoms, on ev
 on one, with wall time, CPU time (user + system of all threads) and peak resident memory from
 /usr/bin/time -v, against the memory bound of 4 volumes + 256 MiB.
 
-One core is `taskset -c 0` (the OpenMP sweeps and PoCL's threads all on CPU 0): the figure a
+One core (sides up to --one-core-up-to, 384 by default) is `taskset -c 0` (the OpenMP sweeps and PoCL's threads all on CPU 0): the figure a
 single-threaded run of the same build gives. Before the timed runs each command runs once on a
 16^3 phantom, so that the timed ones find their kernels in the program cache. The curves of the
 runs on one core and on all of them (`--csv`) must be identical, and so must the reports'
 component curves (each entry's `components` in their JSON's `curve`).
 
-    components_scale_bench.py CLFRACTAL [--size N]... [--work DIR] [--markdown]
+    components_scale_bench.py CLFRACTAL [--size N]... [--one-core-up-to N] [--work DIR] [--markdown]
 
 Exit 1 when a run fails, passes its bound, or two curves differ.
 """
@@ -49,6 +49,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("cli")
     ap.add_argument("--size", type=int, action="append", help="phantom side (repeatable; default 384 and 640)")
+    ap.add_argument("--one-core-up-to", type=int, default=384,
+                    help="run on one core too up to this side (default 384: the 640^3 report alone takes minutes)")
     ap.add_argument("--work", help="keep the phantoms and outputs here (default: a temporary folder)")
     ap.add_argument("--markdown", action="store_true", help="print a markdown table")
     a = ap.parse_args()
@@ -70,7 +72,7 @@ def main():
         bound = 4 * volume_bytes + 256 * MIB
         curves = {}
         for command in ("components", "report"):
-            for c in sorted({cores, 1}, reverse=True):
+            for c in sorted({cores, 1} if n <= a.one_core_up_to else {cores}, reverse=True):
                 tag = f"{command}{n}_{c}"
                 if command == "components":
                     out = os.path.join(work, tag + ".csv")
