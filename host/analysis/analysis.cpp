@@ -327,17 +327,25 @@ Advice advise(Context& ctx, const Volume& v, const IsovalueSet& iso, const Analy
 // (LD > 2.5; then its result, not filtered again, through the small-components filter of
 // size 20, the best for the component count in bench/denoise_benchmark.py; then LD > 2.2),
 // then the median everywhere; each re-runs the advice on its result, and the ladder stops at
-// the first that leaves a clean well-populated isovalue.
+// the first that leaves a clean well-populated isovalue. Where the noise is correlated (the
+// noise level's sigma over 1.5 sigma_white), the median everywhere, then its result through
+// the small-components filter of size 20: correlated noise makes smooth blobs whose LD stays
+// under the thresholds, which the targeted steps leave (bench/denoise_benchmark.py, noise
+// smoothed by 1 voxel: component error 4.8 to 63 after the targeted median and K 20, 0.8 to
+// 13 after the median and K 20).
 std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const IsovalueSet& iso,
-                                           const AnalysisOptions& o, double at) {
+                                           const AnalysisOptions& o, double at, bool correlated) {
     std::vector<DenoiseAttempt> tried;
     // (threshold, K): the targeted median where LD > threshold (NaN: the median everywhere),
     // then, for K > 0, the small-components filter of size K at the same isovalue.
-    const std::pair<double, std::size_t> steps[] = {{2.5, 0}, {2.5, 20}, {2.2, 0}, {NAN, 0}};
+    const std::vector<std::pair<double, std::size_t>> steps =
+        correlated ? std::vector<std::pair<double, std::size_t>>{{NAN, 0}, {NAN, 20}}
+                   : std::vector<std::pair<double, std::size_t>>{{2.5, 0}, {2.5, 20}, {2.2, 0}, {NAN, 0}};
+    const auto same_filter = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
     // The targeted median of the step before, kept when the next step filters it further (the
     // same threshold, then small components) instead of filtering again.
     std::optional<Volume> kept;
-    for (std::size_t i = 0; i < std::size(steps); ++i) {
+    for (std::size_t i = 0; i < steps.size(); ++i) {
         const auto& [h, k] = steps[i];
         const auto t0 = std::chrono::steady_clock::now();
         DenoiseAttempt d;
@@ -370,7 +378,8 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
         d.seconds = seconds_since(t0);
         tried.push_back(std::move(d));
         if (tried.back().clean) break;
-        if (i + 1 < std::size(steps) && !k && steps[i + 1].first == h && steps[i + 1].second) kept = std::move(out);
+        if (i + 1 < steps.size() && !k && same_filter(steps[i + 1].first, h) && steps[i + 1].second)
+            kept = std::move(out);
     }
     return tried;
 }
@@ -667,7 +676,8 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, Analys
     if (o.fd4) a.fd4 = fractal_dimension_4d(ctx, v);
     if (o.denoise && !a.clean && !a.recommended.empty()) {
         if (within(o, ladder_bytes(v)))
-            a.denoise = denoise_ladder(ctx, v, a.isovalues, o, a.best().isovalue);
+            a.denoise = denoise_ladder(ctx, v, a.isovalues, o, a.best().isovalue,
+                                       a.noise_level && a.noise_level->sigma > 1.5 * a.noise_level->sigma_white);
         else
             a.skipped.push_back("denoise: the filtered copy and its LD field need " + mib(ladder_bytes(v)) +
                                 " beyond the volume, above the memory budget of " + mib(o.memory_budget) +

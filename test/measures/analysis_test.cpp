@@ -16,6 +16,7 @@
 #include "clfractal/clfractal.h"
 #include "clfractal/components.hpp"
 #include "clfractal/filter.hpp"
+#include "clfractal/noise.hpp"
 #include "clfractal/small_components.hpp"
 #include "clfractal/synthetic.hpp"
 #include "clfractal/volume_io.hpp"
@@ -357,6 +358,62 @@ TEST_CASE("analyse: nothing clean, the denoising ladder finds a clean isovalue, 
     const std::string cmd = last.command("in.nrrd", "out.nrrd");
     CHECK(cmd.find("clfractal filter in.nrrd --median --fractal --iso ") == 0);
     CHECK(cmd.find(" -o out.nrrd") != std::string::npos);
+}
+
+TEST_CASE("analyse: correlated noise takes the median everywhere, then small components, not the targeted median") {
+    // A sphere's distance field (48^3, about 10 grey values a voxel across its surfaces) plus
+    // white Gaussian noise of standard deviation 2 and Gaussian noise smoothed by a Gaussian of
+    // 0.6 voxels rescaled to 30: no isovalue clean, and the noise level reads the noise as
+    // correlated (sigma over 1.5 sigma_white). The white ladder would start with the targeted
+    // median.
+    const double white = 2.0, correlated = 30.0;
+    SyntheticOptions so;
+    so.size = 48;
+    so.type = ValueType::float32;
+    const Volume sphere = make_synthetic("sphere", so);
+    NoiseOptions no;
+    no.kind = NoiseKind::gaussian;
+    no.amplitude = 1;
+    no.seed = 21;
+    const Volume zero(sphere.dims(), ValueType::float32);
+    const Volume smoothed = gaussian_filter(ctx(), add_noise(ctx(), zero, no), 0.6);
+    no.seed = 22;
+    const Volume fine = add_noise(ctx(), zero, no);
+    double sum2 = 0;
+    for (std::size_t i = 0; i < smoothed.vertices(); ++i) sum2 += smoothed.value(i) * smoothed.value(i);
+    const double scale = correlated / std::sqrt(sum2 / double(smoothed.vertices()));
+    Volume v(sphere.dims(), ValueType::float32);
+    for (std::size_t i = 0; i < v.vertices(); ++i)
+        v.as<float>()[i] = float(sphere.value(i) + scale * smoothed.value(i) + white * fine.value(i));
+    AnalysisOptions o;
+    o.surface_noise = false;
+    const Analysis a = analyse(ctx(), v, o);
+    REQUIRE(a.noise_level);
+    CHECK(a.noise_level->sigma > 1.5 * a.noise_level->sigma_white);
+    REQUIRE_FALSE(a.clean);
+    REQUIRE_FALSE(a.denoise.empty());
+    CHECK(a.denoise.size() <= 2);
+    const DenoiseAttempt& first = a.denoise.front();
+    CHECK_FALSE(first.targeted);
+    CHECK(first.small_components == 0);
+    CHECK(first.filter == "median");
+    // Each attempt's volume, made again from what it names: its changed share and its
+    // recommendations' dimensions by the reference.
+    Volume t = median_filter(ctx(), v);
+    for (const DenoiseAttempt& d : a.denoise) {
+        CAPTURE(d.filter);
+        CHECK_FALSE(d.targeted);
+        if (d.small_components) {
+            CHECK(d.small_components == 20);
+            t = small_components_filter(t, d.isovalue, d.small_components).volume;
+        }
+        std::size_t changed = 0;
+        for (std::size_t i = 0; i < v.vertices(); ++i) changed += t.value(i) != v.value(i);
+        CHECK(double(changed) / double(v.vertices()) == doctest::Approx(d.changed_share).epsilon(1e-12));
+        const RefCurve after = reference_curve(t, a.isovalues);
+        for (const Recommendation& e : d.recommended) CHECK(after.fd(e.index) == doctest::Approx(e.fd).epsilon(1e-12));
+    }
+    if (a.denoise.size() == 2) CHECK(a.denoise[1].filter == "median and small components (K 20)");
 }
 
 TEST_CASE("analysis JSON: the schema's keys, the entries equal the structs") {
