@@ -327,8 +327,8 @@ Advice advise(Context& ctx, const Volume& v, const IsovalueSet& iso, const Analy
 // (LD > 2.5; then its result, not filtered again, through the small-components filter of
 // size 20, the best for the component count in bench/denoise_benchmark.py; then LD > 2.2),
 // then the median everywhere; each re-runs the advice on its result, and the ladder stops at
-// the first that leaves a clean well-populated isovalue. Where the noise is correlated (the
-// noise level's sigma over 1.5 sigma_white), the median everywhere, then its result through
+// the first that leaves a clean well-populated isovalue. Where the noise is correlated
+// (noise_is_correlated), the median everywhere, then its result through
 // the small-components filter of size 20: correlated noise makes smooth blobs whose LD stays
 // under the thresholds, which the targeted steps leave (bench/denoise_benchmark.py, noise
 // smoothed by 1 voxel: component error 4.8 to 63 after the targeted median and K 20, 0.8 to
@@ -677,7 +677,7 @@ Analysis analyse(Context& ctx, const Volume& v, const AnalysisOptions& o, Analys
     if (o.denoise && !a.clean && !a.recommended.empty()) {
         if (within(o, ladder_bytes(v)))
             a.denoise = denoise_ladder(ctx, v, a.isovalues, o, a.best().isovalue,
-                                       a.noise_level && a.noise_level->sigma > 1.5 * a.noise_level->sigma_white);
+                                       a.noise_level && noise_is_correlated(*a.noise_level));
         else
             a.skipped.push_back("denoise: the filtered copy and its LD field need " + mib(ladder_bytes(v)) +
                                 " beyond the volume, above the memory budget of " + mib(o.memory_budget) +

@@ -573,8 +573,7 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     // small differences; edges read by the wider taps give less, and on white noise any width
     // with b near V(1) fits about as well as none).
     // Either fit is taken only where its correlated part can be told from structure
-    // (told_from_structure);
-    // else the noise reads as white, sigma = sigma_white.
+    // (told_from_structure); else the noise reads as white, sigma = sigma_white.
     NoiseLevel relative = r, white_level = r;
     const CorrelationFit log_fit = fit_correlation(b, v, v1, FitScale::log);
     bool white = !sigma_at_fit(b, v, v1, log_fit, r);
@@ -608,6 +607,8 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     return r;
 }
 
+bool noise_is_correlated(const NoiseLevel& l) { return l.sigma > 1.5 * l.sigma_white; }
+
 double noise_variation(const NoiseLevel& l) {
     return l.spread[0] > 0 ? l.spread[2] / l.spread[0] : std::numeric_limits<double>::quiet_NaN();
 }
@@ -629,7 +630,7 @@ std::vector<std::string> noise_level_notes(const NoiseLevel& l) {
         notes.push_back("noise varies " + three_digits(variation) + "x across the volume (the map's 90th percentile " +
                         three_digits(l.spread[2]) + " over its 10th " + three_digits(l.spread[0]) +
                         "; cells holding structure read high too)");
-    if (l.sigma > 1.5 * l.sigma_white) {
+    if (noise_is_correlated(l)) {
         std::string widths;
         for (int a = 0; a < 3; ++a)
             widths += (a ? ", " : "") + (std::isnan(l.correlation[a]) ? std::string("n/a") : three_digits(l.correlation[a]));

@@ -168,8 +168,13 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
 /// without a map value or where the 10th is 0).
 double noise_variation(const NoiseLevel& l);
 
+/// Whether the noise reads as correlated: sigma > 1.5 sigma_white (a white-noise estimate
+/// falls short by a third or more). The notes say so, and the denoising ladder then takes
+/// the median everywhere instead of the fractal-targeted median.
+bool noise_is_correlated(const NoiseLevel& l);
+
 /// Plain statements for the front ends, empty when neither holds: "noise varies 3.1x across
-/// the volume ..." when noise_variation > 1.5, and when sigma > 1.5 sigma_white, that the noise
+/// the volume ..." when noise_variation > 1.5, and when noise_is_correlated, that the noise
 /// is correlated, that a white-noise estimate reads sigma / sigma_white times less, and that
 /// Theorem 1 (independent noise: r(s), its amplitudes) under-states it too.
 std::vector<std::string> noise_level_notes(const NoiseLevel& l);
