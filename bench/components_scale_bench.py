@@ -4,8 +4,9 @@ and `clfractal report` on bench/memory_bench.py's uint16 CT-like phantoms, on ev
 on one, with wall time, CPU time (user + system of all threads) and peak resident memory from
 /usr/bin/time -v, against the memory bound of 4 volumes + 256 MiB.
 
-One core (sides up to --one-core-up-to, 384 by default) is `taskset -c 0` (the OpenMP sweeps and PoCL's threads all on CPU 0): the figure a
-single-threaded run of the same build gives. Before the timed runs each command runs once on a
+One core (sides up to --one-core-up-to, 384 by default) is `taskset -c 0` (the OpenMP
+sweeps and PoCL's threads all on CPU 0): the figure a single-threaded run of the same build
+gives. Before the timed runs each command runs once on a
 16^3 phantom, so that the timed ones find their kernels in the program cache. The curves of the
 runs on one core and on all of them (`--csv`) must be identical, and so must the reports'
 component curves (each entry's `components` in their JSON's `curve`).
@@ -22,27 +23,9 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from memory_bench import phantom  # noqa: E402
+from memory_bench import phantom, time_v  # noqa: E402
 
 MIB = 1 << 20
-
-
-def timed(cmd):
-    """(exit status, wall s, CPU s, peak RSS bytes) of one run under /usr/bin/time -v."""
-    p = subprocess.run(["/usr/bin/time", "-v"] + cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    wall = cpu = 0.0
-    rss = 0
-    for line in p.stderr.splitlines():
-        key, _, value = line.strip().rpartition(": ")
-        if key == "Maximum resident set size (kbytes)":
-            rss = int(value) * 1024
-        elif key.startswith("Elapsed (wall clock)"):
-            wall = sum(float(x) * 60 ** i for i, x in enumerate(reversed(value.split(":"))))
-        elif key in ("User time (seconds)", "System time (seconds)"):
-            cpu += float(value)
-    if p.returncode != 0:
-        sys.stderr.write(p.stderr[-2000:])
-    return p.returncode, wall, cpu, rss
 
 
 def main():
@@ -81,7 +64,7 @@ def main():
                     out = os.path.join(work, tag + ".json")
                     args = ["report", vol, "-o", os.path.join(work, tag + ".html"), "--json", out]
                 pin = ["taskset", "-c", "0"] if c == 1 and cores > 1 else []
-                rc, wall, cpu, rss = timed(pin + [a.cli, "-q"] + args)
+                rc, wall, cpu, rss = time_v(pin + [a.cli, "-q"] + args)
                 within = rc == 0 and rss <= bound
                 failed += not within
                 if rc == 0:

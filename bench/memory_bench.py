@@ -82,21 +82,29 @@ def bound(kind, volume_bytes, n):
     return (1.25 if kind == "fd" else 4.0) * volume_bytes + 256 * MIB
 
 
-def peak_rss(cli, args):
-    """(exit status, peak RSS in bytes, wall seconds) of one run."""
-    p = subprocess.run(["/usr/bin/time", "-v", cli, "-q"] + args, stdout=subprocess.DEVNULL,
-                       stderr=subprocess.PIPE, text=True)
-    rss, wall = 0, 0.0
+def time_v(cmd):
+    """(exit status, wall s, CPU s of user + system, peak RSS bytes) of one run of `cmd` under
+    /usr/bin/time -v."""
+    p = subprocess.run(["/usr/bin/time", "-v"] + cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    wall = cpu = 0.0
+    rss = 0
     for line in p.stderr.splitlines():
-        line = line.strip()
-        if line.startswith("Maximum resident set size"):
-            rss = int(line.split(":")[1]) * 1024
-        elif line.startswith("Elapsed (wall clock)"):
-            parts = line.split(": ")[-1].split(":")
-            wall = sum(float(x) * 60 ** i for i, x in enumerate(reversed(parts)))
+        key, _, value = line.strip().rpartition(": ")
+        if key == "Maximum resident set size (kbytes)":
+            rss = int(value) * 1024
+        elif key.startswith("Elapsed (wall clock)"):
+            wall = sum(float(x) * 60 ** i for i, x in enumerate(reversed(value.split(":"))))
+        elif key in ("User time (seconds)", "System time (seconds)"):
+            cpu += float(value)
     if p.returncode != 0:
         sys.stderr.write(p.stderr[-2000:])
-    return p.returncode, rss, wall
+    return p.returncode, wall, cpu, rss
+
+
+def peak_rss(cli, args):
+    """(exit status, peak RSS in bytes, wall seconds) of one run."""
+    rc, wall, _, rss = time_v([cli, "-q"] + args)
+    return rc, rss, wall
 
 
 def main():

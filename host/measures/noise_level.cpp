@@ -407,18 +407,23 @@ struct CorrelationFit {
 // relative, V(s e_a) against b + (V(1) - b) f(s) / f(1), the difference over V(s e_a).
 enum class FitScale { log, relative };
 
+// Whether stride st reaches wider along one axis alone.
+bool along_one_axis(const NoiseStride& st) { return int(st[0] > 1) + int(st[1] > 1) + int(st[2] > 1) == 1; }
+
+// Per axis, the strides along it alone with a finite V: (stride, V), in the order of b.strides.
+std::array<std::vector<std::pair<int, double>>, 3> strides_along(const NoiseBlocks& b, const std::vector<double>& v) {
+    std::array<std::vector<std::pair<int, double>>, 3> along;
+    for (std::size_t m = 0; m < b.strides.size(); ++m)
+        for (int a = 0; a < 3 && along_one_axis(b.strides[m]); ++a)
+            if (b.strides[m][a] > 1 && std::isfinite(v[m])) along[a].push_back({b.strides[m][a], v[m]});
+    return along;
+}
+
 // The header's fit: per axis the w that fits the strides along a alone best, for the b in
 // [0, V(1)) that fits the axes best.
 CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& v, double v1, FitScale scale) {
     static const std::vector<double> widths = width_grid();
-    // Per axis, the strides along it alone and their V.
-    std::array<std::vector<std::pair<int, double>>, 3> along;
-    for (std::size_t m = 0; m < b.strides.size(); ++m) {
-        const NoiseStride& st = b.strides[m];
-        const int axes = int(st[0] > 1) + int(st[1] > 1) + int(st[2] > 1);
-        for (int a = 0; a < 3 && axes == 1; ++a)
-            if (st[a] > 1 && std::isfinite(v[m])) along[a].push_back({st[a], v[m]});
-    }
+    const auto along = strides_along(b, v);
     // log(f(s) / f(1)) per axis, per stride along it, per width of the grid.
     std::array<std::vector<std::vector<double>>, 3> model;
     for (int a = 0; a < 3; ++a)
@@ -506,18 +511,14 @@ bool sigma_at_fit(const NoiseBlocks& b, const std::vector<double>& v, double v1,
 // the fit's white part. Axes without strides 2, 4 and 8 are not counted.
 bool told_from_structure(const NoiseBlocks& b, const std::vector<double>& v, const std::array<double, 3>& width,
                          double white) {
+    const auto along = strides_along(b, v);
     double rise_wide = 0, rise_near = 0, least_share = 1;
     for (int a = 0; a < 3; ++a) {
         if (!(width[a] > 0)) continue;
         double at[9] = {};
         bool found[9] = {};
-        for (std::size_t m = 0; m < b.strides.size(); ++m) {
-            const NoiseStride& st = b.strides[m];
-            const int s = st[a];
-            if (int(st[0] > 1) + int(st[1] > 1) + int(st[2] > 1) != 1 || s <= 1 || s > 8 || !std::isfinite(v[m]))
-                continue;
-            at[s] = v[m], found[s] = true;
-        }
+        for (const auto& [s, vs] : along[a])
+            if (s <= 8) at[s] = vs, found[s] = true;
         if (!found[2] || !found[4] || !found[8] || !(at[4] > 0)) continue;
         rise_wide += at[8] - at[4];
         rise_near += at[4] - at[2];
@@ -590,7 +591,7 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
         double white_error = 0;
         for (std::size_t m = 0; m < b.strides.size(); ++m) {
             const NoiseStride& st = b.strides[m];
-            if (int(st[0] > 1) + int(st[1] > 1) + int(st[2] > 1) == 1 && v[m] > 0)
+            if (along_one_axis(st) && v[m] > 0)
                 white_error += (v[m] - v1) * (v[m] - v1) / (v[m] * v[m]);
         }
         if (sigma_at_fit(b, v, v1, fit, relative) && relative.sigma > 5 * r.sigma_white &&
