@@ -173,10 +173,11 @@ std::vector<I> sorted_vertices(const Volume& v, const DeviceVolume* dv) {
 }
 
 // The neighbour masks of kernels/components.cl (neighbour_masks), on the host: used when
-// the volume or the masks exceed the device's largest allocation, and for z-slabs. Rows with
-// every neighbour inside (y and z not on the border) take each neighbour across the row at
-// once, one vectorised comparison a vertex, their first and last vertex and the border rows
-// a vertex at a time.
+// the volume or the masks exceed the device's largest allocation, and for z-slabs. Every row
+// takes each neighbour inside the grid across its inner vertices at once, one vectorised
+// comparison a vertex, and its first and last vertex one at a time. (Border rows a vertex at
+// a time made the masks a quarter of the 640^3 phantom's curve: its z-slabs of 5 slices are
+// two-fifths border.)
 template <class T>
 void neighbour_masks_host(const T* f, const Dims& d, const std::vector<Offset>& a, const std::vector<Offset>& c,
                           std::uint32_t* mask) {
@@ -203,7 +204,7 @@ void neighbour_masks_host(const T* f, const Dims& d, const std::vector<Offset>& 
 #pragma omp parallel for
     for (long z = 0; z < nz; ++z)
         for (long y = 0; y < ny; ++y) {
-            if (y == 0 || z == 0 || y + 1 == ny || z + 1 == nz || nx < 3) {
+            if (nx < 3) {
                 for (long x = 0; x < nx; ++x) vertex(x, y, z);
                 continue;
             }
@@ -212,6 +213,9 @@ void neighbour_masks_host(const T* f, const Dims& d, const std::vector<Offset>& 
             std::uint32_t* m = mask + row;
             std::fill(m, m + n, 0u);
             for (std::size_t q = 0; q < all.size(); ++q) {
+                // Rows on the y or z border: neighbours outside the grid keep their bit clear.
+                const long yq = y + all[q].dy, zq = z + all[q].dz;
+                if (yq < 0 || yq >= ny || zq < 0 || zq >= nz) continue;
                 const T* u = p + lin[q];
                 const std::uint32_t bit = std::uint32_t(1) << q;
                 // A's bits: the neighbour precedes (lower); C's: it follows (not lower).
@@ -915,8 +919,10 @@ constexpr std::size_t slab_vertices = std::size_t(1) << 20;
 
 // Slices between the starts of consecutive slabs of the sliced sweeps (each slab holds one
 // more, shared with the next), 0 for the volume in one piece: Tuning::component_slab_slices
-// when set, else slab_vertices / (nx ny), at least 4 (a slab of 3 slices would be two thirds
-// boundary). One piece when the volume is no larger than two such slabs, has fewer than 3
+// when set, else slab_vertices / (nx ny), at least 8: a thinner slab repeats too much of its
+// work on its shared slice and its boundary's links (640^3 uint16 phantom, 409,600 vertices a
+// slice, two runs each: 4 slices 37.1 and 33.9 s, 8 slices 30.9 and 31.4 s, 16 slices 30.1
+// and 35.1 s). One piece when the volume is no larger than two such slabs, has fewer than 3
 // slices, or its slices or isovalues pass what the links number (2 nx ny and K + 1 below
 // 2^32).
 std::size_t slab_step(const Context& ctx, const Volume& v, const IsovalueSet& iso) {
@@ -927,7 +933,7 @@ std::size_t slab_step(const Context& ctx, const Volume& v, const IsovalueSet& is
     std::size_t step = ctx.tuning.component_slab_slices;
     if (!step) {
         if (v.vertices() <= 2 * slab_vertices) return 0;
-        step = std::max<std::size_t>(4, slab_vertices / nxy);
+        step = std::max<std::size_t>(8, slab_vertices / nxy);
     }
     return step < d.nz - 1 ? step : 0;
 }

@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <stdexcept>
+
+#include <omp.h>
 
 #include "clfractal/error.hpp"
 #include "clfractal/local.hpp"
@@ -105,11 +108,32 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
     MeshClusters c(cell);
     const std::size_t plane = std::max<std::size_t>(1, v.dims().nx * v.dims().ny);
     if (layers == 0) layers = std::max<std::size_t>(1, (std::size_t(1) << 21) / plane);
-    for (std::size_t z0 = 0; z0 + 1 < v.dims().nz; z0 += layers) {
-        Mesh part = extract_isosurface_layers(v, s, z0, z0 + layers, method);
-        if (ld) part.ld = interpolate_on_vertices(part, *ld);
-        // The vertices within slice z0 came with the slab before (its last slice).
-        c.add(part, z0 ? std::uint64_t(z0 + 1) * plane : 0);
+    // A slab a thread extracted at once, then added in z order on one (the clusters are one
+    // hash table): the same clusters as one slab after the other.
+    const std::size_t threads = std::size_t(std::max(1, omp_get_max_threads()));
+    std::vector<Mesh> parts(threads);
+    std::exception_ptr failed;
+    for (std::size_t z = 0; z + 1 < v.dims().nz; z += threads * layers) {
+#pragma omp parallel for schedule(static, 1)
+        for (std::size_t t = 0; t < threads; ++t) {
+            const std::size_t z0 = z + t * layers;
+            parts[t] = Mesh();
+            if (z0 + 1 >= v.dims().nz) continue;
+            try {
+                parts[t] = extract_isosurface_layers(v, s, z0, z0 + layers, method);
+                if (ld) parts[t].ld = interpolate_on_vertices(parts[t], *ld);
+            } catch (...) {
+#pragma omp critical(cluster_isosurface_failure)
+                if (!failed) failed = std::current_exception();
+            }
+        }
+        if (failed) std::rethrow_exception(failed);
+        for (std::size_t t = 0; t < threads; ++t) {
+            const std::size_t z0 = z + t * layers;
+            if (z0 + 1 >= v.dims().nz) break;
+            // The vertices within slice z0 came with the slab before (its last slice).
+            c.add(parts[t], z0 ? std::uint64_t(z0 + 1) * plane : 0);
+        }
     }
     return c;
 }
