@@ -35,13 +35,6 @@ double population_floor(const FdCurve& f, double share) {
     return std::max(1.0, share * double(largest));
 }
 
-void check_advice(const AdviceOptions& o) {
-    if (!std::isfinite(o.clean_fd)) throw InputError("--clean-fd: must be a finite number");
-    if (!std::isfinite(o.noisy_fd) || o.noisy_fd < o.clean_fd)
-        throw InputError("noisy_fd: must be a finite number >= clean_fd");
-    if (!(o.clean_share >= 0 && o.clean_share <= 1)) throw InputError("--clean-share: must be in [0, 1]");
-    if (o.max_recommended == 0 || o.per_band == 0) throw InputError("max_recommended and per_band: must be >= 1");
-}
 
 // The boundary strength b(k) = sum over |j - k| <= w of I(j) / max(1, sum of h(j)), with
 // w = max(2, n / 32): the mean gradient of the surfaces near s_k in cubes per vertex. No
@@ -385,6 +378,14 @@ std::vector<DenoiseAttempt> denoise_ladder(Context& ctx, const Volume& v, const 
 }
 
 }  // namespace
+
+void check_advice(const AdviceOptions& o) {
+    if (!std::isfinite(o.clean_fd)) throw InputError("--clean-fd: must be a finite number");
+    if (!std::isfinite(o.noisy_fd) || o.noisy_fd < o.clean_fd)
+        throw InputError("noisy_fd: must be a finite number >= clean_fd");
+    if (!(o.clean_share >= 0 && o.clean_share <= 1)) throw InputError("--clean-share: must be in [0, 1]");
+    if (o.max_recommended == 0 || o.per_band == 0) throw InputError("max_recommended and per_band: must be >= 1");
+}
 
 template <> struct detail::NameTable<Verdict> {
     static constexpr const char* what = "verdict";

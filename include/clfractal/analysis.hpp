@@ -41,6 +41,11 @@ struct AdviceOptions {
 
 Verdict verdict_of(double fd, const AdviceOptions& o = {});
 
+/// Throws InputError when `o` is out of range: clean_fd not finite, noisy_fd not finite or
+/// below clean_fd, clean_share outside [0, 1], max_recommended or per_band 0. Every function
+/// that takes AdviceOptions checks them first.
+void check_advice(const AdviceOptions& o);
+
 /// One recommended isovalue (index into the curve) with the band it stands for.
 struct Recommendation {
     std::size_t index = 0;

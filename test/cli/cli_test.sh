@@ -186,13 +186,14 @@ expect 0 'mean FD' -- "$bin" -q fd st2_13x11x9_uint8.raw --edge --csv st2_whole.
 cmp -s st2_whole.csv st2_stream.csv && pass || fail "fd --stream (one pass, cropped) CSV differs from fd"
 # The whole answer streamed, as in core: the entries with their component counts (a second
 # pass over the file) and the boundary strength from the streamed histogram; the same text and
-# JSON but for the times (the in-core run without the denoising a stream cannot try).
+# JSON but for the times (both without the denoising ladder, which a stream cannot try and,
+# when nothing is clean, names in `skipped`).
 # (ns324: 34 MB, read in one part a core, the device started after the read.)
 "$bin" -q gen noisy-sphere --size 40 --noise 6 -o ns40.nrrd >/dev/null 2>&1 || fail "gen noisy-sphere"
 "$bin" -q gen noisy-sphere --size 324 --noise 6 -o ns324.nrrd >/dev/null 2>&1 || fail "gen noisy-sphere 324"
 for f in st_21x17x29_uint8.raw st.nrrd ns40.nrrd ns324.nrrd st8_19x15x13_int8.raw st16_19x15x13_int16.raw; do
   "$bin" -q fd "$f" --no-denoise --json whole.json 2>&1 | grep -v '^time' > whole.txt
-  "$bin" -q fd "$f" --stream --json streamed.json 2>&1 | grep -v '^time' > streamed.txt
+  "$bin" -q fd "$f" --stream --no-denoise --json streamed.json 2>&1 | grep -v '^time' > streamed.txt
   grep -q '^recommended.* [0-9][0-9]* components' streamed.txt && cmp -s whole.txt streamed.txt && pass ||
     fail "fd --stream on $f: not the in-core answer: $(diff whole.txt streamed.txt | head -4)"
   python3 - whole.json streamed.json <<'PY' && pass || fail "fd --stream --json on $f differs from fd --json"
@@ -203,6 +204,10 @@ for j in (a, b):  # the times, and how many device slabs each way took
 sys.exit(a != b or b["recommended"][0]["components"] is None)
 PY
 done
+# Nothing clean in st.nrrd: the stream says the ladder was not tried, in the text and the JSON.
+expect 0 '^skipped +denoise: nothing is clean, but the ladder filters the whole volume' -- \
+  "$bin" -q fd st.nrrd --stream --json st_skipped.json
+grep -q '"denoise: nothing is clean, but the ladder' st_skipped.json && pass || fail "fd --stream --json: no skipped ladder"
 expect 2 'clfractal: error: .*st_cut.nrrd.*gzip data truncated' -- "$bin" -q fd st_cut.nrrd --stream
 expect 2 'clfractal: error: .*st_plain.nrrd.*not gzip' -- "$bin" -q fd st_plain.nrrd --stream
 expect 2 'clfractal: error: .*short_10x10x10_uint8.raw.*truncated' -- "$bin" fd short_10x10x10_uint8.raw --stream

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# clfractal-mpi with 2 and 3 ranks gives exactly the single-process `clfractal fd` CSV, and
-# `clfractal-mpi components` exactly the `clfractal components` CSV.
+# clfractal-mpi with 2 and 3 ranks gives exactly the single-process `clfractal fd` CSV,
+# `clfractal-mpi fd --json` on 1 to 4 ranks the analysis of `clfractal fd --stream --json`, and
+# `clfractal-mpi components` exactly the `clfractal components` CSV and JSON.
 # Usage: mpi_test.sh MPIEXEC CLFRACTAL_MPI CLFRACTAL WORKDIR [SHARED_DATA]
 set -u
 mpiexec=$1
@@ -41,6 +42,35 @@ check_components() {  # check_components NP ARGS...: as check, for the component
     echo "ok: -np $np components $*"
   fi
 }
+check_fd_json() {  # check_fd_json NP ARGS...: the analysis JSON of NP ranks equals `fd --stream --json`'s
+  local np=$1
+  shift
+  rm -f mpi.json one.json
+  if ! "$mpiexec" --allow-run-as-root --oversubscribe -np "$np" "$mpi" fd "$@" --json mpi.json >mpi.out 2>&1; then
+    echo "FAIL: mpirun -np $np fd $*: $(cat mpi.out)"; failures=$((failures + 1)); return
+  fi
+  "$bin" -q fd --stream "$@" --json one.json >/dev/null
+  # The facts of one run (device, times, slabs, ranks) apart, byte for byte.
+  if ! /usr/bin/python3 - mpi.json one.json <<'PY'
+import json, sys
+run = {"device", "slabs", "ranks", "parts"}
+def analysis(path):
+    j = json.load(open(path))
+    assert j["recommended"], path + ": no recommendation to compare"
+    assert all("components" in e for e in j["recommended"]), path + ": a recommendation without components"
+    return json.dumps({k: v for k, v in j.items() if k not in run and not k.startswith("seconds")}, indent=1)
+a, b = analysis(sys.argv[1]), analysis(sys.argv[2])
+if a != b:
+    import difflib
+    print("".join(list(difflib.unified_diff(a.splitlines(1), b.splitlines(1)))[:12]))
+    sys.exit(1)
+PY
+  then
+    echo "FAIL: -np $np fd $* --json differs from fd --stream --json"; failures=$((failures + 1))
+  else
+    echo "ok: -np $np fd $* --json"
+  fi
+}
 check 2 synthetic:noisy-sphere:48
 check 3 synthetic:noisy-sphere:37 --edge --levels 3
 check 2 synthetic:marschner-lobb:41 --levels 3
@@ -56,6 +86,10 @@ head = head.replace(b"encoding: raw", b"encoding: gzip")
 open("ml_gz.nrrd", "wb").write(head + b"\n\n" + gzip.compress(data))
 PY
 check 2 ml_gz.nrrd --edge
+# fd's analysis (recommendations and their components, bands, skipped ladder) from 1 to 4 ranks.
+for np in 1 2 3 4; do check_fd_json $np synthetic:noisy-sphere:40; done
+check_fd_json 3 ml.nrrd --levels 3
+check_fd_json 2 synthetic:marschner-lobb:33 --bins 64 --clean-fd 2.1
 check_components 1 synthetic:noisy-sphere:30
 check_components 2 synthetic:noisy-sphere:30
 check_components 4 synthetic:noisy-sphere:30 --isovalues 100:102:1
@@ -84,6 +118,9 @@ if [ -n "$data" ] && [ -f "$data/MANIFEST.tsv" ]; then
   check 2 "$data/hydrogen_3d_orbital_64x64x64_float32.raw" --levels 3
   check 3 "$(ls "$data"/*_uint16.raw | head -1)" --levels 3
   check_components 2 "$data/fuel_cropped_64x33x32_uint8.raw"
+  check_fd_json 3 "$data/fuel_cropped_64x33x32_uint8.raw"
+  check_fd_json 2 "$data/hydrogen_3d_orbital_64x64x64_float32.raw"
+  check_fd_json 4 "$(ls "$data"/*_uint16.raw | head -1)"
   check_components 3 "$data/fuel_cropped_64x33x32_uint8.raw" --connectivity freudenthal
   check_components 3 "$data/hydrogen_3d_orbital_64x64x64_float32.raw" --bins 100
   check_components 2 "$(ls "$data"/*_uint16.raw | head -1)"

@@ -398,6 +398,28 @@ std::string components_csv(const IsovalueSet& iso, const std::vector<std::int64_
     return out.str();
 }
 
+nlohmann::json fd_analysis_json(const Analysis& an, const FdSummary& s, const FdJsonFacts& f) {
+    nlohmann::json j = nlohmann::json::parse(to_json(an));
+    j["volume"] = f.volume;
+    j["dims"] = {an.dims.nx, an.dims.ny, an.dims.nz};
+    j["type"] = value_type_name(an.type);
+    j["kind"] = f.edge ? "edge" : "box";
+    j["levels"] = f.levels;
+    j["min_count"] = f.min_count;
+    j["isovalues_total"] = an.isovalues.size();
+    j["isovalues_defined"] = s.defined;
+    j["mean_fd"] = fd_json(s.mean);
+    j["std_fd"] = fd_json(s.std);
+    j["weighted_mean_fd"] = fd_json(s.weighted_mean);
+    j["kappa"] = fd_json(s.kappa);
+    return j;
+}
+
+std::string denoise_not_streamed() {
+    return "denoise: nothing is clean, but the ladder filters the whole volume in one process's memory; "
+           "clfractal fd without --stream runs it";
+}
+
 std::string components_json(const std::string& volume, const Dims& dims, ValueType type, Connectivity mode,
                             const IsovalueSet& iso, const std::vector<std::int64_t>& components) {
     nlohmann::json j;

@@ -163,6 +163,23 @@ std::string components_json(const std::string& volume, const clfractal::Dims& di
                             clfractal::Connectivity mode, const clfractal::IsovalueSet& iso,
                             const std::vector<std::int64_t>& components);
 
+/// What `fd --json` says besides the analysis (clfractal::to_json): how the curve was counted.
+struct FdJsonFacts {
+    std::string volume;  ///< as given
+    bool edge = false;
+    int levels = 2;
+    std::uint64_t min_count = 0;
+};
+
+/// `fd --json` without the facts of one run (device, times, slabs): the analysis's JSON and
+/// the curve's summary `s` (with --min-count). `clfractal-mpi fd --json` writes the same keys,
+/// so that its file equals fd's once each drops its run's facts.
+nlohmann::json fd_analysis_json(const clfractal::Analysis& an, const clfractal::FdSummary& s, const FdJsonFacts& f);
+
+/// fd's note in `skipped` when the denoising ladder was needed but the volume was never held
+/// whole (--stream, clfractal-mpi).
+std::string denoise_not_streamed();
+
 /// The title of the `components --plot` figure of `volume`.
 std::string components_plot_title(const std::string& volume, clfractal::Connectivity mode);
 

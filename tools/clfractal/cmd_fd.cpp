@@ -102,6 +102,7 @@ FdRun count_fd(const FdArgs& a) {
         r.an.spans = std::move(streamed.spans);
         r.an.dims = r.dims;
         r.an.type = r.type;
+        if (!a.no_denoise && !r.an.clean && !r.an.recommended.empty()) r.an.skipped.push_back(denoise_not_streamed());
     } else {
         const bool convert = a.raw.options().as.has_value();
         const Volume v = read_volume_within(a.volume, a.raw.options(),
@@ -203,23 +204,11 @@ void print_fd(const FdArgs& a, const FdRun& r) {
     std::cout << ", kernels compiled in " << ctx.compile_seconds() << " s\n";
 }
 
-// The analysis's JSON (clfractal::to_json, shared with report --json) and fd's own keys.
+// The analysis's JSON (clfractal::to_json, shared with report --json), fd's own keys and the
+// facts of this run.
 json fd_json_report(const FdArgs& a, const FdRun& r) {
-    const FdSummary& s = r.s;
     Context& ctx = Context::shared();
-    json j = json::parse(to_json(r.an));
-    j["volume"] = a.volume;
-    j["dims"] = {r.dims.nx, r.dims.ny, r.dims.nz};
-    j["type"] = value_type_name(r.type);
-    j["kind"] = a.edge ? "edge" : "box";
-    j["levels"] = a.levels;
-    j["min_count"] = a.min_count;
-    j["isovalues_total"] = r.an.isovalues.size();
-    j["isovalues_defined"] = s.defined;
-    j["mean_fd"] = fd_json(s.mean);
-    j["std_fd"] = fd_json(s.std);
-    j["weighted_mean_fd"] = fd_json(s.weighted_mean);
-    j["kappa"] = fd_json(s.kappa);
+    json j = fd_analysis_json(r.an, r.s, FdJsonFacts{a.volume, a.edge, a.levels, a.min_count});
     j["device"] = ctx.description();
     j["seconds_compute"] = r.an.spans.seconds;
     j["seconds_compile"] = ctx.compile_seconds();

@@ -76,8 +76,11 @@ std::vector<BoundaryLink> links_of(const std::vector<std::uint32_t>& w) {
     return links;
 }
 
-// Slices [z0, z1) of the file.
-Volume read_part(SliceReader& reader, std::size_t z0, std::size_t z1) {
+}  // namespace
+
+Volume read_part(SliceReader& reader, const std::vector<std::pair<std::size_t, std::size_t>>& parts, int rank) {
+    if (std::size_t(rank) >= parts.size()) return Volume();
+    const auto [z0, z1] = parts[std::size_t(rank)];
     const Dims d = reader.dims();
     Volume v(Dims{d.nx, d.ny, z1 - z0}, reader.type());
     reader.seek(z0);
@@ -85,20 +88,28 @@ Volume read_part(SliceReader& reader, std::size_t z0, std::size_t z1) {
     return v;
 }
 
-// This rank's part counted (an empty curve of K zeros for a rank without one).
-SlabComponents count_part(const ComponentsArgs& a, SliceReader& reader, Connectivity mode, int rank,
-                          const std::vector<std::pair<std::size_t, std::size_t>>& parts, IsovalueSet& iso) {
-    const bool has_part = std::size_t(rank) < parts.size();
-    Volume part = has_part ? read_part(reader, parts[std::size_t(rank)].first, parts[std::size_t(rank)].second)
-                           : Volume();
-    const ValueRange r = has_part ? value_range(part) : ValueRange{INFINITY, -INFINITY};
-    iso = global_isovalues(a.isovalues, a.bins, reader.type(), r.min, r.max);
+PartsCurve components_of_parts(const Volume& part, const IsovalueSet& iso, Connectivity mode, const Dims& dims,
+                               int rank, int size, const std::vector<std::pair<std::size_t, std::size_t>>& parts) {
     SlabComponents s;
-    if (has_part)
+    if (std::size_t(rank) < parts.size())
         s = count_slab_components(Context::shared(), part, iso, mode, rank > 0, std::size_t(rank) + 1 < parts.size());
     s.components.resize(iso.size(), 0);
-    return s;
+    PartsCurve out;
+    std::vector<std::int64_t> sum(iso.size(), 0);
+    MPI_Reduce(s.components.data(), sum.data(), int(iso.size()), MPI_INT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(&s.seconds, &out.slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    const auto join = gather(words(s.links.join), rank, size), split = gather(words(s.links.split), rank, size);
+    const auto last = gather(s.links.last_bins, rank, size);
+    if (rank != 0) return out;
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<SlabLinks> links(parts.size());
+    for (std::size_t r = 0; r < parts.size(); ++r) links[r] = {links_of(join[r]), links_of(split[r]), last[r]};
+    out.curve = join_slab_components(std::move(sum), links, dims.nx * dims.ny);
+    out.joining = seconds_since(start);
+    return out;
 }
+
+namespace {
 
 // The text of the first failing rank's check (empty when none failed), on every rank.
 std::string first_failure(const std::string& mine, int me) {
@@ -112,16 +123,18 @@ std::string first_failure(const std::string& mine, int me) {
     return text;
 }
 
+}  // namespace
+
 // Before any read: the ranks of each node together need what `clfractal components` needs for
 // their z-parts (4x each part + 256 MiB), against what the node has. Every rank gets the same
 // verdict (an InputError naming the file), so no rank is left waiting in a collective.
-void require_part_memory(const std::string& volume, std::uint64_t part_bytes, int rank) {
+void require_part_memory(const std::string& volume, std::uint64_t part_bytes, int rank, const char* command) {
     MPI_Comm node;
     MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
     int node_rank = 0, node_size = 1;
     MPI_Comm_rank(node, &node_rank);
     MPI_Comm_size(node, &node_size);
-    const cli::MemoryNeed need{"clfractal-mpi components"};
+    const cli::MemoryNeed need{command};
     std::uint64_t mine = part_bytes ? need.bytes(part_bytes) : 0, together = 0, largest = 0;
     MPI_Allreduce(&mine, &together, 1, MPI_UINT64_T, MPI_SUM, node);
     MPI_Allreduce(&part_bytes, &largest, 1, MPI_UINT64_T, MPI_MAX, node);
@@ -145,8 +158,6 @@ void require_part_memory(const std::string& volume, std::uint64_t part_bytes, in
     if (!first.empty()) throw InputError(first);
 }
 
-}  // namespace
-
 int run_components(const ComponentsArgs& a, int rank, int size) {
     // Each rank opens the file and reads only the slices of its own z-part.
     SliceReader reader(a.volume, a.raw.options());
@@ -157,15 +168,11 @@ int run_components(const ComponentsArgs& a, int rank, int size) {
     const auto parts = split_slices(dims.nz, 1, std::size_t(size));
     const std::uint64_t part_slices =
         std::size_t(rank) < parts.size() ? parts[std::size_t(rank)].second - parts[std::size_t(rank)].first : 0;
-    require_part_memory(a.volume, part_slices * dims.nx * dims.ny * value_size(type), rank);
-    IsovalueSet iso;
-    SlabComponents s = count_part(a, reader, mode, rank, parts, iso);
-    std::vector<std::int64_t> sum(iso.size(), 0);
-    MPI_Reduce(s.components.data(), sum.data(), int(iso.size()), MPI_INT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
-    double slowest = 0;
-    MPI_Reduce(&s.seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
-    const auto join = gather(words(s.links.join), rank, size), split = gather(words(s.links.split), rank, size);
-    const auto last = gather(s.links.last_bins, rank, size);
+    require_part_memory(a.volume, part_slices * dims.nx * dims.ny * value_size(type), rank, "clfractal-mpi components");
+    const Volume part = read_part(reader, parts, rank);
+    const ValueRange r = std::size_t(rank) < parts.size() ? value_range(part) : ValueRange{INFINITY, -INFINITY};
+    const IsovalueSet iso = global_isovalues(a.isovalues, a.bins, type, r.min, r.max);
+    const PartsCurve c = components_of_parts(part, iso, mode, dims, rank, size, parts);
     // --plot: the cube counts of levels 0 and 1 under the curve, as clfractal components draws
     // them, from z-parts counted by the ranks (starting at even slices) and summed on rank 0.
     std::optional<FdCurve> spans;
@@ -179,12 +186,8 @@ int run_components(const ComponentsArgs& a, int rank, int size) {
         if (rank == 0) spans = summed_curve(total, iso, SpanKind::cubes, 2, dims);
     }
     if (rank != 0) return 0;
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<SlabLinks> links(parts.size());
-    for (std::size_t r = 0; r < parts.size(); ++r) links[r] = {links_of(join[r]), links_of(split[r]), last[r]};
-    const std::vector<std::int64_t> curve = join_slab_components(std::move(sum), links, dims.nx * dims.ny);
-    const double joining = seconds_since(start);
-
+    const std::vector<std::int64_t>& curve = c.curve;
+    const double slowest = c.slowest, joining = c.joining;
     cli::print_components(std::cout, a.volume, dims, type, mode, iso, curve);
     std::cout << "ranks         " << size << " (" << parts.size()
               << " with a z-part), device of rank 0: " << Context::shared().description() << "\n"

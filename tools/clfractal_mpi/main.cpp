@@ -1,10 +1,15 @@
-// clfractal-mpi: the fractal dimension curve of one volume counted by several MPI ranks
-// (docs/definitions.md §28), and with `components` its component curve (components.cpp). Each rank owns a z-part of the volume (starting at a multiple of
+// clfractal-mpi: the fractal dimension curve of one volume counted by several MPI ranks, with
+// fd's analysis (docs/definitions.md §28), and with `components` its component curve
+// (components.cpp). Each rank owns a z-part of the volume (starting at a multiple of
 // 2^(levels-1), sharing its last slice with the next part), counts it on its own device,
 // and the int64 histograms are summed on rank 0 with MPI_Reduce: the curve equals the
-// single-process `clfractal fd` exactly.
+// single-process `clfractal fd` exactly. The analysis's recommendations come from the summed
+// curve and vertex histogram on rank 0, their components from the ranks' parts joined on
+// rank 0 (components_of_parts): `--json` writes what `clfractal fd --stream --json` writes,
+// apart from the facts of the run (device, times, slabs, ranks).
 //
-//   mpirun -np P clfractal-mpi VOLUME [--edge] [--levels L] [--isovalues A:B:S|A,B,... | --bins K] [--csv F] [--json F]
+//   mpirun -np P clfractal-mpi [fd] VOLUME [--edge] [--levels L] [--isovalues A:B:S|A,B,... | --bins K]
+//                              [--clean-fd D] [--clean-share F] [--csv F] [--json F]
 //   mpirun -np P clfractal-mpi components VOLUME [--connectivity cube|freudenthal] [--isovalues ... | --bins K] [--csv F]
 //                                       [--json F] [--plot F.png]
 #include <mpi.h>
@@ -13,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -22,6 +28,7 @@
 #include <string>
 
 #include "cli.hpp"
+#include "clfractal/analysis.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/slice_reader.hpp"
 #include "clfractal/span.hpp"
@@ -85,8 +92,28 @@ struct Args {
     bool edge = false;
     int levels = 2;
     std::size_t bins = 0;
+    std::uint64_t min_count = 0;
+    double clean_fd = 2.2, clean_share = 0.01;
     cli::RawArgs raw;
 };
+
+// The options of the fd curve: on the tool itself (clfractal-mpi VOLUME) and on `fd`.
+CLI::Option* setup_fd(CLI::App* app, Args& a) {
+    CLI::Option* volume = cli::add_volume_argument(app, a.volume);
+    app->add_flag("--edge", a.edge, "edge span dimension (eq. 3.1) instead of box (eq. 2.5)");
+    app->add_option("--levels", a.levels, "pyramid levels (2 = eq. 2.5)");
+    cli::add_isovalues_option(app, a.isovalues);
+    app->add_option("--bins", a.bins, "number of uniform isovalues for float data (0: 256)");
+    app->add_option("--min-count", a.min_count, "summary only where the subsampled count is >= M");
+    app->add_option("--clean-fd", a.clean_fd, "clean bands: D(s) at most this");
+    app->add_option("--clean-share", a.clean_share, "clean bands: I(s) at least this share of the largest");
+    app->add_option("--csv", a.csv, "write isovalue,count,count_sub,fd (as clfractal fd --csv)");
+    app->add_option("--json", a.json_path,
+                    "write the analysis as JSON (as clfractal fd --stream --json: curve, bands, recommendations "
+                    "with their components)");
+    a.raw.add(app);
+    return volume;
+}
 
 // The isovalue set needs the global value range: each rank takes its part's (one pass
 // over its slices, a batch at a time), reduced with MPI_Allreduce.
@@ -110,40 +137,49 @@ IsovalueSet part_isovalues(const Args& a, SliceReader& reader, std::size_t z_beg
     return mpi_tool::global_isovalues(a.isovalues, a.bins, type, lo, hi);
 }
 
-// Rank 0 forms the curve from the summed counts and reports it.
-void report(const Args& a, const Dims& dims, ValueType type, const IsovalueSet& iso, SpanKind kind,
-            const std::vector<std::uint64_t>& total, double slowest, int size,
-            const std::vector<std::pair<std::size_t, std::size_t>>& parts) {
+// Rank 0 reports the analysis of the summed curve.
+void report(const Args& a, const Analysis& an, const FdSummary& s, double slowest, double components_seconds,
+            int size, const std::vector<std::pair<std::size_t, std::size_t>>& parts) {
     Context& ctx = Context::shared();
-    FdCurve f = mpi_tool::summed_curve(total, iso, kind, a.levels, dims);
-    FdSummary s = summarize(f.fd, f.counts[0], f.counts[1]);
-    std::cout << std::fixed << std::setprecision(4) << "volume      " << a.volume << "  " << dims_string(dims) << " "
-              << value_type_name(type) << "\n"
+    std::cout << std::fixed << std::setprecision(4) << "volume      " << a.volume << "  " << dims_string(an.dims) << " "
+              << value_type_name(an.type) << "\n"
               << "ranks       " << size << " (" << parts.size() << " with a z-part), device of rank 0: "
               << ctx.description() << "\n"
               << "dimension   fractal " << (a.edge ? "edge" : "box") << " span dimension, levels 0.."
               << a.levels - 1 << "\n"
-              << "isovalues   " << iso.size() << ", defined at " << s.defined << "\n";
-    if (s.defined) std::cout << "mean FD     " << s.mean << "  std " << s.std << "\n";
-    std::cout << std::defaultfloat << "time        " << slowest << " s counting (slowest rank)\n";
-
-    if (!a.csv.empty()) {
-        write_file_atomic(a.csv, cli::fd_csv(f));
+              << "isovalues   " << an.isovalues.size() << " (" << cli::iso_string(an.isovalues, 0) << " .. "
+              << cli::iso_string(an.isovalues, an.isovalues.size() - 1) << "), defined at " << s.defined << "\n";
+    if (s.defined) {
+        std::cout << "mean FD     " << s.mean << "  std " << s.std << "  count-weighted mean " << s.weighted_mean
+                  << "\n"
+                  << "growth      I ~ N^" << s.kappa << "\n";
+        cli::print_bands(std::cout, an.curve, an.bands, a.clean_fd, a.clean_share);
     }
+    cli::print_advice(std::cout, an, a.volume);
+    std::cout << std::defaultfloat << "time        " << slowest << " s counting (slowest rank), "
+              << components_seconds << " s components of the recommendations\n";
+
+    if (!a.csv.empty()) write_file_atomic(a.csv, cli::fd_csv(an.curve));
     if (!a.json_path.empty()) {
-        nlohmann::json j;
-        j["volume"] = a.volume;
+        nlohmann::json j = cli::fd_analysis_json(an, s, cli::FdJsonFacts{a.volume, a.edge, a.levels, a.min_count});
+        // The facts of this run.
+        j["device"] = ctx.description();
         j["ranks"] = size;
         j["parts"] = parts;
-        j["mean_fd"] = cli::fd_json(s.mean);
-        j["std_fd"] = cli::fd_json(s.std);
-        j["isovalues_defined"] = s.defined;
-        j["seconds_compute_slowest_rank"] = slowest;
+        j["seconds_compute"] = slowest;
         write_file_atomic(a.json_path, j.dump(1) + "\n");
     }
 }
 
+// The set of the isovalues `at` (from `iso`, increasing) for count_slab_components: integer
+// sets their range, lists the values themselves.
+IsovalueSet subset(const IsovalueSet& iso, const std::vector<double>& at) {
+    if (iso.integer()) return IsovalueSet::integers(std::int64_t(at.front()), std::int64_t(at.back()));
+    return iso.float64() ? IsovalueSet::doubles(at) : IsovalueSet::floats(std::vector<float>(at.begin(), at.end()));
+}
+
 int run(const Args& a, int rank, int size) {
+    const auto t0 = std::chrono::steady_clock::now();
     // Each rank opens the file and reads only the slices of its own z-part (raw and NRRD
     // raw data through memory maps; gzip data is decompressed up to the part).
     SliceReader reader(a.volume, a.raw.options());
@@ -151,9 +187,16 @@ int run(const Args& a, int rank, int size) {
     const ValueType type = reader.type();
     if (a.levels < 2 || a.levels > 16) throw InputError("--levels " + std::to_string(a.levels) + ": must be 2..16");
     cli::check_bins(a.bins, type);
+    AnalysisOptions o;
+    o.advice.clean_fd = a.clean_fd;
+    o.advice.clean_share = a.clean_share;
+    check_advice(o.advice);
     const auto parts = split_slices(dims.nz, a.levels, std::size_t(size));
     const bool has_part = std::size_t(rank) < parts.size();
     const std::size_t z_begin = has_part ? parts[rank].first : 0, z_end = has_part ? parts[rank].second : 0;
+    // The recommendations' components label each part whole, as clfractal-mpi components.
+    mpi_tool::require_part_memory(a.volume, (z_end - z_begin) * dims.nx * dims.ny * value_size(type), rank,
+                                  "clfractal-mpi fd");
     const IsovalueSet iso = part_isovalues(a, reader, z_begin, z_end);
 
     const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
@@ -163,7 +206,60 @@ int run(const Args& a, int rank, int size) {
     MPI_Reduce(counts.data(), total.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     double slowest = 0;
     MPI_Reduce(&seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
-    if (rank == 0) report(a, dims, type, iso, kind, total, slowest, size, parts);
+
+    // The vertices at each isovalue (boundary strength): each vertex once, a shared slice
+    // with the part that follows.
+    const Volume part = mpi_tool::read_part(reader, parts, rank);
+    std::vector<std::uint64_t> hist(iso.size(), 0), hist_total(iso.size(), 0);
+    if (has_part) {
+        const std::size_t own = std::size_t(rank) + 1 < parts.size() ? z_end - z_begin - 1 : z_end - z_begin;
+        hist = isovalue_histogram(Volume::wrap(const_cast<void*>(part.data()), Dims{dims.nx, dims.ny, own}, type), iso);
+    }
+    MPI_Reduce(hist.data(), hist_total.data(), int(iso.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+
+    // Rank 0 analyses the curve; the recommendations' isovalues go to every rank.
+    Analysis an;
+    std::vector<double> at;
+    if (rank == 0) {
+        o.kind = kind;
+        o.levels = a.levels;
+        o.bins = a.bins ? a.bins : 256;
+        an = analyse_curve(mpi_tool::summed_curve(total, iso, kind, a.levels, dims), o, std::move(hist_total));
+        an.dims = dims;
+        an.type = type;
+        for (const Recommendation& e : an.recommended) at.push_back(e.isovalue);
+        std::sort(at.begin(), at.end());
+        at.erase(std::unique(at.begin(), at.end()), at.end());
+    }
+    int n_at = int(at.size());
+    MPI_Bcast(&n_at, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    at.resize(std::size_t(n_at));
+    MPI_Bcast(at.data(), n_at, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    const auto labelling = std::chrono::steady_clock::now();
+    std::vector<std::int64_t> at_counts;
+    if (n_at > 0) {
+        const IsovalueSet sub = subset(iso, at);
+        const mpi_tool::PartsCurve c =
+            mpi_tool::components_of_parts(part, sub, Connectivity::cube, dims, rank, size, parts);
+        if (rank == 0)
+            for (double s : at) {
+                std::size_t j = 0;
+                while (j + 1 < sub.size() && sub.value(j) < s) ++j;
+                if (sub.value(j) != s) throw std::logic_error("clfractal-mpi fd: a recommendation outside its set");
+                at_counts.push_back(c.curve[j]);
+            }
+    }
+    if (rank != 0) return 0;
+    fill_entry_components(an, [&](const std::vector<double>& x) {
+        if (x != at) throw std::logic_error("clfractal-mpi fd: the recommendations' isovalues changed");
+        return at_counts;
+    });
+    an.seconds_components = seconds_since(labelling);
+    an.seconds = seconds_since(t0);
+    // The ladder filters the whole volume in one process's memory.
+    if (!an.clean && !an.recommended.empty()) an.skipped.push_back(cli::denoise_not_streamed());
+    const FdSummary s = summarize(an.curve.fd, an.curve.counts[0], an.curve.counts[1], a.min_count);
+    report(a, an, s, slowest, an.seconds_components, size, parts);
     return 0;
 }
 
@@ -178,28 +274,25 @@ int main(int argc, char** argv) {
 
     CLI::App app{"clfractal-mpi: the fractal dimension curve (or with `components` the component curve) of a "
                  "volume, z-parts counted by MPI ranks"};
-    Args a;
+    Args a, fa;
     app.option_defaults()->always_capture_default();
-    // VOLUME is required unless the subcommand takes it (checked after parsing).
-    CLI::Option* volume = cli::add_volume_argument(&app, a.volume)->required(false);
+    // VOLUME is required unless a subcommand takes it (checked after parsing).
+    CLI::Option* volume = setup_fd(&app, a)->required(false);
+    CLI::App* fd = app.add_subcommand("fd", "the fractal dimension curve and its analysis (as clfractal fd --stream; "
+                                            "the same as clfractal-mpi VOLUME)");
+    setup_fd(fd, fa);
     mpi_tool::ComponentsArgs ca;
     CLI::App* components = app.add_subcommand(
         "components", "the number of isosurface components for every isovalue (as clfractal components)");
     mpi_tool::setup_components(components, ca);
     app.require_subcommand(0, 1);
-    app.add_flag("--edge", a.edge, "edge span dimension (eq. 3.1) instead of box (eq. 2.5)");
-    app.add_option("--levels", a.levels, "pyramid levels (2 = eq. 2.5)");
-    cli::add_isovalues_option(&app, a.isovalues);
-    app.add_option("--bins", a.bins, "number of uniform isovalues for float data (0: 256)");
-    app.add_option("--csv", a.csv, "write isovalue,count,count_sub,fd (as clfractal fd --csv)");
-    app.add_option("--json", a.json_path, "write the summary as JSON");
-    a.raw.add(&app);
     app.set_version_flag("--version", std::string("clfractal-mpi ") + clfractal::version());
 
     int code = 0;
     try {
         app.parse(argc, argv);
         if (components->parsed()) code = mpi_tool::run_components(ca, rank, size);
+        else if (fd->parsed()) code = run(fa, rank, size);
         else if (volume->count() == 0) throw CLI::RequiredError(volume->get_name());
         else code = run(a, rank, size);
     } catch (const CLI::CallForHelp& e) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cli.hpp"
+#include "clfractal/components.hpp"
 #include "clfractal/fd.hpp"
 #include "clfractal/isovalue_set.hpp"
 #include "clfractal/slice_reader.hpp"
@@ -29,6 +30,29 @@ double count_part(clfractal::SliceReader& reader, const clfractal::IsovalueSet& 
 /// `dims`.
 clfractal::FdCurve summed_curve(const std::vector<std::uint64_t>& total, const clfractal::IsovalueSet& iso,
                                 clfractal::SpanKind kind, int levels, const clfractal::Dims& dims);
+
+/// Slices parts[rank] of the file (a part shares its last slice with the next); an empty
+/// volume for a rank without a part.
+clfractal::Volume read_part(clfractal::SliceReader& reader, const std::vector<std::pair<std::size_t, std::size_t>>& parts,
+                            int rank);
+
+/// Before any read, on every rank: whether the ranks of each node have room for what
+/// `command` needs of their z-parts of `part_bytes` each (4x a part + 256 MiB), else the same
+/// InputError naming `volume` on every rank.
+void require_part_memory(const std::string& volume, std::uint64_t part_bytes, int rank, const char* command);
+
+/// The component curve at `iso` of the volume of `dims` whose z-parts `parts` the ranks hold
+/// (`part`: this rank's, read_part): each rank counts its part with the links between its
+/// first and last slices, rank 0 joins them (join_slab_components), exactly the curve of the
+/// volume in one process. `curve` on rank 0 only; the slowest rank's counting and rank 0's
+/// joining seconds.
+struct PartsCurve {
+    std::vector<std::int64_t> curve;
+    double slowest = 0, joining = 0;
+};
+PartsCurve components_of_parts(const clfractal::Volume& part, const clfractal::IsovalueSet& iso,
+                               clfractal::Connectivity mode, const clfractal::Dims& dims, int rank, int size,
+                               const std::vector<std::pair<std::size_t, std::size_t>>& parts);
 
 struct ComponentsArgs {
     std::string volume, csv, json, plot, connectivity = "cube", isovalues;
