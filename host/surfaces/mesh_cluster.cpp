@@ -108,9 +108,12 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
     MeshClusters c(cell);
     const std::size_t plane = std::max<std::size_t>(1, v.dims().nx * v.dims().ny);
     if (layers == 0) layers = std::max<std::size_t>(1, (std::size_t(1) << 21) / plane);
-    // A slab a thread extracted at once, then added in z order on one (the clusters are one
-    // hash table): the same clusters as one slab after the other.
-    const std::size_t threads = std::size_t(std::max(1, omp_get_max_threads()));
+    // Each slab of `layers` cube layers is extracted in parts of a thread each, then the parts
+    // are added in z order on one thread (the clusters are one hash table): the same clusters,
+    // and at most one slab's mesh in memory, as one slab after the other.
+    const std::size_t threads = std::min<std::size_t>(std::size_t(std::max(1, omp_get_max_threads())), layers);
+    const std::size_t slab = layers;
+    layers = std::max<std::size_t>(1, slab / threads);
     std::vector<Mesh> parts(threads);
     std::exception_ptr failed;
     for (std::size_t z = 0; z + 1 < v.dims().nz; z += threads * layers) {

@@ -135,7 +135,7 @@ struct Tuning {
     LabellingPath labelling = LabellingPath::host;
     /// The component curve (count_components) in z-slabs counted on every core and joined:
     /// slices between the starts of consecutive slabs, each slab holding one more (shared
-    /// with the next); 0 = about 2^20 vertices a slab, at least 4 slices apart, and volumes of
+    /// with the next); 0 = about 2^20 vertices a slab, at least 8 slices apart, and volumes of
     /// up to 2^21 vertices in one piece. nz - 1 or more: one piece. Tests set it to force thin
     /// slabs and the one piece.
     std::size_t component_slab_slices = 0;

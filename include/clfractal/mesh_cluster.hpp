@@ -68,9 +68,9 @@ private:
 
 /// The isosurface f = s of `v` clustered with cells of edge `cell` as it is extracted, slab by
 /// slab (extract_isosurface_layers), each part coloured from `ld` (an LD field with v's dims)
-/// when it is given: exactly the clusters of the whole mesh. The slabs are extracted a thread
-/// each, then clustered in z order. Memory: the clusters and a slab's full-resolution part a
-/// thread, `layers` cube layers thick (0: about 2^21 cubes).
+/// when it is given: exactly the clusters of the whole mesh. Each slab is extracted in parts,
+/// a thread each, then clustered in z order. Memory: the clusters and one slab's
+/// full-resolution part, `layers` cube layers thick (0: about 2^21 cubes).
 MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Volume* ld = nullptr,
                                 MeshMethod method = MeshMethod::marching_cubes, std::size_t layers = 0);
 
