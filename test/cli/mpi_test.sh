@@ -145,4 +145,19 @@ if [ "$rc" -ne 2 ] || [ "$(grep -c 'clfractal-mpi: error: ml.nrrd: clfractal-mpi
 else
   echo "ok: components beyond the memory limit refused before work (exit 2)"
 fi
+# fd's analysis on nodes without the room for the recommendations' components: the curve and
+# its analysis all the same, the components null and `skipped` saying why.
+rm -f small.json
+if CLFRACTAL_MEMORY_LIMIT=300M "$mpiexec" --allow-run-as-root --oversubscribe -np 3 -x CLFRACTAL_MEMORY_LIMIT \
+    "$mpi" fd ml.nrrd --json small.json >err.out 2>&1 && /usr/bin/python3 - small.json <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["recommended"] and all(e["components"] is None for e in j["recommended"]), j["recommended"]
+assert any(s.startswith("components: ml.nrrd: clfractal-mpi fd's components needs about") for s in j["skipped"]), j["skipped"]
+PY
+then
+  echo "ok: fd without room for the components: the analysis, components skipped"
+else
+  echo "FAIL: fd beyond the memory limit: $(cat err.out)"; failures=$((failures + 1))
+fi
 [ "$failures" -eq 0 ]

@@ -194,9 +194,15 @@ int run(const Args& a, int rank, int size) {
     const auto parts = split_slices(dims.nz, a.levels, std::size_t(size));
     const bool has_part = std::size_t(rank) < parts.size();
     const std::size_t z_begin = has_part ? parts[rank].first : 0, z_end = has_part ? parts[rank].second : 0;
-    // The recommendations' components label each part whole, as clfractal-mpi components.
-    mpi_tool::require_part_memory(a.volume, (z_end - z_begin) * dims.nx * dims.ny * value_size(type), rank,
-                                  "clfractal-mpi fd");
+    // The recommendations' components sweep each part whole, as clfractal-mpi components: where
+    // a node lacks the room, the curve and its analysis still come (every rank hears the same).
+    std::string no_room;
+    try {
+        mpi_tool::require_part_memory(a.volume, (z_end - z_begin) * dims.nx * dims.ny * value_size(type), rank,
+                                      "clfractal-mpi fd's components");
+    } catch (const InputError& e) {
+        no_room = e.what();
+    }
     const IsovalueSet iso = part_isovalues(a, reader, z_begin, z_end);
 
     const SpanKind kind = a.edge ? SpanKind::edges : SpanKind::cubes;
@@ -208,12 +214,20 @@ int run(const Args& a, int rank, int size) {
     MPI_Reduce(&seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
 
     // The vertices at each isovalue (boundary strength): each vertex once, a shared slice
-    // with the part that follows.
-    const Volume part = mpi_tool::read_part(reader, parts, rank);
+    // with the part that follows; read in batches of 64 MiB.
     std::vector<std::uint64_t> hist(iso.size(), 0), hist_total(iso.size(), 0);
     if (has_part) {
-        const std::size_t own = std::size_t(rank) + 1 < parts.size() ? z_end - z_begin - 1 : z_end - z_begin;
-        hist = isovalue_histogram(Volume::wrap(const_cast<void*>(part.data()), Dims{dims.nx, dims.ny, own}, type), iso);
+        const std::size_t own_end = std::size_t(rank) + 1 < parts.size() ? z_end - 1 : z_end;
+        const std::size_t batch = std::max<std::size_t>(1, (std::size_t(64) << 20) / reader.slice_bytes());
+        reader.seek(z_begin);
+        for (std::size_t z = z_begin; z < own_end;) {
+            const std::size_t n = std::min(batch, own_end - z);
+            Volume slab(Dims{dims.nx, dims.ny, n}, type);
+            reader.read(slab.data(), n);
+            const std::vector<std::uint64_t> h = isovalue_histogram(slab, iso);
+            for (std::size_t k = 0; k < h.size(); ++k) hist[k] += h[k];
+            z += n;
+        }
     }
     MPI_Reduce(hist.data(), hist_total.data(), int(iso.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
 
@@ -237,7 +251,8 @@ int run(const Args& a, int rank, int size) {
     MPI_Bcast(at.data(), n_at, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     const auto labelling = std::chrono::steady_clock::now();
     std::vector<std::int64_t> at_counts;
-    if (n_at > 0) {
+    if (n_at > 0 && no_room.empty()) {
+        const Volume part = mpi_tool::read_part(reader, parts, rank);
         const IsovalueSet sub = subset(iso, at);
         const mpi_tool::PartsCurve c =
             mpi_tool::components_of_parts(part, sub, Connectivity::cube, dims, rank, size, parts);
@@ -250,10 +265,13 @@ int run(const Args& a, int rank, int size) {
             }
     }
     if (rank != 0) return 0;
-    fill_entry_components(an, [&](const std::vector<double>& x) {
-        if (x != at) throw std::logic_error("clfractal-mpi fd: the recommendations' isovalues changed");
-        return at_counts;
-    });
+    if (no_room.empty())
+        fill_entry_components(an, [&](const std::vector<double>& x) {
+            if (x != at) throw std::logic_error("clfractal-mpi fd: the recommendations' isovalues changed");
+            return at_counts;
+        });
+    else if (n_at > 0)
+        an.skipped.push_back("components: " + no_room);
     an.seconds_components = seconds_since(labelling);
     an.seconds = seconds_since(t0);
     // The ladder filters the whole volume in one process's memory.
