@@ -16,9 +16,11 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <type_traits>
 
 #include "clfractal/local.hpp"
 #include "device/name_table.hpp"
+#include "extract_scratch.hpp"
 
 namespace clfractal {
 namespace {
@@ -315,26 +317,55 @@ constexpr std::size_t max_mesh_elements = std::size_t(std::numeric_limits<std::i
 // Walks the cubes layer by layer (z, z + 1). Vertex indices of the grid edges live in
 // per-slice arrays that roll with the layer, so memory is O(nx ny), not O(edges):
 // `lower`/`upper` hold the edges within slice z / z + 1 (directions x, y, x+y), `across`
-// those from slice z to z + 1 (z, x+z, y+z, x+y+z).
+// those from slice z to z + 1 (z, x+z, y+z, x+y+z). The arrays are never cleared: vertex
+// indices (plus the scratch's base) grow as they are made, so an entry made before the layer
+// that owns the array now (`lower`: the layer before; `upper`, `across`: this one), or by an
+// earlier call, reads as stale.
 // Cube layers z0 <= z < z1 only (a slab of the volume).
 template <class T>
 Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& spacing, const CaseTable& table,
-             std::size_t z0, std::size_t z1) {
+             std::size_t z0, std::size_t z1, detail::ExtractScratch& scratch) {
     Mesh mesh;
     const std::size_t nx = d.nx, ny = d.ny, plane = nx * ny;
-    std::vector<std::uint8_t> sign_lower(plane), sign_upper(plane);
-    std::vector<std::uint32_t> lower(plane * 3, no_vertex), upper(plane * 3), across(plane * 4);
-    auto fill_signs = [&](std::vector<std::uint8_t>& sign, std::size_t z) {
-        const T* slice = f + z * plane;
-        for (std::size_t i = 0; i < plane; ++i) sign[i] = double(slice[i]) >= s;
+    // A base past 2^31 leaves room for no more than 2^31 - 1 vertices below no_vertex: start over.
+    if (scratch.plane != plane || scratch.base > (std::uint32_t(1) << 31)) {
+        scratch.plane = plane, scratch.base = 0;
+        scratch.sign_lower.assign(plane, 0), scratch.sign_upper.assign(plane, 0), scratch.cases.assign(nx, 0);
+        scratch.lower.assign(plane * 3, no_vertex), scratch.upper.assign(plane * 3, no_vertex);
+        scratch.across.assign(plane * 4, no_vertex);
+    }
+    std::vector<std::uint8_t>&sign_lower = scratch.sign_lower, &sign_upper = scratch.sign_upper, &cases = scratch.cases;
+    std::vector<std::uint32_t>&lower = scratch.lower, &upper = scratch.upper, &across = scratch.across;
+    const std::uint32_t base = scratch.base;
+    scratch.plane = 0;  // a throw below leaves the arrays to be made again
+    // f >= s in the values' own type: for integers f >= ceil(s) (none or all where ceil(s)
+    // falls outside the type), for floating point s itself (float32 data: s is a float32).
+    const auto fill_signs = [&](std::vector<std::uint8_t>& sign_of, std::size_t z) {
+        const T* __restrict slice = f + z * plane;
+        std::uint8_t* __restrict sign = sign_of.data();
+        if constexpr (std::is_integral_v<T>) {
+            const double c = std::ceil(s);
+            if (c > double(std::numeric_limits<T>::max()) || c <= double(std::numeric_limits<T>::lowest())) {
+                std::fill(sign, sign + plane, std::uint8_t(c <= double(std::numeric_limits<T>::lowest())));
+                return;
+            }
+            const T t = T(c);
+            for (std::size_t i = 0; i < plane; ++i) sign[i] = slice[i] >= t;
+        } else {
+            const T t = T(s);
+            for (std::size_t i = 0; i < plane; ++i) sign[i] = slice[i] >= t;
+        }
     };
+    // The first vertex made by the layer before / this layer, plus base.
+    std::uint32_t lower_from = base, layer_from = base;
 
     auto vertex = [&](const Slot& slot, std::size_t x, std::size_t y, std::size_t z) -> std::uint32_t {
         const std::size_t cx = x + (slot.corner & 1), cy = y + (slot.corner >> 1 & 1);
         const std::size_t in_plane = cy * nx + cx;
+        const bool in_lower = !(slot.dir & 4) && !(slot.corner & 4);
         std::uint32_t& id = (slot.dir & 4) ? across[in_plane * 4 + (slot.dir - 4)]
-                                           : ((slot.corner & 4) ? upper : lower)[in_plane * 3 + (slot.dir - 1)];
-        if (id != no_vertex) return id;
+                                           : (in_lower ? lower : upper)[in_plane * 3 + (slot.dir - 1)];
+        if (id != no_vertex && id >= (in_lower ? lower_from : layer_from)) return id - base;
         if (mesh.positions.size() >= max_mesh_elements)
             throw InputError("isosurface has more than 2^31 - 1 vertices (the PLY limit)");
         const std::size_t cz = z + (slot.corner >> 2 & 1);
@@ -342,24 +373,38 @@ Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& s
         const std::size_t u = cz * plane + in_plane, w = u + dx + dy * nx + dz * plane;
         const double fu = double(f[u]), fw = double(f[w]);
         const double t = (s - fu) / (fw - fu);  // fu != fw: the edge is intersected
-        id = std::uint32_t(mesh.positions.size());
+        const std::uint32_t made = std::uint32_t(mesh.positions.size());
+        id = base + made;
         mesh.positions.push_back({float((double(cx) + t * dx) * spacing[0]), float((double(cy) + t * dy) * spacing[1]),
                                   float((double(cz) + t * dz) * spacing[2])});
         mesh.edge_points.push_back({u, w, float(t)});
-        return id;
+        return made;
     };
 
     fill_signs(sign_lower, z0);
     for (std::size_t z = z0; z + 1 < d.nz && z < z1; ++z) {
         fill_signs(sign_upper, z + 1);
-        std::fill(upper.begin(), upper.end(), no_vertex);
-        std::fill(across.begin(), across.end(), no_vertex);
-        for (std::size_t y = 0; y + 1 < ny; ++y)
+        lower_from = z == z0 ? base : layer_from;
+        layer_from = base + std::uint32_t(mesh.positions.size());
+        for (std::size_t y = 0; y + 1 < ny; ++y) {
+            const std::uint8_t* __restrict l0 = &sign_lower[y * nx];
+            const std::uint8_t* __restrict u0 = &sign_upper[y * nx];
+            std::uint8_t* __restrict row = cases.data();
+            // The row's cube cases at once; a case 0 or 255 has no triangles and is skipped
+            // eight at a time.
+            for (std::size_t x = 0; x + 1 < nx; ++x)
+                row[x] = std::uint8_t(l0[x] | l0[x + 1] << 1 | l0[x + nx] << 2 | l0[x + nx + 1] << 3 | u0[x] << 4 |
+                                      u0[x + 1] << 5 | u0[x + nx] << 6 | u0[x + nx + 1] << 7);
             for (std::size_t x = 0; x + 1 < nx; ++x) {
-                const std::size_t i = y * nx + x;
-                const int cube_case = sign_lower[i] | sign_lower[i + 1] << 1 | sign_lower[i + nx] << 2 |
-                                      sign_lower[i + nx + 1] << 3 | sign_upper[i] << 4 | sign_upper[i + 1] << 5 |
-                                      sign_upper[i + nx] << 6 | sign_upper[i + nx + 1] << 7;
+                if (x + 9 < nx) {
+                    std::uint64_t word;
+                    std::memcpy(&word, &cases[x], 8);
+                    if (word == 0 || word == ~std::uint64_t(0)) {
+                        x += 7;
+                        continue;
+                    }
+                }
+                const int cube_case = cases[x];
                 for (std::size_t k = table.first[cube_case]; k < table.first[cube_case + 1]; ++k) {
                     const auto& tri = table.tris[k];
                     mesh.triangles.push_back({vertex(table.slots[tri[0]], x, y, z),
@@ -367,11 +412,14 @@ Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& s
                                               vertex(table.slots[tri[2]], x, y, z)});
                 }
             }
+        }
         if (mesh.triangles.size() > max_mesh_elements)
             throw InputError("isosurface has more than 2^31 - 1 triangles (the PLY limit)");
         std::swap(lower, upper);
         std::swap(sign_lower, sign_upper);
     }
+    scratch.base = base + std::uint32_t(mesh.positions.size());
+    scratch.plane = plane;
     return mesh;
 }
 
@@ -389,13 +437,19 @@ CLFRACTAL_NAME_TABLE(MeshMethod)
 
 MeshMethod parse_mesh_method(const std::string& name) { return parse_variant<MeshMethod>(name); }
 
-Mesh extract_isosurface_layers(const Volume& v, double s, std::size_t z0, std::size_t z1, MeshMethod method) {
+Mesh detail::extract_isosurface_layers(const Volume& v, double s, std::size_t z0, std::size_t z1, MeshMethod method,
+                                       ExtractScratch& scratch) {
     if (!std::isfinite(s)) throw InputError("isovalue must be a finite number");
     const Dims& d = v.dims();
     if (d.nx < 2 || d.ny < 2 || d.nz < 2 || z0 >= z1 || z0 + 1 >= d.nz) return {};
     if (v.type() == ValueType::float32) s = double(float(s));
     const CaseTable& table = case_table(method);
-    return visit(v, [&](const auto* p) { return extract(p, d, s, v.spacing, table, z0, z1); });
+    return visit(v, [&](const auto* p) { return extract(p, d, s, v.spacing, table, z0, z1, scratch); });
+}
+
+Mesh extract_isosurface_layers(const Volume& v, double s, std::size_t z0, std::size_t z1, MeshMethod method) {
+    detail::ExtractScratch scratch;
+    return detail::extract_isosurface_layers(v, s, z0, z1, method, scratch);
 }
 
 Mesh extract_isosurface(const Volume& v, double s, MeshMethod method) {

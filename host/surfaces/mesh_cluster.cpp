@@ -11,6 +11,7 @@
 
 #include "clfractal/error.hpp"
 #include "clfractal/local.hpp"
+#include "extract_scratch.hpp"
 
 namespace clfractal {
 
@@ -54,11 +55,17 @@ void MeshClusters::add(const Mesh& part, std::uint64_t counted_from) {
     const bool has_ld = part.ld.size() == part.positions.size();
     if (counted_from && part.edge_points.size() != part.positions.size())
         throw std::invalid_argument("MeshClusters::add: counted_from needs the part's edge points");
-    std::vector<std::uint32_t> of(part.positions.size());
-    for (std::size_t i = 0; i < part.positions.size(); ++i) {
+    const std::size_t n = part.positions.size();
+    std::vector<std::uint32_t> of(n);
+    std::array<std::int64_t, 3> last{};
+    for (std::size_t i = 0; i < n; ++i) {
         const auto& p = part.positions[i];
-        const std::uint32_t j = cluster_of({std::int64_t(std::floor(p[0] / cell_)), std::int64_t(std::floor(p[1] / cell_)),
-                                            std::int64_t(std::floor(p[2] / cell_))});
+        const std::array<std::int64_t, 3> cell{std::int64_t(std::floor(p[0] / cell_)),
+                                               std::int64_t(std::floor(p[1] / cell_)),
+                                               std::int64_t(std::floor(p[2] / cell_))};
+        // Vertices made one after the other mostly share a cell: look up only a new one.
+        const std::uint32_t j = i && cell == last ? of[i - 1] : cluster_of(cell);
+        last = cell;
         of[i] = j;
         if (counted_from && part.edge_points[i].w < counted_from) continue;  // added with the slab before
         for (int k = 0; k < 3; ++k) sum_[j][k] += p[k];
@@ -115,6 +122,7 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
     const std::size_t slab = layers;
     layers = std::max<std::size_t>(1, slab / threads);
     std::vector<Mesh> parts(threads);
+    std::vector<detail::ExtractScratch> scratch(threads);
     std::exception_ptr failed;
     for (std::size_t z = 0; z + 1 < v.dims().nz; z += threads * layers) {
 #pragma omp parallel for schedule(static, 1)
@@ -123,7 +131,7 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
             parts[t] = Mesh();
             if (z0 + 1 >= v.dims().nz) continue;
             try {
-                parts[t] = extract_isosurface_layers(v, s, z0, z0 + layers, method);
+                parts[t] = detail::extract_isosurface_layers(v, s, z0, z0 + layers, method, scratch[t]);
                 if (ld) parts[t].ld = interpolate_on_vertices(parts[t], *ld);
             } catch (...) {
 #pragma omp critical(cluster_isosurface_failure)
