@@ -268,21 +268,28 @@ Buffer<cl_uchar> block_selection(Context& ctx, const cl::Buffer& values, ValueTy
 }
 
 
-DeviceVolume local_fractal_dimension(const DeviceVolume& v, double iso, int window) {
-    Context& ctx = v.context();
-    DeviceVolume ld = allocate_like(v, ValueType::float32);
-    // The block field spread over the vertices: the same values as field_on_device at a
-    // fraction of the cost.
-    const Dims& d = v.dims();
-    const Buffer<float> blocks = block_local_dimension(ctx, v.buffer(), v.type(), d, iso, window);
+namespace {
+
+// The block field spread over the vertices into `ld`: the same values as field_on_device at a
+// fraction of the cost.
+void block_field_on_device(Context& ctx, const cl::Buffer& values, ValueType type, const Dims& d, double iso,
+                           int window, const cl::Buffer& ld) {
+    const Buffer<float> blocks = block_local_dimension(ctx, values, type, d, iso, window);
     with_cl_errors([&] {
         const Dims hb = ld_block_dims(d, window);
         // expand_blocks(blocks, bnx, bny, phase, ld).
         KernelCall<cl::Buffer, int, int, int, cl::Buffer> expand(
-            ctx, "local", "expand_blocks", single_isovalue_options(v.type()) + defines({{"C", "uint"}}));
+            ctx, "local", "expand_blocks", single_isovalue_options(type) + defines({{"C", "uint"}}));
         expand(cl::NDRange(d.nx, d.ny, d.nz), cl::NullRange, blocks.get(), int(hb.nx), int(hb.ny),
-               ld_block_phase(window), ld.buffer());
+               ld_block_phase(window), ld);
     });
+}
+
+}  // namespace
+
+DeviceVolume local_fractal_dimension(const DeviceVolume& v, double iso, int window) {
+    DeviceVolume ld = allocate_like(v, ValueType::float32);
+    block_field_on_device(v.context(), v.buffer(), v.type(), v.dims(), iso, window, ld.buffer());
     return ld;
 }
 
@@ -360,7 +367,8 @@ Volume local_in_core(Context& ctx, const Volume& v, double iso, int window) {
     out.spacing = v.spacing;
     const DeviceVolume values(ctx, v);
     const DeviceVolume ld = DeviceVolume::output(ctx, out);
-    field_on_device(ctx, values.buffer(), v.type(), v.dims(), iso, window, ld.buffer());
+    if (ctx.tuning.local_blocks) block_field_on_device(ctx, values.buffer(), v.type(), v.dims(), iso, window, ld.buffer());
+    else field_on_device(ctx, values.buffer(), v.type(), v.dims(), iso, window, ld.buffer());
     ld.download_to(out);
     return out;
 }

@@ -106,6 +106,9 @@ struct Tuning {
     SatVariant sat_variant = SatVariant::sequential;
     std::size_t sat_work_group = 256;  ///< work-group size of the "workgroup" variant
     LocalVariant local_variant = LocalVariant::rows;
+    /// LD fields of host volumes from the tables of 2x2x2 blocks (an eighth of the table
+    /// work, the same field bit for bit); tests clear it to compare with the full-size tables.
+    bool local_blocks = true;
     FilterVariant filter_variant = FilterVariant::rows;
     /// Work-items of the row-walking variants (sat "sequential", local "rows"); 0 = 4 x CUs.
     std::size_t row_items = 0;

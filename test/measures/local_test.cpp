@@ -115,10 +115,12 @@ TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy g
             inputs.push_back({std::move(v), iso, k, std::move(want)});
         }
     testutil::TuningGuard guard;
+    for (bool blocks : {true, false})
     for (const char* local_variant : {"rows", "vertices"})
         for (const char* sat_variant : {"sequential", "workgroup"})
             for (std::uint64_t max32 : {std::uint64_t(0xffffffffu), std::uint64_t(0)})
                 for (bool zero_copy : {true, false}) {
+                    ctx().tuning.local_blocks = blocks;
                     ctx().tuning.local_variant = parse_variant<LocalVariant>(local_variant);
                     ctx().tuning.sat_variant = parse_variant<SatVariant>(sat_variant);
                     ctx().tuning.sat_max_32bit = max32;  // 0: every grid gets 64-bit tables
@@ -126,7 +128,7 @@ TEST_CASE("every kernel variant, 64-bit tables and copies instead of zero-copy g
                     ctx().tuning.row_items = max32 ? 3 : 64;  // 64: more work-items than rows
                     ctx().tuning.sat_work_group = 48;
                     for (const Input& in : inputs) {
-                        CAPTURE(local_variant); CAPTURE(sat_variant); CAPTURE(max32); CAPTURE(zero_copy);
+                        CAPTURE(blocks); CAPTURE(local_variant); CAPTURE(sat_variant); CAPTURE(max32); CAPTURE(zero_copy);
                         CAPTURE(dims_string(in.v.dims())); CAPTURE(in.k);
                         check_field(local_fractal_dimension(ctx(), in.v, in.iso, in.k), in.want);
                     }
@@ -371,6 +373,7 @@ TEST_SUITE("local") {
 
 TEST_CASE("the LD field on 2x2x2 blocks holds the full field bit for bit: all types, awkward sizes, windows") {
     testutil::TuningGuard guard;
+    ctx().tuning.local_blocks = false;  // the full-size tables
     std::uint32_t seed = 900;
     for (const char* variant : {"rows", "vertices"}) {
         ctx().tuning.local_variant = parse_variant<LocalVariant>(variant);
