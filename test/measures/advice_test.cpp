@@ -122,9 +122,15 @@ TEST_CASE("intersected edge spans: counts equal the device's E(s), sums the brut
     std::uint32_t seed = 3;
     for (auto [d, t, lo, hi] : {std::tuple{Dims{9, 7, 5}, ValueType::uint8, 0L, 20L},
                                 std::tuple{Dims{6, 11, 4}, ValueType::int16, -9L, 9L},
-                                std::tuple{Dims{8, 5, 7}, ValueType::float32, -6L, 6L}}) {
+                                std::tuple{Dims{8, 5, 7}, ValueType::float32, -6L, 6L},
+                                std::tuple{Dims{10, 9, 6}, ValueType::uint16, 0L, 30L},
+                                std::tuple{Dims{7, 8, 9}, ValueType::int8, -128L, 127L},
+                                std::tuple{Dims{9, 6, 8}, ValueType::uint16, 0L, 60000L},
+                                std::tuple{Dims{5, 6, 7}, ValueType::int32, -70000L, 70000L}}) {
         const Volume v = testutil::random_volume(d, t, lo, hi, seed++);
         const IsovalueSet iso = IsovalueSet::for_volume(v, 37);
+        const std::string type = value_type_name(t);
+        CAPTURE(type);
         const EdgeSpanSums s = intersected_edge_spans(v, iso);
         const SpanResult spans = count_spans(ctx(), v, iso, SpanOptions{{SpanKind::edges}, 1, 0});
         CHECK(s.count == spans.curves[0].counts[0]);
