@@ -1,5 +1,8 @@
 // Axial slices with an isosurface's contour and an LD field (render.hpp SliceView).
 #include <algorithm>
+#include <cstdint>
+#include <type_traits>
+#include <limits>
 #include <cmath>
 #include <string>
 
@@ -134,22 +137,56 @@ SliceView render_slice(const Volume& v, std::size_t z, double iso, const Volume*
     return out;
 }
 
+namespace {
+
+// Row `q` of `n` values below s, one byte each (1 below), compared in the values' own type:
+// for integers q < ceil(s) (all or none where ceil(s) falls outside the type), for floating
+// point q < s (s of a float32 volume is a float32; NaN is never below).
+template <class T>
+void below(const T* __restrict q, std::size_t n, double s, std::uint8_t* __restrict out) {
+    if constexpr (std::is_integral_v<T>) {
+        const double c = std::ceil(s);
+        if (c > double(std::numeric_limits<T>::max()) || c <= double(std::numeric_limits<T>::lowest())) {
+            std::fill(out, out + n, std::uint8_t(c > double(std::numeric_limits<T>::max())));
+            return;
+        }
+        const T t = T(c);
+        for (std::size_t x = 0; x < n; ++x) out[x] = q[x] < t;
+    } else {
+        const T t = T(s);
+        for (std::size_t x = 0; x < n; ++x) out[x] = q[x] < t;
+    }
+}
+
+}  // namespace
+
 std::size_t busiest_slice(const Volume& v, double iso) {
     const Dims d = v.dims();
     const double s = compared_isovalue(v, iso);
     std::vector<std::size_t> crossings(d.nz, 0);
     visit(v, [&](const auto* p) {
-#pragma omp parallel for schedule(static)
-        for (long long z = 0; z < (long long)d.nz; ++z) {
-            const auto* q = p + std::size_t(z) * d.nx * d.ny;
-            std::size_t n = 0;
-            for (std::size_t y = 0; y < d.ny; ++y)
-                for (std::size_t x = 0; x < d.nx; ++x) {
-                    const bool neg = double(q[y * d.nx + x]) < s;
-                    if (x + 1 < d.nx) n += neg != (double(q[y * d.nx + x + 1]) < s);
-                    if (y + 1 < d.ny) n += neg != (double(q[(y + 1) * d.nx + x]) < s);
+#pragma omp parallel
+        {
+            std::vector<std::uint8_t> row_of(d.nx), next_of(d.nx);
+#pragma omp for schedule(static)
+            for (long long z = 0; z < (long long)d.nz; ++z) {
+                const auto* q = p + std::size_t(z) * d.nx * d.ny;
+                std::uint8_t* row = row_of.data();
+                std::uint8_t* next = next_of.data();
+                std::size_t n = 0;
+                below(q, d.nx, s, row);
+                for (std::size_t y = 0; y < d.ny; ++y) {
+                    unsigned changes = 0;  // at most 2 nx a row
+                    for (std::size_t x = 0; x + 1 < d.nx; ++x) changes += row[x] != row[x + 1];
+                    if (y + 1 < d.ny) {
+                        below(q + (y + 1) * d.nx, d.nx, s, next);
+                        for (std::size_t x = 0; x < d.nx; ++x) changes += row[x] != next[x];
+                    }
+                    n += changes;
+                    std::swap(row, next);
                 }
-            crossings[std::size_t(z)] = n;
+                crossings[std::size_t(z)] = n;
+            }
         }
     });
     std::size_t best = d.nz / 2;

@@ -445,4 +445,55 @@ TEST_CASE("preview PNGs: a shaded sphere, and red and blue on the LD-coloured no
     CHECK_THROWS_AS(write_png(im, temp_path("no/such/dir/x.png")), InputError);
 }
 
+TEST_CASE("busiest slice: the most crossed x and y edges, the nearest to the middle among equals, every type") {
+    // The definition on doubles: an edge is crossed when exactly one end lies below s (float32
+    // data: s rounded to float32); NaN is never below.
+    const auto reference = [](const Volume& v, double iso) {
+        const Dims d = v.dims();
+        const double s = v.type() == ValueType::float32 ? double(float(iso)) : iso;
+        std::vector<std::size_t> n(d.nz, 0);
+        for (std::size_t z = 0; z < d.nz; ++z)
+            for (std::size_t y = 0; y < d.ny; ++y)
+                for (std::size_t x = 0; x < d.nx; ++x) {
+                    const bool a = v.value(v.index(x, y, z)) < s;
+                    if (x + 1 < d.nx) n[z] += a != (v.value(v.index(x + 1, y, z)) < s);
+                    if (y + 1 < d.ny) n[z] += a != (v.value(v.index(x, y + 1, z)) < s);
+                }
+        std::size_t best = d.nz / 2;
+        const auto dist = [&](std::size_t k) { return k > d.nz / 2 ? k - d.nz / 2 : d.nz / 2 - k; };
+        for (std::size_t z = 0; z < d.nz; ++z)
+            if (n[z] > n[best] || (n[z] == n[best] && dist(z) < dist(best))) best = z;
+        return best;
+    };
+    std::uint32_t seed = 70;
+    std::size_t checked = 0, off_middle = 0;
+    for (ValueType t : {ValueType::uint8, ValueType::int8, ValueType::uint16, ValueType::int16, ValueType::uint32,
+                        ValueType::int32, ValueType::float32, ValueType::float64})
+        for (const Dims& d : {Dims{19, 7, 9}, Dims{1, 5, 6}, Dims{33, 2, 11}}) {
+            Volume v = testutil::random_volume(d, t, 0, 12, seed++);
+            // Slices of fewer levels cross less: the answer moves with them.
+            visit(v, [&](auto* p) {
+                for (std::size_t z = 0; z < d.nz; ++z)
+                    if ((z * 7 + seed) % 3 == 0)
+                        for (std::size_t i = 0; i < d.nx * d.ny; ++i) p[z * d.nx * d.ny + i] = p[z * d.nx * d.ny + i] > 6 ? 12 : 0;
+            });
+            if (!is_integer(t))
+                visit(v, [&](auto* p) {
+                    using T = std::remove_pointer_t<decltype(p)>;
+                    if constexpr (std::is_floating_point_v<T>) p[v.index(0, 1, d.nz - 1)] = T(NAN);
+                });
+            for (double iso : {-1e12, -0.5, 0.0, 2.5, 3.0, 6.0, 7.25, 12.0, 12.5, 1e12}) {
+                CAPTURE(std::string(value_type_name(t)));
+                CAPTURE(dims_string(d));
+                CAPTURE(iso);
+                const std::size_t want = reference(v, iso);
+                CHECK(busiest_slice(v, iso) == want);
+                ++checked;
+                off_middle += want != d.nz / 2;
+            }
+        }
+    CHECK(checked == 240);
+    CHECK(off_middle > 60);  // the cases tell the slices apart
+}
+
 }  // TEST_SUITE
