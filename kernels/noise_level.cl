@@ -248,6 +248,20 @@ inline residual_t strided_residual(__global const T* restrict v, int nx, int ny,
                                    int sz) {
     const long sy_step = (long)nx * sy, sz_step = (long)nx * (long)ny * sz;
     const long c = x + (long)nx * y + (long)nx * (long)ny * z;
+#if defined(INTEGER_SUMS)
+    // Exact integers: [1 -2 1] along x, then y, then z gives the same R in a third of the
+    // operations.
+    residual_t r = 0;
+    for (int dz = -1; dz <= 1; ++dz) {
+        residual_t rz = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+            const long p = c + dy * sy_step + dz * sz_step;
+            rz += weight(dy) * ((residual_t)v[p - sx] + (residual_t)v[p + sx] - 2 * (residual_t)v[p]);
+        }
+        r += weight(dz) * rz;
+    }
+    return r;
+#else
     const T vc = v[c];
     residual_t r = 0;
     for (int dz = -1; dz <= 1; ++dz)
@@ -256,6 +270,7 @@ inline residual_t strided_residual(__global const T* restrict v, int nx, int ny,
                 r += (residual_t)(weight(dx) * weight(dy) * weight(dz)) *
                      residual_difference(v[c + dx * sx + dy * sy_step + dz * sz_step], vc);
     return r;
+#endif
 }
 
 // Global size: work-group size x ceil(blocks / per_group), local: the work-group size, as
