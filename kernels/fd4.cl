@@ -38,13 +38,24 @@ inline ulong cube_bins(__global const T* p, size_t row, size_t slice, BIN_T vmin
 
 // One work-item per row of cubes (y, z): global size (ny - 1, nz - 1) exactly (both >= 1).
 // sums[y + (ny - 1) z] = the sum of B_q over the row's nx - 1 cubes (64-bit).
+// The row walks its columns of 4 vertices (x; y, y + 1; z, z + 1): a cube's bins are those of
+// its two columns joined, since x -> bin(x) is non-decreasing (the bin of the larger value is
+// the larger bin), so each vertex is read and each column binned once.
 __kernel void cube_bins_rows(__global const T* restrict vol, int nx, int ny, BIN_T vmin, BIN_T q,
                              __global ulong* restrict sums) {
     const size_t y = get_global_id(0), z = get_global_id(1);
     const size_t row = (size_t)nx, slice = row * (size_t)ny;
     __global const T* p = vol + z * slice + y * row;
+    long lo = bin_of(min(min(p[0], p[row]), min(p[slice], p[slice + row])), vmin, q);
+    long hi = bin_of(max(max(p[0], p[row]), max(p[slice], p[slice + row])), vmin, q);
     ulong sum = 0;
-    for (int x = 0; x + 1 < nx; ++x) sum += cube_bins(p + x, row, slice, vmin, q);
+    for (int x = 1; x < nx; ++x) {
+        const T a = p[x], b = p[x + row], c = p[x + slice], d = p[x + slice + row];
+        const long next_lo = bin_of(min(min(a, b), min(c, d)), vmin, q);
+        const long next_hi = bin_of(max(max(a, b), max(c, d)), vmin, q);
+        sum += (ulong)(max(hi, next_hi) - min(lo, next_lo) + 1);
+        lo = next_lo, hi = next_hi;
+    }
     sums[z * (size_t)(ny - 1) + y] = sum;
 }
 
