@@ -20,7 +20,9 @@
 //
 // Defines: T (kernels/common.cl), BLOCK; INTEGER_SUMS for 8- and 16-bit integer data (R is
 // an integer, |R| <= 64 x 65535, R^2 and its sums exact in ulong); otherwise R and its sums in
-// float, or in double for float64 data (FP64).
+// float, or in double for float64 data (FP64); ONE_ITEM where every group has one work-item
+// (CPUs, exact or double sums): the kernels walk a block in nested loops, the same values in
+// the same order.
 #pragma OPENCL FP_CONTRACT OFF
 
 #if defined(INTEGER_SUMS)
@@ -190,6 +192,55 @@ inline void tiled_block(__global const T* restrict v, int nx, int ny, int nz, in
     const size_t first = any ? (size_t)fx + (size_t)nx * ((size_t)fy + (size_t)ny * (size_t)(fz - z_first)) : 0;
     const T ref = v[first];
     T lo = ref, hi = ref;
+#if defined(ONE_ITEM)
+    // One work-item a group (CPUs): the same tile, passes and sum, in the same order, as
+    // nested loops.
+    for (int k = 0; k < EDGE; ++k)
+        for (int j = 0; j < EDGE; ++j) {
+            const int y = y0 - 1 + j, z = z0 - 1 + k;
+            const bool row = any && y >= 0 && z >= 0 && y < ny && z < nz;
+            __global const T* p = v + (size_t)nx * ((size_t)(row ? y : 0) + (size_t)ny * (size_t)(row ? z - z_first : 0));
+            for (int i = 0; i < EDGE; ++i) {
+                const int x = x0 - 1 + i;
+                tile_t t = 0;
+                if (row && x >= 0 && x < nx) {
+                    const T u = p[x];
+                    lo = min(lo, u);
+                    hi = max(hi, u);
+                    t = tile_value(u, ref);
+                }
+                tile[(k * EDGE + j) * EDGE + i] = t;
+            }
+        }
+    for (int r = 0; r < EDGE * EDGE; ++r)
+        for (int i = 0; i < BLOCK; ++i) {
+            const int t = r * EDGE + i;
+            along_x[r * BLOCK + i] = tile[t] + tile[t + 2] - 2 * tile[t + 1];
+        }
+    for (int k = 0; k < EDGE; ++k)
+        for (int j = 0; j < BLOCK; ++j)
+            for (int i = 0; i < BLOCK; ++i) {
+                const int a = i + BLOCK * (j + EDGE * k);
+                tile[(k * BLOCK + j) * BLOCK + i] = along_x[a] + along_x[a + 2 * BLOCK] - 2 * along_x[a + BLOCK];
+            }
+    sum_t s = 0;
+    uint n = 0;
+    if (any) {
+        const int xs = max(x0, 1) - x0, xe = min(x0 + BLOCK - 1, nx - 2) - x0;
+        const int ys = max(y0, 1) - y0, ye = min(y0 + BLOCK - 1, ny - 2) - y0;
+        const int zs = max(z0, 1) - z0, ze = min(z0 + BLOCK - 1, nz - 2) - z0;
+        for (int k = zs; k <= ze; ++k)
+            for (int j = ys; j <= ye; ++j)
+                for (int i = xs; i <= xe; ++i) {
+                    const int c = (k * BLOCK + j) * BLOCK + i;
+                    accumulate(&s, &n, (residual_t)(tile[c] + tile[c + 2 * BLOCK * BLOCK] - 2 * tile[c + BLOCK * BLOCK]));
+                }
+    }
+    sums[b] = s;
+    counts[b] = n;
+    lows[b] = lo;
+    highs[b] = hi;
+#else
     // The tile: vertices x0 - 1 .. x0 + BLOCK (y, z alike) that lie in the volume, exactly the
     // values the block's residuals read.
     for (int i = lid; i < EDGE * EDGE * EDGE; i += wg) {
@@ -222,6 +273,7 @@ inline void tiled_block(__global const T* restrict v, int nx, int ny, int nz, in
         accumulate(&s, &n, (residual_t)(tile[i] + tile[i + 2 * BLOCK * BLOCK] - 2 * tile[i + BLOCK * BLOCK]));
     }
     reduce_block(s, n, lo, hi, b, sums, counts, lows, highs, local_sums, local_counts, local_lows, local_highs);
+#endif
 }
 
 // As block_residuals, with the two tile arrays.
@@ -290,6 +342,19 @@ __kernel void block_strided_residuals(__global const T* restrict v, int nx, int 
             const int sx = strides[3 * m], sy = strides[3 * m + 1], sz = strides[3 * m + 2];
             sum_t s = 0;
             uint n = 0;
+#if defined(ONE_ITEM)
+            // One work-item a group (CPUs, whose compilers run a group's items as loops): the
+            // same vertices in the same order, their bounds taken once.
+            const int xs = max(x0 + (x0 & 1), sx + (sx & 1)), xe = min(x0 + BLOCK - 1, nx - 1 - sx);
+            const int ys = max(y0 + (y0 & 1), sy + (sy & 1)), ye = min(y0 + BLOCK - 1, ny - 1 - sy);
+            const int zs = max(z0 + (z0 & 1), sz + (sz & 1)), ze = min(z0 + BLOCK - 1, nz - 1 - sz);
+            for (int z = zs; z <= ze; z += 2)
+                for (int y = ys; y <= ye; y += 2)
+                    for (int x = xs; x <= xe; x += 2)
+                        accumulate(&s, &n, strided_residual(v, nx, ny, x, y, z - z_first, sx, sy, sz));
+            sums[m * mask_pitch + b] = s;
+            counts[m * mask_pitch + b] = n;
+#else
             for (int i = lid; i < evens * evens * evens; i += wg) {
                 // The even coordinates of the block: x0 rounded up to even, then every second.
                 const int x = (x0 + (x0 & 1)) + 2 * (i % evens), y = (y0 + (y0 & 1)) + 2 * (i / evens % evens),
@@ -303,6 +368,7 @@ __kernel void block_strided_residuals(__global const T* restrict v, int nx, int 
                 sums[m * mask_pitch + b] = s;
                 counts[m * mask_pitch + b] = n;
             }
+#endif
         }
     }
 }

@@ -69,6 +69,9 @@ int largest_z_stride() {
 // suite bounds). bench/memory_bench.py's 384^3 uint16 phantom, fd --noise-level, interleaved
 // beside another build: the noise level 7.4 and 6.6 s with work-groups, 5.9 and 4.8 s with one
 // item for the strided kernel, 3.9 and 4.1 s for both; the same sigma.
+// Such groups also compile with -DONE_ITEM: the kernels walk their blocks in nested loops with
+// the bounds taken once, the same values in the same order (640^3 uint16 phantom, two estimates
+// interleaved with the loops of work-items: 28.0-33.0 -> 15.9-18.5 CPU s, the same sigma).
 bool one_item(const Context& ctx, SumKind kind) { return ctx.is_cpu() && kind != SumKind::single; }
 
 // The largest power of two within the kernel's, local memory's and the block's limits, for
@@ -156,6 +159,7 @@ void slab_blocks(const DeviceVolume& slab, std::size_t nz, std::size_t z_first, 
     const std::size_t count = rows * per_row, first = z_block / b.block * per_row;
     std::string options = type_options(slab.type()) + defines({{"BLOCK", std::to_string(b.block)}});
     if (kind == SumKind::integer) options += " -DINTEGER_SUMS";
+    if (one_item(ctx, kind)) options += " -DONE_ITEM";
     const std::size_t item_bytes = sum_bytes(kind) + 4 + 2 * value_bytes, tiles = tile_bytes(kind, b.block);
     // The tiled kernel where its tile and at least 32 items fit in local memory.
     const bool tiled = ctx.tuning.noise_tiles && ctx.local_mem() >= tiles + 32 * item_bytes;
