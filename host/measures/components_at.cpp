@@ -10,6 +10,7 @@
 #include "measures/components_slab.hpp"
 #include "clfractal/error.hpp"
 #include "measures/row_mask.hpp"
+#include "volume/below.hpp"
 
 #include <omp.h>
 
@@ -392,39 +393,9 @@ void extend(Prefix& p, std::vector<ChunkResult>& chunks, const std::vector<RowLi
 
 std::int64_t components_of(const Prefix& p) { return p.b0[0] > 0 && p.b0[1] > 0 ? p.b0[0] + p.b0[1] - 1 : 0; }
 
-// Whether a value is in A = {f < s}, compared as count_components compares
-// (IsovalueSet::single(type, s)): integer data f < ceil(s), float data f < s in the data's type
-// (the set holds s in that type), each as one comparison in the data's own type (uint64 data
-// against ceil(s) as an int64).
-template <class T> struct Below {
-    using Ref = std::conditional_t<std::is_integral_v<T> && sizeof(T) == 8 && !std::is_signed_v<T>, std::int64_t, T>;
-    Ref t;
-    bool operator()(T x) const {
-        if constexpr (std::is_same_v<Ref, T>) return x < t;
-        else return std::int64_t(x) < t;
-    }
-};
-
-// The comparison of isovalue s, or none when every value or none of the type is below s (A or
-// C is the whole grid).
-template <class T> std::optional<Below<T>> below(ValueType type, double s) {
-    if constexpr (std::is_integral_v<T>) {
-        const std::int64_t c = IsovalueSet::single(type, s).first();
-        if constexpr (sizeof(T) < 8 || std::is_signed_v<T>) {
-            if (c > std::int64_t(std::numeric_limits<T>::max()) || c <= std::int64_t(std::numeric_limits<T>::min()))
-                return std::nullopt;
-            return Below<T>{T(c)};
-        } else {
-            return Below<T>{c};
-        }
-    } else {
-        // An s that rounds to +-Inf in float32 (from half an ulp above its largest value on):
-        // every finite value is below +Inf, none below -Inf (the volumes hold finite values
-        // only). Converting it would be undefined behaviour; float64 holds every finite s.
-        if (std::is_same_v<T, float> && std::abs(s) >= 0x1.ffffffp127) return std::nullopt;
-        return Below<T>{T(IsovalueSet::single(type, s).list().front())};
-    }
-}
+// A = {f < s}: detail::below (volume/below.hpp).
+using detail::Below;
+using detail::below;
 
 // The components of both sets at every isovalue, so far: `prefix` (one an isovalue) extended by
 // the planes [0, d.nz) of `f`, cut into z-chunks labelled on every core, each chunk at up to

@@ -21,6 +21,7 @@
 #include "clfractal/local.hpp"
 #include "device/name_table.hpp"
 #include "extract_scratch.hpp"
+#include "volume/below.hpp"
 
 namespace clfractal {
 namespace {
@@ -321,10 +322,10 @@ constexpr std::size_t max_mesh_elements = std::size_t(std::numeric_limits<std::i
 // indices (plus the scratch's base) grow as they are made, so an entry made before the layer
 // that owns the array now (`lower`: the layer before; `upper`, `across`: this one), or by an
 // earlier call, reads as stale.
-// Cube layers z0 <= z < z1 only (a slab of the volume).
+// Cube layers z0 <= z < z1 only (a slab of the volume); positive vertices: cut.at_or_above.
 template <class T>
-Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& spacing, const CaseTable& table,
-             std::size_t z0, std::size_t z1, detail::ExtractScratch& scratch) {
+Mesh extract(const T* f, const Dims& d, double s, const detail::Below<T>& cut, const std::array<double, 3>& spacing,
+             const CaseTable& table, std::size_t z0, std::size_t z1, detail::ExtractScratch& scratch) {
     Mesh mesh;
     const std::size_t nx = d.nx, ny = d.ny, plane = nx * ny;
     // A base past 2^31 leaves room for no more than 2^31 - 1 vertices below no_vertex: start over.
@@ -338,23 +339,11 @@ Mesh extract(const T* f, const Dims& d, double s, const std::array<double, 3>& s
     std::vector<std::uint32_t>&lower = scratch.lower, &upper = scratch.upper, &across = scratch.across;
     const std::uint32_t base = scratch.base;
     scratch.plane = 0;  // a throw below leaves the arrays to be made again
-    // f >= s in the values' own type: for integers f >= ceil(s) (none or all where ceil(s)
-    // falls outside the type), for floating point s itself (float32 data: s is a float32).
     const auto fill_signs = [&](std::vector<std::uint8_t>& sign_of, std::size_t z) {
         const T* __restrict slice = f + z * plane;
         std::uint8_t* __restrict sign = sign_of.data();
-        if constexpr (std::is_integral_v<T>) {
-            const double c = std::ceil(s);
-            if (c > double(std::numeric_limits<T>::max()) || c <= double(std::numeric_limits<T>::lowest())) {
-                std::fill(sign, sign + plane, std::uint8_t(c <= double(std::numeric_limits<T>::lowest())));
-                return;
-            }
-            const T t = T(c);
-            for (std::size_t i = 0; i < plane; ++i) sign[i] = slice[i] >= t;
-        } else {
-            const T t = T(s);
-            for (std::size_t i = 0; i < plane; ++i) sign[i] = slice[i] >= t;
-        }
+        const detail::Below<T> c = cut;  // a copy, which the bytes cannot alias
+        for (std::size_t i = 0; i < plane; ++i) sign[i] = c.at_or_above(slice[i]);
     };
     // The first vertex made by the layer before / this layer, plus base.
     std::uint32_t lower_from = base, layer_from = base;
@@ -442,9 +431,14 @@ Mesh detail::extract_isosurface_layers(const Volume& v, double s, std::size_t z0
     if (!std::isfinite(s)) throw InputError("isovalue must be a finite number");
     const Dims& d = v.dims();
     if (d.nx < 2 || d.ny < 2 || d.nz < 2 || z0 >= z1 || z0 + 1 >= d.nz) return {};
-    if (v.type() == ValueType::float32) s = double(float(s));
     const CaseTable& table = case_table(method);
-    return visit(v, [&](const auto* p) { return extract(p, d, s, v.spacing, table, z0, z1, scratch); });
+    return visit(v, [&](const auto* p) {
+        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
+        const auto cut = detail::below<T>(v.type(), s);
+        if (!cut) return Mesh();  // every value on one side: no cube is crossed
+        return extract(p, d, v.type() == ValueType::float32 ? double(float(s)) : s, *cut, v.spacing, table, z0, z1,
+                       scratch);
+    });
 }
 
 Mesh extract_isosurface_layers(const Volume& v, double s, std::size_t z0, std::size_t z1, MeshMethod method) {

@@ -2,13 +2,13 @@
 #include <algorithm>
 #include <cstdint>
 #include <type_traits>
-#include <limits>
 #include <cmath>
 #include <string>
 
 #include "clfractal/error.hpp"
 #include "clfractal/local.hpp"
 #include "clfractal/render.hpp"
+#include "volume/below.hpp"
 
 namespace clfractal {
 namespace {
@@ -137,34 +137,17 @@ SliceView render_slice(const Volume& v, std::size_t z, double iso, const Volume*
     return out;
 }
 
-namespace {
-
-// Row `q` of `n` values below s, one byte each (1 below), compared in the values' own type:
-// for integers q < ceil(s) (all or none where ceil(s) falls outside the type), for floating
-// point q < s (s of a float32 volume is a float32; NaN is never below).
-template <class T>
-void below(const T* __restrict q, std::size_t n, double s, std::uint8_t* __restrict out) {
-    if constexpr (std::is_integral_v<T>) {
-        const double c = std::ceil(s);
-        if (c > double(std::numeric_limits<T>::max()) || c <= double(std::numeric_limits<T>::lowest())) {
-            std::fill(out, out + n, std::uint8_t(c > double(std::numeric_limits<T>::max())));
-            return;
-        }
-        const T t = T(c);
-        for (std::size_t x = 0; x < n; ++x) out[x] = q[x] < t;
-    } else {
-        const T t = T(s);
-        for (std::size_t x = 0; x < n; ++x) out[x] = q[x] < t;
-    }
-}
-
-}  // namespace
-
 std::size_t busiest_slice(const Volume& v, double iso) {
     const Dims d = v.dims();
-    const double s = compared_isovalue(v, iso);
     std::vector<std::size_t> crossings(d.nz, 0);
     visit(v, [&](const auto* p) {
+        using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
+        const auto cut = detail::below<T>(v.type(), iso);
+        if (!cut) return;  // every value on one side: nothing crossed
+        // Row `q` below s, one byte a value (the comparison a copy, which the bytes cannot alias).
+        const auto below = [c = *cut, nx = d.nx](const T* __restrict q, std::uint8_t* __restrict out) {
+            for (std::size_t x = 0; x < nx; ++x) out[x] = c(q[x]);
+        };
 #pragma omp parallel
         {
             std::vector<std::uint8_t> row_of(d.nx), next_of(d.nx);
@@ -174,12 +157,12 @@ std::size_t busiest_slice(const Volume& v, double iso) {
                 std::uint8_t* row = row_of.data();
                 std::uint8_t* next = next_of.data();
                 std::size_t n = 0;
-                below(q, d.nx, s, row);
+                below(q, row);
                 for (std::size_t y = 0; y < d.ny; ++y) {
                     unsigned changes = 0;  // at most 2 nx a row
                     for (std::size_t x = 0; x + 1 < d.nx; ++x) changes += row[x] != row[x + 1];
                     if (y + 1 < d.ny) {
-                        below(q + (y + 1) * d.nx, d.nx, s, next);
+                        below(q + (y + 1) * d.nx, next);
                         for (std::size_t x = 0; x < d.nx; ++x) changes += row[x] != next[x];
                     }
                     n += changes;
