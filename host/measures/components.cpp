@@ -332,14 +332,7 @@ public:
             I root = v;  // the root of v's component: v itself, or the first component met
             while (swept) {
                 const int q = __builtin_ctz(swept);
-                std::uint32_t group = std::uint32_t(1) << q, frontier = group;
-                while (frontier) {
-                    std::uint32_t reach = 0;
-                    for (std::uint32_t b = frontier; b; b &= b - 1) reach |= adj_[__builtin_ctz(b)];
-                    frontier = reach & swept & ~group;
-                    group |= frontier;
-                }
-                swept &= ~group;
+                swept &= ~group_of(q, swept);
                 const I u = I(std::ptrdiff_t(v) + lin_[q]);
                 if (found == 0 && !swept && !joined.told(v)) {
                     // One component met, and nobody to tell its root: v takes the parent of
@@ -365,6 +358,38 @@ public:
     }
 
 private:
+    // The swept neighbours (bits of `swept`) connected to neighbour q through swept neighbours.
+    std::uint32_t group_of(int q, std::uint32_t swept) const {
+        if (m_ == 26) {
+            // In the cube's own layout (bit x + 3 y + 9 z, the centre 13 never set), 26-adjacency
+            // is one step along each axis at once: a group grows by whole dilations.
+            const std::uint32_t s = cube_bits(swept);
+            std::uint32_t g = std::uint32_t(1) << (q < 13 ? q : q + 1);
+            for (std::uint32_t n = dilate(g) & s; n != g; n = dilate(g) & s) g = n;
+            return neighbour_bits(g);
+        }
+        std::uint32_t group = std::uint32_t(1) << q, frontier = group;
+        while (frontier) {
+            std::uint32_t reach = 0;
+            for (std::uint32_t b = frontier; b; b &= b - 1) reach |= adj_[__builtin_ctz(b)];
+            frontier = reach & swept & ~group;
+            group |= frontier;
+        }
+        return group;
+    }
+    // The 26 neighbours' bits (neighbourhood(26)'s order: the cube's without its centre) in
+    // the cube's layout and back.
+    static std::uint32_t cube_bits(std::uint32_t b) { return (b & 0x1fffu) | ((b >> 13) << 14); }
+    static std::uint32_t neighbour_bits(std::uint32_t c) { return (c & 0x1fffu) | ((c >> 14) << 13); }
+    // The cube's cells within one step of c's, along every axis at once.
+    static std::uint32_t dilate(std::uint32_t c) {
+        constexpr std::uint32_t x0 = 0111111111u, x2 = x0 << 2;  // x = 0, x = 2
+        constexpr std::uint32_t y0 = 0007007007u, y2 = y0 << 6;  // y = 0, y = 2
+        constexpr std::uint32_t cube = 0x7ffffffu;  // shifts past the cube must not come back
+        c |= ((c << 1) & ~x0 & cube) | ((c >> 1) & ~x2);
+        c |= ((c << 3) & ~y0 & cube) | ((c >> 3) & ~y2);
+        return (c | (c << 9) | (c >> 9)) & cube;
+    }
     // Path halving, without the stores that would not change a parent (a child of a root).
     I find(I x) {
         std::vector<I>& parent = parent_;
