@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <exception>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 
 #include <omp.h>
@@ -115,37 +117,69 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
     MeshClusters c(cell);
     const std::size_t plane = std::max<std::size_t>(1, v.dims().nx * v.dims().ny);
     if (layers == 0) layers = std::max<std::size_t>(1, (std::size_t(1) << 21) / plane);
-    // Each slab of `layers` cube layers is extracted in parts of a thread each, then the parts
-    // are added in z order on one thread (the clusters are one hash table): the same clusters,
-    // and at most one slab's mesh in memory, as one slab after the other.
+    // The surface is extracted in parts of `layers / threads` cube layers, on every thread,
+    // and the parts are added in z order (the clusters are one hash table): the same clusters
+    // as one part after the other. Adding comes first whenever the next part is ready and no
+    // thread adds; otherwise a thread extracts the next part, at most 2 `threads` parts ahead
+    // of the adding (memory: a few parts' meshes). So the adding on one thread overlaps the
+    // extraction of the parts after it on the others (before, every thread waited for each
+    // slab's parts to be added: the 640^3 phantom report's four clustered surfaces took 21.7 s
+    // for 29.1 CPU s).
     const std::size_t threads = std::min<std::size_t>(std::size_t(std::max(1, omp_get_max_threads())), layers);
-    const std::size_t slab = layers;
-    layers = std::max<std::size_t>(1, slab / threads);
-    std::vector<Mesh> parts(threads);
+    layers = std::max<std::size_t>(1, layers / threads);
+    const std::size_t nz = v.dims().nz, parts = nz > 1 ? (nz - 1 + layers - 1) / layers : 0, ahead = 2 * threads;
+    std::vector<Mesh> slot(ahead);
+    std::vector<char> ready(ahead, 0);
     std::vector<detail::ExtractScratch> scratch(threads);
+    std::size_t next_extract = 0, next_add = 0;
+    bool adding = false;
     std::exception_ptr failed;
-    for (std::size_t z = 0; z + 1 < v.dims().nz; z += threads * layers) {
-#pragma omp parallel for schedule(static, 1)
-        for (std::size_t t = 0; t < threads; ++t) {
-            const std::size_t z0 = z + t * layers;
-            parts[t] = Mesh();
-            if (z0 + 1 >= v.dims().nz) continue;
-            try {
-                parts[t] = detail::extract_isosurface_layers(v, s, z0, z0 + layers, method, scratch[t]);
-                if (ld) parts[t].ld = interpolate_on_vertices(parts[t], *ld);
-            } catch (...) {
-#pragma omp critical(cluster_isosurface_failure)
-                if (!failed) failed = std::current_exception();
+    std::mutex m;
+    std::condition_variable changed;
+#pragma omp parallel num_threads(int(threads))
+    {
+        detail::ExtractScratch& mine = scratch[std::size_t(omp_get_thread_num()) % threads];
+        std::unique_lock<std::mutex> lock(m);
+        while (!failed && next_add < parts) {
+            const std::size_t p = next_add % ahead;
+            if (!adding && ready[p]) {
+                adding = true;
+                const std::size_t z0 = next_add * layers;
+                lock.unlock();
+                try {
+                    // The vertices within slice z0 came with the part before (its last slice).
+                    c.add(slot[p], z0 ? std::uint64_t(z0 + 1) * plane : 0);
+                    slot[p] = Mesh();
+                } catch (...) {
+                    lock.lock();
+                    if (!failed) failed = std::current_exception();
+                    lock.unlock();
+                }
+                lock.lock();
+                ready[p] = 0, adding = false, ++next_add;
+                changed.notify_all();
+            } else if (next_extract < parts && next_extract < next_add + ahead) {
+                const std::size_t q = next_extract++, z0 = q * layers;
+                lock.unlock();
+                Mesh part;
+                try {
+                    part = detail::extract_isosurface_layers(v, s, z0, z0 + layers, method, mine);
+                    if (ld) part.ld = interpolate_on_vertices(part, *ld);
+                } catch (...) {
+                    lock.lock();
+                    if (!failed) failed = std::current_exception();
+                    lock.unlock();
+                }
+                lock.lock();
+                slot[q % ahead] = std::move(part), ready[q % ahead] = 1;
+                changed.notify_all();
+            } else {
+                changed.wait(lock);
             }
         }
-        if (failed) std::rethrow_exception(failed);
-        for (std::size_t t = 0; t < threads; ++t) {
-            const std::size_t z0 = z + t * layers;
-            if (z0 + 1 >= v.dims().nz) break;
-            // The vertices within slice z0 came with the slab before (its last slice).
-            c.add(parts[t], z0 ? std::uint64_t(z0 + 1) * plane : 0);
-        }
+        changed.notify_all();
     }
+    if (failed) std::rethrow_exception(failed);
     return c;
 }
 
