@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -50,8 +51,13 @@ struct Pictures {
     std::uint64_t triangles_full = 0;
     double web_cell = 0;
     std::size_t z = 0;
-    std::string slice_png;
+    std::shared_future<std::string> slice_png;
 };
+
+// A figure's PNG, drawn by gnuplot (a process of its own) while the report goes on.
+std::shared_future<std::string> drawn_later(Figure f, std::string what) {
+    return std::async(std::launch::async, [f = std::move(f), what = std::move(what)] { return f.png(what); }).share();
+}
 
 // A surface of more cubes than this is clustered as it is extracted, never held whole (about
 // 100 bytes per cube whole).
@@ -98,7 +104,7 @@ Pictures pictures(Context& ctx, const Volume& v, const Analysis& an, std::size_t
     sf.label = "isovalue " + s + ", z = " + std::to_string(p.z);
     sf.lines = sv.contour;
     sf.line_title = "contour f = " + s;
-    p.slice_png = image_figure(sf).png("report: slice at " + s);
+    p.slice_png = drawn_later(image_figure(sf), "report: slice at " + s);
     return p;
 }
 
@@ -107,7 +113,7 @@ struct View {
     std::string role;  ///< "recommended (clean)", "noisiest well-populated"
     std::size_t index = 0;
     double isovalue = 0;
-    std::string mesh_png, slice_png;
+    std::shared_future<std::string> mesh_png, slice_png;
     json facts;
 };
 
@@ -125,7 +131,7 @@ View make_view(const Pictures& p, const IsovalueSet& iso, std::size_t j, const s
     mf.image = &preview;
     mf.title = role + ": LD-coloured isosurface (marching cubes, window " + std::to_string(window) + ")";
     mf.label = "isovalue " + s;
-    w.mesh_png = image_figure(mf).png("report: mesh preview at " + s);
+    w.mesh_png = drawn_later(image_figure(mf), "report: mesh preview at " + s);
     w.slice_png = p.slice_png;
     w.facts = {{"role", role},
                {"isovalue", w.isovalue},
@@ -322,8 +328,8 @@ std::string view_section(const json& j, const View& w, std::size_t i) {
       << number(j, p + "/isovalue", 8) << "</h2>\n<p>LD defined at " << number(j, p + "/ld_defined")
       << " vertices, mean LD " << number(j, p + "/ld_mean", 4) << ", share above 2.5 (red) "
       << number(j, p + "/ld_above_red", 3) << ".</p>\n<div class=\"pair\"><figure>"
-      << html::png_image(w.mesh_png, w.role + " mesh") << "<figcaption>isosurface coloured by LD</figcaption>"
-      << "</figure><figure>" << html::png_image(w.slice_png, w.role + " slice")
+      << html::png_image(w.mesh_png.get(), w.role + " mesh") << "<figcaption>isosurface coloured by LD</figcaption>"
+      << "</figure><figure>" << html::png_image(w.slice_png.get(), w.role + " slice")
       << "<figcaption>axial slice " << number(j, p + "/slice_z")
       << ", the contour in yellow, LD blended where defined</figcaption></figure></div></section>\n";
     return s_view.str();
@@ -496,6 +502,9 @@ ReportPage report_page(Context& ctx, const Volume& v, const ReportSettings& a, c
     } else {
         j["explore"] = {{"static", why_static}};
     }
+    // The page's time includes the figures still being drawn.
+    for (const View& w : views) w.mesh_png.wait(), w.slice_png.wait();
+    for (const explore::Choice& c : choices) c.slice_png.wait();
     j["seconds"] = seconds_since(t0);
 
     std::string explore_html;

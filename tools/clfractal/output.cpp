@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -90,7 +91,7 @@ void plot_png(const std::string& script, const std::string& data, const std::str
 
 std::string plot_png_bytes(const std::string& script, const std::string& data, const std::string& what) {
     require_gnuplot(what);
-    static int serial = 0;
+    static std::atomic<int> serial{0};  // figures may be drawn on several threads at once
     const std::string tmp_png = (fs::temp_directory_path() / ("clfractal-plot-" + std::to_string(::getpid()) + "-" +
                                                               std::to_string(serial++) + ".png"))
                                     .string();

@@ -418,7 +418,7 @@ std::string section(const json& report, const std::vector<Choice>& choices, cons
         e["positions"] = html::base64(c.mesh.positions);
         e["colours"] = html::base64(c.mesh.colours);
         e["indices"] = html::base64(c.mesh.indices);
-        e["slice"] = html::base64(c.slice_png);
+        e["slice"] = html::base64(c.slice_png.get());
         data.push_back(std::move(e));
     }
     o << "<script type=\"application/json\" id=\"report-plot\">" << script_safe_json(plot_data(report)) << "</script>\n"

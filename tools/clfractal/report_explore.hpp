@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <future>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,7 +52,7 @@ struct Choice {
     double isovalue = 0;
     std::size_t slice_z = 0;
     WebMesh mesh;
-    std::string slice_png;
+    std::shared_future<std::string> slice_png;  ///< drawn while the report goes on
 };
 
 /// The JSON facts of a choice (report --json "explore" entries).
