@@ -120,14 +120,15 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
     // The surface is extracted in parts of `layers / threads` cube layers, on every thread,
     // and the parts are added in z order (the clusters are one hash table): the same clusters
     // as one part after the other. Adding comes first whenever the next part is ready and no
-    // thread adds; otherwise a thread extracts the next part, at most 2 `threads` parts ahead
-    // of the adding (memory: a few parts' meshes). So the adding on one thread overlaps the
-    // extraction of the parts after it on the others (before, every thread waited for each
-    // slab's parts to be added: the 640^3 phantom report's four clustered surfaces took 21.7 s
-    // for 29.1 CPU s).
+    // thread adds; otherwise a thread extracts the next part, at most `threads` parts ahead of
+    // the adding (memory: one slab's parts, as before; twice as many ahead raised the 384^3
+    // phantom report's peak to 724 MiB in one run, over its 688 MiB bound). So the adding on
+    // one thread overlaps the extraction of the parts after it on the others (before, every
+    // thread waited for each slab's parts to be added: the 640^3 phantom report's four
+    // clustered surfaces took 21.7 s for 29.1 CPU s).
     const std::size_t threads = std::min<std::size_t>(std::size_t(std::max(1, omp_get_max_threads())), layers);
     layers = std::max<std::size_t>(1, layers / threads);
-    const std::size_t nz = v.dims().nz, parts = nz > 1 ? (nz - 1 + layers - 1) / layers : 0, ahead = 2 * threads;
+    const std::size_t nz = v.dims().nz, parts = nz > 1 ? (nz - 1 + layers - 1) / layers : 0, ahead = threads;
     std::vector<Mesh> slot(ahead);
     std::vector<char> ready(ahead, 0);
     std::vector<detail::ExtractScratch> scratch(threads);
