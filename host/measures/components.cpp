@@ -274,8 +274,7 @@ std::vector<std::uint32_t> neighbour_masks(const Volume& v, const DeviceVolume* 
 // slab's boundary vertices), takes its neighbour's parent instead of a find: the same roots,
 // so the same counts and links, without the chain's reads (640^3 uint16 phantom's curve, two
 // interleaved runs each: 40.2 and 34.7 s with finds, 35.4 and 33.7 s without). The loop is
-// bound by memory latency: parents of vertices a few steps ahead are
-// prefetched.
+// bound by memory latency: parents of vertices a few steps ahead are prefetched.
 template <class I> class Sweeper {
 public:
     Sweeper(const Dims& d, const std::vector<Offset>& nbrs, std::vector<I>& parent)

@@ -147,31 +147,31 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
                 adding = true;
                 const std::size_t z0 = next_add * layers;
                 lock.unlock();
+                std::exception_ptr e;
                 try {
                     // The vertices within slice z0 came with the part before (its last slice).
                     c.add(slot[p], z0 ? std::uint64_t(z0 + 1) * plane : 0);
                     slot[p] = Mesh();
                 } catch (...) {
-                    lock.lock();
-                    if (!failed) failed = std::current_exception();
-                    lock.unlock();
+                    e = std::current_exception();
                 }
                 lock.lock();
+                if (e && !failed) failed = e;
                 ready[p] = 0, adding = false, ++next_add;
                 changed.notify_all();
             } else if (next_extract < parts && next_extract < next_add + ahead) {
                 const std::size_t q = next_extract++, z0 = q * layers;
                 lock.unlock();
                 Mesh part;
+                std::exception_ptr e;
                 try {
                     part = detail::extract_isosurface_layers(v, s, z0, z0 + layers, method, mine);
                     if (ld) part.ld = interpolate_on_vertices(part, *ld);
                 } catch (...) {
-                    lock.lock();
-                    if (!failed) failed = std::current_exception();
-                    lock.unlock();
+                    e = std::current_exception();
                 }
                 lock.lock();
+                if (e && !failed) failed = e;
                 slot[q % ahead] = std::move(part), ready[q % ahead] = 1;
                 changed.notify_all();
             } else {
