@@ -212,6 +212,7 @@ json noise_json(const NoiseLevel* l, const NoiseEstimate* e) {
         j["correlation"] = {number_json(l->correlation[0]), number_json(l->correlation[1]),
                             number_json(l->correlation[2])};
         j["sigma_strides"] = {l->sigma_strides[0], l->sigma_strides[1], l->sigma_strides[2]};
+        j["texture"] = l->texture;
         j["spread"] = {{"p10", number_json(l->spread[0])}, {"p50", number_json(l->spread[1])},
                        {"p90", number_json(l->spread[2])}};
         j["variation"] = number_json(noise_variation(*l));

@@ -216,7 +216,9 @@ std::size_t noise_block_side(const Dims& d) {
 const std::vector<NoiseStride>& noise_strides() {
     static const std::vector<NoiseStride> strides{{2, 1, 1}, {1, 2, 1}, {1, 1, 2}, {4, 1, 1}, {1, 4, 1},
                                                   {1, 1, 4}, {8, 1, 1}, {1, 8, 1}, {1, 1, 8}, {2, 2, 1},
-                                                  {2, 1, 2}, {1, 2, 2}, {2, 2, 2}};
+                                                  {2, 1, 2}, {1, 2, 2}, {2, 2, 2}, {4, 4, 1},
+                                                  {4, 1, 4}, {1, 4, 4}, {4, 4, 4}, {8, 8, 1},
+                                                  {8, 8, 8}};
     return strides;
 }
 
@@ -490,12 +492,37 @@ CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& 
 // at every stride, which the model reads as a width of about 0.2 to 0.3 voxels.
 constexpr double least_width = 0.35;
 
-// The strides sigma is read at: 2 along the correlated axes, 1 elsewhere.
-NoiseStride sigma_strides(const std::array<double, 3>& width) {
-    NoiseStride m{1, 1, 1};
+// The model's gain at stride m: the product over the axes of f_a(m_a) / 6, the share of the
+// correlated part's variance that R_m / sqrt(216) keeps.
+double stride_gain(const std::array<double, 3>& width, const NoiseStride& m) {
+    double gain = 1;
     for (int a = 0; a < 3; ++a)
-        if (width[a] > 0) m[a] = 2;
-    return m;
+        gain *= noise_stride_factor(std::isnan(width[a]) ? 0.0 : width[a], m[a]) / 6;
+    return gain;
+}
+
+// The least gain sigma is read at where a stride reaches it. bench/noise_correlated_bench.py's
+// 132 correlated cases, median / worst |error| of sigma: read at 2 always, 2.4 / 43.7%; at the
+// least gain 0.5, 2.8 / 103% (w = 1.5 then reads at 8, whose taps reach the anatomy); at 0.4,
+// 2.7 / 103%; at 0.3, 2.2 / 31.1% (w = 1.5 reads at 4, gain 0.47).
+constexpr double least_gain = 0.3;
+
+// The strides sigma is read at: s along the correlated axes, 1 elsewhere, s the least of 2, 4
+// and 8 whose gain reaches least_gain and whose V is finite (else the widest with a finite V,
+// else 1): where the gain is small, sigma follows every error of the widths many times over (at
+// w = 1.5 the gain at s = 2 is 0.008 and falls by 40% when w reads 1.6).
+NoiseStride sigma_strides(const NoiseBlocks& b, const std::vector<double>& v, const std::array<double, 3>& width) {
+    NoiseStride chosen{1, 1, 1};
+    for (int s : {2, 4, 8}) {
+        NoiseStride m{1, 1, 1};
+        for (int a = 0; a < 3; ++a)
+            if (width[a] > 0) m[a] = s;
+        const auto at = std::find(b.strides.begin(), b.strides.end(), m);
+        if (at == b.strides.end() || !std::isfinite(v[std::size_t(at - b.strides.begin())])) continue;
+        chosen = m;
+        if (stride_gain(width, m) >= least_gain) break;
+    }
+    return chosen;
 }
 
 // correlation, sigma_strides and sigma of `r` from a fit, its widths under least_width taken
@@ -504,12 +531,10 @@ bool sigma_at_fit(const NoiseBlocks& b, const std::vector<double>& v, double v1,
     for (double& w : fit.width)
         if (w < least_width) w = 0;
     r.correlation = fit.width;
-    r.sigma_strides = sigma_strides(fit.width);
+    r.sigma_strides = sigma_strides(b, v, fit.width);
     const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
     const double vm = at == b.strides.end() ? v1 : v[std::size_t(at - b.strides.begin())];
-    double gain = 1;
-    for (int a = 0; a < 3; ++a)
-        gain *= noise_stride_factor(std::isnan(fit.width[a]) ? 0.0 : fit.width[a], r.sigma_strides[a]) / 6;
+    const double gain = stride_gain(fit.width, r.sigma_strides);
     r.sigma = std::isfinite(vm) ? std::sqrt(std::max(vm - fit.white, 0.0) / gain + fit.white) : r.sigma_white;
     return fit.width[0] > 0 || fit.width[1] > 0 || fit.width[2] > 0;
 }
@@ -540,6 +565,27 @@ bool told_from_structure(const NoiseBlocks& b, const std::vector<double>& v, con
         least_share = std::min(least_share, (at[4] - white) / at[4]);
     }
     return !(rise_wide > 1.5 * rise_near && least_share < 0.25);
+}
+
+// Texture: the ratio of V(2m) to sigma^2 read at m = 2 that noise never passes. The model's
+// gain is at most 1 at every stride (f(s) <= 6), so V(2m) <= sigma^2 for noise, and structure
+// that taps four apart reach raises it little: over bench/noise_correlated_bench.py's
+// correlated cases read at m = 2, sqrt(V(4m)) / sigma is at most 1.15 (sigma read at 4 over
+// sigma read at 2, both through the model); the lung CT's parenchyma reads 1.90.
+constexpr double texture_ratio = 2.25;  // 1.5^2
+
+// Whether the fit's correlated part is texture rather than noise: sigma read at 2 along the
+// correlated axes, and V at 4 along them above texture_ratio sigma^2.
+bool rises_beyond_noise(const NoiseBlocks& b, const std::vector<double>& v, const NoiseLevel& r) {
+    NoiseStride wider = r.sigma_strides;
+    for (int& s : wider) {
+        if (s != 1 && s != 2) return false;
+        if (s == 2) s = 4;
+    }
+    const auto at = std::find(b.strides.begin(), b.strides.end(), wider);
+    if (wider == r.sigma_strides || at == b.strides.end()) return false;
+    const double v4 = v[std::size_t(at - b.strides.begin())];
+    return std::isfinite(v4) && v4 > texture_ratio * r.sigma * r.sigma;
 }
 
 }  // namespace
@@ -613,6 +659,15 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
             fit.error * 10 < white_error && told_from_structure(b, v, relative.correlation, fit.white))
             r = relative;
     }
+    // Texture the model reads as correlated noise: refused, sigma = sigma_white, and said.
+    if (rises_beyond_noise(b, v, r)) {
+        CorrelationFit none{r.correlation, 0.0, 0.0};
+        for (double& w : none.width)
+            if (!std::isnan(w)) w = 0;
+        r = white_level;
+        sigma_at_fit(b, v, v1, none, r);
+        r.texture = true;
+    }
     const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
     const std::size_t mask = std::size_t(at - b.strides.begin());
     const double vm = at == b.strides.end() ? v1 : v[mask];
@@ -646,6 +701,10 @@ std::vector<std::string> noise_level_notes(const NoiseLevel& l) {
         notes.push_back("noise varies " + three_digits(variation) + "x across the volume (the map's 90th percentile " +
                         three_digits(l.spread[2]) + " over its 10th " + three_digits(l.spread[0]) +
                         "; cells holding structure read high too)");
+    if (l.texture)
+        notes.push_back("the residuals rise with the taps' spacing beyond what noise gives (texture or structure, "
+                        "not noise): sigma is the white part, " + three_digits(l.sigma_white) +
+                        ", and noise correlated across neighbours may be more");
     if (noise_is_correlated(l)) {
         std::string widths;
         for (int a = 0; a < 3; ++a)

@@ -40,7 +40,8 @@
 // of standard deviation sigma whose autocorrelation is a product of per-axis functions
 // rho_a(d), E[R_s^2] = sigma^2 prod_a f_a(s_a), f_a(s) = 6 - 8 rho_a(s) + 2 rho_a(2 s) (6 for
 // white noise). The strides are noise_strides(): 2, 4, 8 along one axis at a time (the other
-// two at 1, which keeps anatomy out as R does), and 2 along two or three axes. V(s) is the
+// two at 1, which keeps anatomy out as R does), 2 and 4 along two or three axes, and (8,8,1),
+// (8,8,8). V(s) is the
 // pooled mean of R_s^2 / 216 over the flat blocks that agree with the rest (the shorth of
 // log(V_b(s)) / 3 and a window of clip times the larger of its white spread and its robust
 // spread, the shorth's length / 1.349), so that a block flat to R but reaching an edge at
@@ -60,10 +61,14 @@
 // (white): edges that the wider taps reach raise every V(s) a little, which reads as widths of
 // 0.2 to 0.3 on white noise.
 //
-// sigma. sigma^2 = (V(m) - b) / (prod_a f_a(m_a) / 216) + b, with m_a = 2 where w_a > 0 and
-// 1 elsewhere: the two-apart taps share little of the noise, so the
-// model matters less than at stride 1, and they keep anatomy out better than wider ones. For
-// white noise m = (1, 1, 1) and sigma = sigma_white.
+// sigma. sigma^2 = (V(m) - b) / (prod_a f_a(m_a) / 216) + b, with m_a = s where w_a > 0 and
+// 1 elsewhere, s the least of 2, 4, 8 whose gain prod_a f_a(m_a) / 6 reaches 0.3 (and whose V
+// exists): where the gain is small an error of the widths moves sigma many times over, and
+// wider taps reach more anatomy. For white noise m = (1, 1, 1) and sigma = sigma_white.
+//
+// Texture. The gain is at most 1, so noise gives V(2m) <= sigma^2. Where sigma is read at
+// s = 2 and V at 4 along the same axes passes 2.25 sigma^2, the rise is texture or structure:
+// the correlation is refused (w = 0, sigma = sigma_white, texture = true).
 #pragma once
 #include <array>
 #include <cstddef>
@@ -97,7 +102,7 @@ std::size_t noise_block_side(const Dims& d);
 using NoiseStride = std::array<int, 3>;
 
 /// The strides the block statistics hold: (2,1,1), (1,2,1), (1,1,2), the same with 4 and 8,
-/// then (2,2,1), (2,1,2), (1,2,2), (2,2,2).
+/// then (2,2,1), (2,1,2), (1,2,2), (2,2,2), the same with 4, and (8,8,1), (8,8,8).
 const std::vector<NoiseStride>& noise_strides();
 
 /// The 1D factor of the Gaussian correlation model for width w (voxels) at stride s:
@@ -132,6 +137,9 @@ struct NoiseLevel {
                                       std::numeric_limits<double>::quiet_NaN(),
                                       std::numeric_limits<double>::quiet_NaN()};
     NoiseStride sigma_strides{1, 1, 1};  ///< the strides sigma was read at
+    /// Whether the residuals rise with the taps' spacing beyond what noise gives (texture or
+    /// structure, not noise): the correlation is then refused and sigma is sigma_white.
+    bool texture = false;
     double flat_share = 0;              ///< residuals of the flat blocks / all vertices
     std::size_t blocks = 0, usable_blocks = 0, flat_blocks = 0;
     std::size_t block = 0;

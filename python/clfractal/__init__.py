@@ -971,6 +971,9 @@ class NoiseLevel(_Record):
         correlation the noise's matches; 0: white; NaN: n/a).
     sigma_strides : tuple of int
         The taps spacing along x, y, z sigma was read at.
+    texture : bool
+        Whether the residuals rise with the taps' spacing beyond what noise gives (texture or
+        structure): the correlation is then refused and sigma is sigma_white.
     spread : tuple of float
         The map's 10th, 50th and 90th percentiles.
     variation : float
@@ -992,6 +995,7 @@ class NoiseLevel(_Record):
     sigma_white: float
     correlation: tuple
     sigma_strides: tuple
+    texture: bool
     spread: tuple
     variation: float
     notes: list
@@ -1010,7 +1014,7 @@ class NoiseLevel(_Record):
         ``{"p10", "p50", "p90"}``, the map as ``{"cell", "dims": [nx, ny, nz], "sigma": [x
         fastest, null where no block is usable]}``."""
         d = {k: _plain(getattr(self, k)) for k in ("sigma", "sigma_white", "correlation", "sigma_strides",
-                                                   "variation", "notes", "flat_share", "block", "blocks",
+                                                   "texture", "variation", "notes", "flat_share", "block", "blocks",
                                                    "blocks_usable", "blocks_flat", "seconds")}
         d["spread"] = dict(zip(("p10", "p50", "p90"), _plain(self.spread)))
         nz, ny, nx = self.map.shape

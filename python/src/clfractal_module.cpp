@@ -549,6 +549,7 @@ nb::dict noise_level_call(nb::handle a, const std::string& type, std::size_t blo
                       {"sigma_white", nb::cast(r.sigma_white)},
                       {"correlation", triple(r.correlation)},
                       {"sigma_strides", nb::make_tuple(r.sigma_strides[0], r.sigma_strides[1], r.sigma_strides[2])},
+                      {"texture", nb::cast(r.texture)},
                       {"spread", triple(r.spread)},
                       {"variation", nb::cast(noise_variation(r))},
                       {"notes", notes},

@@ -197,7 +197,7 @@ def test_noise_level_matches_definition_and_cli(dtype, cli, tmp_path):
         if isinstance(a, float) and b is not None:
             return b == pytest.approx(a, rel=1e-9)
         return a == b
-    for key in ("sigma_white", "correlation", "sigma_strides", "spread", "variation", "notes", "map"):
+    for key in ("sigma_white", "correlation", "sigma_strides", "texture", "spread", "variation", "notes", "map"):
         assert close(json.loads(json.dumps(mine[key])), j[key]), (key, mine[key], j[key])
     with pytest.raises(ValueError, match="block"):
         clfractal.noise_level(v, block=1)

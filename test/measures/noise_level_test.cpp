@@ -3,6 +3,7 @@
 // the reference's; accuracy on fields of known noise.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -230,9 +231,14 @@ TEST_CASE("Noise level: the correlation model's fit recovers its own widths and 
     // Block statistics made from the model, V(s) = a prod f_a(s_a) / 216 + b, on 64 blocks
     // whose variances differ by a few percent (the same in every stride): the fit returns
     // the widths on its grid (0.9% apart) and sigma^2 = a + b.
+    // sigma is read where the model's gain first reaches 0.3: at w = 1 the gain is 0.14 at
+    // stride 2 and 0.93 at 4; at w = 1.5 (one axis) 0.20 at 2 and 0.78 at 4; at w = 0.8 (two
+    // axes) 0.52 at 2.
     const double a = 100, b = 1.0 / 12;
-    for (const std::array<double, 3>& w : {std::array<double, 3>{1.0, 1.0, 1.0}, std::array<double, 3>{0.0, 0.0, 1.5},
-                                           std::array<double, 3>{0.8, 0.8, 0.0}, std::array<double, 3>{0.0, 0.0, 0.0}}) {
+    const std::array<double, 3> ws[] = {{1.0, 1.0, 1.0}, {0.0, 0.0, 1.5}, {0.8, 0.8, 0.0}, {0.0, 0.0, 0.0}};
+    const NoiseStride read_at[] = {{4, 4, 4}, {1, 1, 4}, {2, 2, 1}, {1, 1, 1}};
+    for (int c = 0; c < 4; ++c) {
+        const std::array<double, 3>& w = ws[c];
         CAPTURE(w[0]);
         CAPTURE(w[2]);
         NoiseBlocks blocks;
@@ -263,9 +269,29 @@ TEST_CASE("Noise level: the correlation model's fit recovers its own widths and 
         for (int k = 0; k < 3; ++k) CHECK(l.correlation[k] == doctest::Approx(w[k]).epsilon(0.01));
         CHECK(l.sigma == doctest::Approx(std::sqrt((a + b) * 1.006)).epsilon(0.01));
         CHECK(l.sigma_white == doctest::Approx(std::sqrt(model({1, 1, 1}) * 1.006)).epsilon(0.01));
-        CHECK(l.sigma_strides == NoiseStride{w[0] > 0 ? 2 : 1, w[1] > 0 ? 2 : 1, w[2] > 0 ? 2 : 1});
+        CHECK(l.sigma_strides == read_at[c]);
+        CHECK_FALSE(l.texture);
         CHECK(l.spread[0] <= l.spread[1]);
         CHECK(l.spread[1] <= l.spread[2]);
+        if (c != 2) continue;
+        // Texture: V at (4, 4, 1) above 2.25 sigma^2 read at (2, 2, 1), which noise never gives
+        // (the gain is at most 1): the correlation is refused, sigma is sigma_white, and said.
+        const auto wide = std::find(blocks.strides.begin(), blocks.strides.end(), NoiseStride{4, 4, 1});
+        REQUIRE(wide != blocks.strides.end());
+        NoiseBlocks rough = blocks;
+        for (double& sum : rough.strided_sums[std::size_t(wide - blocks.strides.begin())]) sum *= 2.3 * (a + b) / model({4, 4, 1});
+        const NoiseLevel t = noise_level_from_blocks(rough);
+        CHECK(t.texture);
+        CHECK(t.sigma == t.sigma_white);
+        CHECK(t.correlation == std::array<double, 3>{0.0, 0.0, 0.0});
+        CHECK(t.sigma_strides == NoiseStride{1, 1, 1});
+        const std::vector<std::string> notes = noise_level_notes(t);
+        CHECK(std::any_of(notes.begin(), notes.end(),
+                          [](const std::string& n) { return n.find("texture or structure") != std::string::npos; }));
+        // Just under the limit it stays noise.
+        NoiseBlocks smooth = blocks;
+        for (double& sum : smooth.strided_sums[std::size_t(wide - blocks.strides.begin())]) sum *= 2.2 * (a + b) / model({4, 4, 1});
+        CHECK_FALSE(noise_level_from_blocks(smooth).texture);
     }
 }
 
