@@ -46,7 +46,9 @@ Peers: scikit-image estimate_sigma and dipy's estimate_sigma when they import (n
 
 --smoke: white and isotropic (w = 1) noise on the 48^3 phantom smoothed by 1.5 in float32 and
 the z-only family on it in uint8, through the CLI; exit 1 if white is off by over 3%, correlated by over 15%, or a
-correlation width by over 25%.
+correlation width by over 25%; and the real-CT rule on a made-up CT (tissue, a step to bone, an
+air margin, in-slice correlated noise): exit 1 if the ROIs include a square by the step or the
+air, if their SD median is off the noise, or if sigma is over 25% from it.
 """
 import argparse
 import glob
@@ -390,7 +392,34 @@ def smoke(ours):
         if bad:
             print(f"FAIL: {family}")
             fails += 1
-    return fails
+    return fails + smoke_rois(ours)
+
+
+def smoke_rois(ours):
+    """The real-CT rule on a made-up CT of 128 x 128 x 4 int16 HU: soft tissue of 40 HU left of
+    a step to 400 HU (bone) at x = 68, with a -1000 HU air margin 8 voxels deep, and noise of
+    12 HU smoothed in the slice by 1 voxel: the in-slice ROIs are the squares of one material
+    whose neighbours are too (none touching the step or the air), their SDs read the noise (the
+    squares remove little of it), and sigma is within 25% of their median. 1 on a miss."""
+    rng = np.random.default_rng(11)
+    clean = np.full((4, 128, 128), 40.0)
+    clean[:, :, 68:] = 400
+    clean[:, :8, :], clean[:, -8:, :], clean[:, :, :8], clean[:, :, -8:] = -1000, -1000, -1000, -1000
+    noise = unit_noise(clean.shape, (1.0, 1.0, 0), rng)
+    a = to_type(clean + 12 * noise, np.int16)
+    sds = uniform_rois(a)
+    # Squares in tissue with tissue all round: columns 2..6 (column 8 holds the step at x = 68,
+    # 0 is air, 1 and 7 touch them), rows 2..13, 4 slices: 240; a few drop out where the noise
+    # moves a neighbour's mean by over 20 HU. A rule that let edges in would pass 240.
+    most = 5 * 12 * 4
+    sigma = num(ours(a)["sigma"])
+    err = 100 * (sigma / np.median(sds) - 1) if len(sds) else float("nan")
+    print(f"ROI rule: {len(sds)} ROIs (at most {most}), SD median {np.median(sds):.2f} (noise 12), sigma {sigma:.2f} "
+          f"({err:+.1f}%)")
+    bad = not 0.9 * most <= len(sds) <= most or not 9.5 <= np.median(sds) <= 12.5 or not abs(err) <= 25
+    if bad:
+        print("FAIL: ROI rule")
+    return int(bad)
 
 
 def main():
