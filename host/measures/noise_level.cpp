@@ -492,6 +492,12 @@ CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& 
 // at every stride, which the model reads as a width of about 0.2 to 0.3 voxels.
 constexpr double least_width = 0.35;
 
+// V at stride m (of b.strides); NaN where the statistics do not hold m.
+double value_at(const NoiseBlocks& b, const std::vector<double>& v, const NoiseStride& m) {
+    const auto at = std::find(b.strides.begin(), b.strides.end(), m);
+    return at == b.strides.end() ? std::numeric_limits<double>::quiet_NaN() : v[std::size_t(at - b.strides.begin())];
+}
+
 // The model's gain at stride m: the product over the axes of f_a(m_a) / 6, the share of the
 // correlated part's variance that R_m / sqrt(216) keeps.
 double stride_gain(const std::array<double, 3>& width, const NoiseStride& m) {
@@ -517,8 +523,7 @@ NoiseStride sigma_strides(const NoiseBlocks& b, const std::vector<double>& v, co
         NoiseStride m{1, 1, 1};
         for (int a = 0; a < 3; ++a)
             if (width[a] > 0) m[a] = s;
-        const auto at = std::find(b.strides.begin(), b.strides.end(), m);
-        if (at == b.strides.end() || !std::isfinite(v[std::size_t(at - b.strides.begin())])) continue;
+        if (!std::isfinite(value_at(b, v, m))) continue;
         chosen = m;
         if (stride_gain(width, m) >= least_gain) break;
     }
@@ -532,8 +537,7 @@ bool sigma_at_fit(const NoiseBlocks& b, const std::vector<double>& v, double v1,
         if (w < least_width) w = 0;
     r.correlation = fit.width;
     r.sigma_strides = sigma_strides(b, v, fit.width);
-    const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
-    const double vm = at == b.strides.end() ? v1 : v[std::size_t(at - b.strides.begin())];
+    const double vm = r.sigma_strides == NoiseStride{1, 1, 1} ? v1 : value_at(b, v, r.sigma_strides);
     const double gain = stride_gain(fit.width, r.sigma_strides);
     r.sigma = std::isfinite(vm) ? std::sqrt(std::max(vm - fit.white, 0.0) / gain + fit.white) : r.sigma_white;
     return fit.width[0] > 0 || fit.width[1] > 0 || fit.width[2] > 0;
@@ -582,10 +586,19 @@ bool rises_beyond_noise(const NoiseBlocks& b, const std::vector<double>& v, cons
         if (s != 1 && s != 2) return false;
         if (s == 2) s = 4;
     }
-    const auto at = std::find(b.strides.begin(), b.strides.end(), wider);
-    if (wider == r.sigma_strides || at == b.strides.end()) return false;
-    const double v4 = v[std::size_t(at - b.strides.begin())];
-    return std::isfinite(v4) && v4 > texture_ratio * r.sigma * r.sigma;
+    const double v4 = value_at(b, v, wider);
+    return wider != r.sigma_strides && std::isfinite(v4) && v4 > texture_ratio * r.sigma * r.sigma;
+}
+
+// `white` (the estimate before any fit) read as white noise: the widths 0 where an axis has
+// strided residuals, sigma = sigma_white.
+NoiseLevel read_as_white(const NoiseBlocks& b, const std::vector<double>& v, double v1,
+                         const std::array<double, 3>& widths, NoiseLevel white) {
+    CorrelationFit none{widths, 0.0, 0.0};
+    for (double& w : none.width)
+        if (!std::isnan(w)) w = 0;
+    sigma_at_fit(b, v, v1, none, white);
+    return white;
 }
 
 }  // namespace
@@ -640,11 +653,7 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     const CorrelationFit log_fit = fit_correlation(b, v, v1, FitScale::log);
     bool white = !sigma_at_fit(b, v, v1, log_fit, r);
     if (!white && !told_from_structure(b, v, r.correlation, log_fit.white)) {
-        CorrelationFit none{r.correlation, 0.0, 0.0};
-        for (double& w : none.width)
-            if (!std::isnan(w)) w = 0;
-        r = white_level;
-        sigma_at_fit(b, v, v1, none, r);
+        r = read_as_white(b, v, v1, r.correlation, white_level);
         white = true;
     }
     if (white) {
@@ -661,11 +670,7 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     }
     // Texture the model reads as correlated noise: refused, sigma = sigma_white, and said.
     if (rises_beyond_noise(b, v, r)) {
-        CorrelationFit none{r.correlation, 0.0, 0.0};
-        for (double& w : none.width)
-            if (!std::isnan(w)) w = 0;
-        r = white_level;
-        sigma_at_fit(b, v, v1, none, r);
+        r = read_as_white(b, v, v1, r.correlation, white_level);
         r.texture = true;
     }
     const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
