@@ -319,32 +319,58 @@ std::vector<BlockUse> usable_blocks(const NoiseBlocks& b) {
     return use;
 }
 
-// The noise map of `result` from the usable blocks: sigma x sqrt(V_cell / pooled), V_cell
-// from `sums` and `counts` (one stride's), then the map's percentiles.
+// The median of `x` (reordered), NaN when empty.
+double median_of(std::vector<double>& x) {
+    if (x.empty()) return std::numeric_limits<double>::quiet_NaN();
+    const std::size_t h = x.size() / 2;
+    std::nth_element(x.begin(), x.begin() + std::ptrdiff_t(h), x.end());
+    if (x.size() % 2) return x[h];
+    return 0.5 * (x[h] + *std::max_element(x.begin(), x.begin() + std::ptrdiff_t(h)));
+}
+
+// The noise map of `result` from the usable blocks, then the map's percentiles. With a sigma
+// and flat blocks (`flat`) whose median variance at these strides is above 0: sigma x
+// sqrt(M_cell / M_flat), M_cell the median over the cell's usable blocks of R^2 / count at
+// one stride's `sums` and `counts` (silent blocks 0), M_flat that over the flat blocks. The
+// median leaves out the blocks of a cell that reach an edge while they are fewer than half
+// of it (a mean took them in: cells along the phantoms' edges read 10 to 19% high). Else
+// sigma x sqrt(V_cell / pooled), V_cell the mean R^2 / count over the cell's usable blocks,
+// `pooled` the flat blocks' (without a sigma or `pooled`: the residual's RMS in the cell).
 void noise_map(const NoiseBlocks& b, const std::vector<BlockUse>& use, const std::vector<double>& sums,
-               const std::vector<std::uint32_t>& counts, double pooled, std::size_t map_block, NoiseLevel& result) {
+               const std::vector<std::uint32_t>& counts, const std::vector<std::size_t>& flat, double pooled,
+               std::size_t map_block, NoiseLevel& result) {
     const std::size_t per = map_block / b.block;
     const Dims g = b.grid;
     const Dims m{blocks_along(g.nx, per), blocks_along(g.ny, per), blocks_along(g.nz, per)};
+    std::vector<std::vector<double>> cell(m.vertices());
     std::vector<double> sum(m.vertices(), 0.0), count(m.vertices(), 0.0);
     for (std::size_t z = 0; z < g.nz; ++z)
         for (std::size_t y = 0; y < g.ny; ++y)
             for (std::size_t x = 0; x < g.nx; ++x) {
                 const std::size_t i = x + g.nx * (y + g.ny * z);
-                if (use[i] == BlockUse::left_out) continue;
+                if (use[i] == BlockUse::left_out || counts[i] == 0) continue;
                 const std::size_t c = x / per + m.nx * (y / per + m.ny * (z / per));
+                cell[c].push_back(sums[i] / double(counts[i]));
                 sum[c] += sums[i];
                 count[c] += double(counts[i]);
             }
-    // White noise at stride 1: the residual's RMS (sigma = sqrt(pooled)); else scaled to sigma.
+    std::vector<double> reference;
+    for (const std::size_t i : flat)
+        if (counts[i] > 0) reference.push_back(sums[i] / double(counts[i]));
+    const double flat_median = median_of(reference);
+    const bool medians = std::isfinite(result.sigma) && flat_median > 0;
     const double scale = pooled > 0 && std::isfinite(result.sigma) ? result.sigma / std::sqrt(pooled) : 1.0;
     result.map_block = map_block;
     result.map_dims = m;
     result.map.resize(m.vertices());
     std::vector<double> values;
     for (std::size_t c = 0; c < m.vertices(); ++c) {
-        result.map[c] = count[c] > 0 ? float(scale * std::sqrt(sum[c] / count[c])) : std::numeric_limits<float>::quiet_NaN();
-        if (count[c] > 0) values.push_back(double(result.map[c]));
+        std::vector<double>& x = cell[c];
+        double value = std::numeric_limits<double>::quiet_NaN();
+        if (!x.empty())
+            value = medians ? result.sigma * std::sqrt(median_of(x) / flat_median) : scale * std::sqrt(sum[c] / count[c]);
+        result.map[c] = float(value);
+        if (!x.empty()) values.push_back(double(result.map[c]));
     }
     std::sort(values.begin(), values.end());
     const double qs[] = {0.1, 0.5, 0.9};
@@ -619,7 +645,7 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
         // No noise anywhere: sigma 0 on the silent blocks, NaN without any usable block.
         if (r.flat_blocks)
             r.sigma = r.sigma_white = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
-        noise_map(b, use, b.sum_squares, b.count, 0.0, o.map_block, r);
+        noise_map(b, use, b.sum_squares, b.count, {}, 0.0, o.map_block, r);
         return r;
     }
     r.flat_blocks = 0;
@@ -674,11 +700,10 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     }
     const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
     const std::size_t mask = std::size_t(at - b.strides.begin());
-    const double vm = at == b.strides.end() ? v1 : v[mask];
     if (at == b.strides.end())
-        noise_map(b, use, b.sum_squares, b.count, v1, o.map_block, r);
+        noise_map(b, use, b.sum_squares, b.count, flat, v1, o.map_block, r);
     else
-        noise_map(b, use, b.strided_sums[mask], b.strided_counts[mask], vm, o.map_block, r);
+        noise_map(b, use, b.strided_sums[mask], b.strided_counts[mask], flat, v[mask], o.map_block, r);
     return r;
 }
 
@@ -704,7 +729,7 @@ std::vector<std::string> noise_level_notes(const NoiseLevel& l) {
     if (variation > 1.5)
         notes.push_back("noise varies " + three_digits(variation) + "x across the volume (the map's 90th percentile " +
                         three_digits(l.spread[2]) + " over its 10th " + three_digits(l.spread[0]) +
-                        "; cells holding structure read high too)");
+                        "; cells whose blocks mostly hold structure read high too)");
     if (l.texture)
         notes.push_back("the residuals rise with the taps' spacing beyond what noise gives (texture or structure, "
                         "not noise): sigma is the white part, " + three_digits(l.sigma_white) +

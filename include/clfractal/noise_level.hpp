@@ -145,10 +145,12 @@ struct NoiseLevel {
     std::size_t block = 0;
     double typical_variance = std::numeric_limits<double>::quiet_NaN();  ///< exp(3 c), grey values^2
     /// The noise map: per cell of map_block^3 vertices (x fastest), sigma in the cell: sigma x
-    /// sqrt(V_cell / V), V_cell the mean of R_m^2 / 216 over the cell's usable blocks (silent
-    /// ones included) at sigma's strides m, V the flat blocks' (for white noise the residual's
-    /// RMS in the cell): the local noise where the cell is flat, more where it holds
-    /// structure; NaN where the cell has no usable block with residuals at those strides.
+    /// sqrt(M_cell / M_flat), M_cell the median of the block variances (R_m^2 / 216 over the
+    /// count) of the cell's usable blocks (silent ones 0) at sigma's strides m, M_flat that of
+    /// the flat blocks: the local noise, the blocks an edge crosses left out while they are
+    /// fewer than half of the cell's; NaN where the cell has no usable block with residuals at
+    /// those strides. Where M_flat is 0, the pooled means take the medians' place (without any
+    /// noise: the residual's RMS in the cell).
     std::size_t map_block = 0;
     Dims map_dims{};
     std::vector<float> map;

@@ -87,6 +87,40 @@ NoiseBlocks noise_blocks(const Volume& v, std::size_t block) {
     return b;
 }
 
+namespace {
+
+// The median of x (sorted here): the middle value, or the mean of the two middle ones.
+double median(std::vector<double> x) {
+    std::sort(x.begin(), x.end());
+    const std::size_t n = x.size();
+    return n % 2 ? x[n / 2] : (x[n / 2 - 1] + x[n / 2]) / 2;
+}
+
+// The white-noise map: cells of map_block / block blocks per axis; in each, sigma x
+// sqrt(median of its usable blocks' variances / median of the flat blocks' variances), or,
+// without flat blocks, the residual's RMS over its usable blocks.
+void fill_map(const NoiseBlocks& b, const std::vector<char>& use, const std::vector<double>& flat, double sigma,
+              std::size_t map_block, NoiseLevel& r) {
+    const std::size_t per = map_block / b.block;
+    r.map_block = map_block;
+    r.map_dims = {(b.grid.nx + per - 1) / per, (b.grid.ny + per - 1) / per, (b.grid.nz + per - 1) / per};
+    r.map.assign(r.map_dims.vertices(), std::numeric_limits<float>::quiet_NaN());
+    for (std::size_t c = 0; c < r.map.size(); ++c) {
+        const std::size_t cx = c % r.map_dims.nx, cy = c / r.map_dims.nx % r.map_dims.ny, cz = c / (r.map_dims.nx * r.map_dims.ny);
+        double sum = 0, count = 0;
+        std::vector<double> variances;
+        for (std::size_t i = 0; i < r.blocks; ++i) {
+            const std::size_t x = i % b.grid.nx, y = i / b.grid.nx % b.grid.ny, z = i / (b.grid.nx * b.grid.ny);
+            if (use[i] > 0 && x / per == cx && y / per == cy && z / per == cz)
+                sum += b.sum_squares[i], count += b.count[i], variances.push_back(b.sum_squares[i] / b.count[i]);
+        }
+        if (count == 0) continue;
+        r.map[c] = float(flat.empty() ? std::sqrt(sum / count) : sigma * std::sqrt(median(variances) / median(flat)));
+    }
+}
+
+}  // namespace
+
 NoiseLevel noise_level(const NoiseBlocks& b, std::size_t map_block, double clip) {
     NoiseLevel r;
     r.block = b.block;
@@ -106,24 +140,11 @@ NoiseLevel noise_level(const NoiseBlocks& b, std::size_t map_block, double clip)
         if (use[i] == 1) silent += b.count[i];
     }
     r.usable_blocks = std::size_t(std::count_if(use.begin(), use.end(), [](char u) { return u > 0; }));
-    // The map: cells of map_block / block blocks per axis.
-    const std::size_t per = map_block / b.block;
-    r.map_block = map_block;
-    r.map_dims = {(b.grid.nx + per - 1) / per, (b.grid.ny + per - 1) / per, (b.grid.nz + per - 1) / per};
-    r.map.assign(r.map_dims.vertices(), std::numeric_limits<float>::quiet_NaN());
-    for (std::size_t c = 0; c < r.map.size(); ++c) {
-        const std::size_t cx = c % r.map_dims.nx, cy = c / r.map_dims.nx % r.map_dims.ny, cz = c / (r.map_dims.nx * r.map_dims.ny);
-        double sum = 0, count = 0;
-        for (std::size_t i = 0; i < r.blocks; ++i) {
-            const std::size_t x = i % b.grid.nx, y = i / b.grid.nx % b.grid.ny, z = i / (b.grid.nx * b.grid.ny);
-            if (use[i] > 0 && x / per == cx && y / per == cy && z / per == cz) sum += b.sum_squares[i], count += b.count[i];
-        }
-        if (count > 0) r.map[c] = float(std::sqrt(sum / count));
-    }
     if (variances.empty()) {
         r.flat_blocks = r.usable_blocks;
         if (r.usable_blocks)
             r.sigma = r.sigma_white = 0, r.typical_variance = 0, r.flat_share = silent / double(b.volume.vertices());
+        fill_map(b, use, {}, 0.0, map_block, r);
         return r;
     }
     // The shorth of y = log(v) / 3: the shortest run of ceil(N / 2) sorted values, its median.
@@ -137,14 +158,16 @@ NoiseLevel noise_level(const NoiseBlocks& b, std::size_t map_block, double clip)
     const double centre = (y[best + (h - 1) / 2] + y[best + h / 2]) / 2;
     r.typical_variance = std::exp(3 * centre);
     double sum = 0, count = 0;
+    std::vector<double> flat;  // the flat blocks' variances
     for (std::size_t i = 0; i < r.blocks; ++i) {
         if (use[i] != 2) continue;
         const double spread = std::sqrt(2 * std::pow(70.0 / 36, 3) / b.count[i]) / 3;
         if (std::abs(std::log(b.sum_squares[i] / b.count[i]) / 3 - centre) <= clip * spread)
-            sum += b.sum_squares[i], count += b.count[i], ++r.flat_blocks;
+            sum += b.sum_squares[i], count += b.count[i], ++r.flat_blocks, flat.push_back(b.sum_squares[i] / b.count[i]);
     }
     r.sigma_white = std::sqrt(sum / count);
     r.flat_share = count / double(b.volume.vertices());
+    fill_map(b, use, flat, r.sigma_white, map_block, r);
     return r;
 }
 
