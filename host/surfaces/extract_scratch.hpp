@@ -18,10 +18,16 @@ struct ExtractScratch {
     /// earlier call reads as stale without clearing the arrays.
     std::vector<std::uint32_t> lower, upper, across;
     std::uint32_t base = 0;
+    /// A mesh whose vectors the next call fills (emptied, their capacity kept): the parts of
+    /// cluster_isosurface come back to be filled again, instead of growing from nothing.
+    Mesh spare;
 };
 
 /// extract_isosurface_layers with the arrays of `scratch` (one scratch per thread).
 Mesh extract_isosurface_layers(const Volume& v, double s, std::size_t z0, std::size_t z1, MeshMethod method,
                                ExtractScratch& scratch);
+
+/// interpolate_on_vertices into `out` (resized; its capacity kept).
+void interpolate_on_vertices(const Mesh& mesh, const Volume& field, std::vector<float>& out);
 
 }  // namespace clfractal::detail

@@ -326,7 +326,9 @@ constexpr std::size_t max_mesh_elements = std::size_t(std::numeric_limits<std::i
 template <class T>
 Mesh extract(const T* f, const Dims& d, double s, const detail::Below<T>& cut, const std::array<double, 3>& spacing,
              const CaseTable& table, std::size_t z0, std::size_t z1, detail::ExtractScratch& scratch) {
-    Mesh mesh;
+    Mesh mesh = std::move(scratch.spare);
+    scratch.spare = Mesh();
+    mesh.positions.clear(), mesh.triangles.clear(), mesh.edge_points.clear(), mesh.ld.clear(), mesh.colors.clear();
     const std::size_t nx = d.nx, ny = d.ny, plane = nx * ny;
     // A base past 2^31 leaves room for no more than 2^31 - 1 vertices below no_vertex: start over.
     if (scratch.plane != plane || scratch.base > (std::uint32_t(1) << 31)) {
@@ -451,18 +453,23 @@ Mesh extract_isosurface(const Volume& v, double s, MeshMethod method) {
 }
 
 std::vector<float> interpolate_on_vertices(const Mesh& mesh, const Volume& field) {
+    std::vector<float> out;
+    detail::interpolate_on_vertices(mesh, field, out);
+    return out;
+}
+
+void detail::interpolate_on_vertices(const Mesh& mesh, const Volume& field, std::vector<float>& out) {
     if (field.type() != ValueType::float32) throw InputError("per-vertex field: expected float32 values");
     if (mesh.edge_points.size() != mesh.positions.size())
         throw InputError("per-vertex field: the mesh has no grid edges (extract it, do not read it back)");
     const float* f = field.as<float>();
-    std::vector<float> out(mesh.edge_points.size());
+    out.resize(mesh.edge_points.size());
     for (std::size_t i = 0; i < out.size(); ++i) {
         const EdgePoint& e = mesh.edge_points[i];
         if (e.u >= field.vertices() || e.w >= field.vertices())
             throw InputError("per-vertex field: its dims " + dims_string(field.dims()) + " do not match the mesh's grid");
         out[i] = f[e.u] + e.t * (f[e.w] - f[e.u]);
     }
-    return out;
 }
 
 void color_by_ld(Mesh& mesh, const Volume& ld_field) {

@@ -60,13 +60,26 @@ void MeshClusters::add(const Mesh& part, std::uint64_t counted_from) {
     const std::size_t n = part.positions.size();
     std::vector<std::uint32_t> of(n);
     std::array<std::int64_t, 3> last{};
+    // The cells met lately, direct-mapped by (x + 31 y + 977 z) mod 1024: a part's rows meet the
+    // cells of the rows before, so most new cells are found here without the hash table's
+    // lookup (the same ids: a cell is looked up once, on its first meeting, in order).
+    constexpr std::size_t recent_size = 1024;
+    std::array<std::array<std::int64_t, 3>, recent_size> recent_cell;
+    std::array<std::uint32_t, recent_size> recent_id;
+    recent_id.fill(std::numeric_limits<std::uint32_t>::max());
+    const auto lookup = [&](const std::array<std::int64_t, 3>& cell) {
+        const std::size_t k = std::size_t(cell[0] + 31 * cell[1] + 977 * cell[2]) % recent_size;
+        if (recent_id[k] != std::numeric_limits<std::uint32_t>::max() && recent_cell[k] == cell) return recent_id[k];
+        recent_cell[k] = cell;
+        return recent_id[k] = cluster_of(cell);
+    };
     for (std::size_t i = 0; i < n; ++i) {
         const auto& p = part.positions[i];
         const std::array<std::int64_t, 3> cell{std::int64_t(std::floor(p[0] / cell_)),
                                                std::int64_t(std::floor(p[1] / cell_)),
                                                std::int64_t(std::floor(p[2] / cell_))};
         // Vertices made one after the other mostly share a cell: look up only a new one.
-        const std::uint32_t j = i && cell == last ? of[i - 1] : cluster_of(cell);
+        const std::uint32_t j = i && cell == last ? of[i - 1] : lookup(cell);
         last = cell;
         of[i] = j;
         if (counted_from && part.edge_points[i].w < counted_from) continue;  // added with the slab before
@@ -129,7 +142,7 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
     const std::size_t threads = std::min<std::size_t>(std::size_t(std::max(1, omp_get_max_threads())), layers);
     layers = std::max<std::size_t>(1, layers / threads);
     const std::size_t nz = v.dims().nz, parts = nz > 1 ? (nz - 1 + layers - 1) / layers : 0, ahead = threads;
-    std::vector<Mesh> slot(ahead);
+    std::vector<Mesh> slot(ahead), spares;  // spares: added parts, their vectors to be filled again
     std::vector<char> ready(ahead, 0);
     std::vector<detail::ExtractScratch> scratch(threads);
     std::size_t next_extract = 0, next_add = 0;
@@ -151,22 +164,27 @@ MeshClusters cluster_isosurface(const Volume& v, double s, double cell, const Vo
                 try {
                     // The vertices within slice z0 came with the part before (its last slice).
                     c.add(slot[p], z0 ? std::uint64_t(z0 + 1) * plane : 0);
-                    slot[p] = Mesh();
                 } catch (...) {
                     e = std::current_exception();
                 }
                 lock.lock();
                 if (e && !failed) failed = e;
+                spares.push_back(std::move(slot[p]));
+                slot[p] = Mesh();
                 ready[p] = 0, adding = false, ++next_add;
                 changed.notify_all();
             } else if (next_extract < parts && next_extract < next_add + ahead) {
                 const std::size_t q = next_extract++, z0 = q * layers;
+                if (!spares.empty()) {
+                    mine.spare = std::move(spares.back());
+                    spares.pop_back();
+                }
                 lock.unlock();
                 Mesh part;
                 std::exception_ptr e;
                 try {
                     part = detail::extract_isosurface_layers(v, s, z0, z0 + layers, method, mine);
-                    if (ld) part.ld = interpolate_on_vertices(part, *ld);
+                    if (ld) detail::interpolate_on_vertices(part, *ld, part.ld);
                 } catch (...) {
                     e = std::current_exception();
                 }
