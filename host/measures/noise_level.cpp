@@ -615,6 +615,28 @@ bool rises_beyond_noise(const NoiseBlocks& b, const std::vector<double>& v, cons
     return wider != r.sigma_strides && std::isfinite(v4) && v4 > texture_ratio * r.sigma * r.sigma;
 }
 
+// Structure: how far the flat blocks' y_b(s) = log(V_b(s)) / 3 at one stride spread (the
+// shorth's length / 1.349) over what noise gives at their median count (root_spread). Noise
+// keeps it near 1 (0.5 to 0.9 at sigma's strides over bench/noise_correlated_bench.py's
+// cases; the CT phantom of ../shared/data/formats, whose noise varies between air and
+// water, 2.1); structure that the model reads as wide correlated noise varies from block to
+// block by orders of magnitude (smoothed walnut and stent CTs under white noise: 4.1 to 5.1,
+// where sigma read 29 to 160 times the noise). Above structure_spread the correlation is
+// refused.
+constexpr double structure_spread = 3.0;
+
+double spread_over_noise(const std::vector<double>& sums, const std::vector<std::uint32_t>& counts,
+                         const std::vector<std::size_t>& flat) {
+    std::vector<double> y;
+    std::vector<std::uint32_t> n;
+    for (std::size_t i : flat)
+        if (counts[i] && sums[i] > 0) y.push_back(std::log(sums[i] / double(counts[i])) / 3), n.push_back(counts[i]);
+    if (y.size() < 2) return 0;
+    std::sort(y.begin(), y.end());
+    std::nth_element(n.begin(), n.begin() + std::ptrdiff_t(n.size() / 2), n.end());
+    return shorth_length(y) / 1.349 / root_spread(n[n.size() / 2]);
+}
+
 // `white` (the estimate before any fit) read as white noise: the widths 0 where an axis has
 // strided residuals, sigma = sigma_white.
 NoiseLevel read_as_white(const NoiseBlocks& b, const std::vector<double>& v, double v1,
@@ -693,12 +715,17 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
             fit.error * 10 < white_error && told_from_structure(b, v, relative.correlation, fit.white))
             r = relative;
     }
-    // Texture the model reads as correlated noise: refused, sigma = sigma_white, and said.
-    if (rises_beyond_noise(b, v, r)) {
+    // Texture or structure the model reads as correlated noise: the residuals rise beyond what
+    // noise gives, or vary from block to block far more: refused, sigma = sigma_white, and said.
+    auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
+    if (rises_beyond_noise(b, v, r) ||
+        (at != b.strides.end() &&
+         spread_over_noise(b.strided_sums[std::size_t(at - b.strides.begin())],
+                           b.strided_counts[std::size_t(at - b.strides.begin())], flat) > structure_spread)) {
         r = read_as_white(b, v, v1, r.correlation, white_level);
         r.texture = true;
+        at = b.strides.end();
     }
-    const auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
     const std::size_t mask = std::size_t(at - b.strides.begin());
     if (at == b.strides.end())
         noise_map(b, use, b.sum_squares, b.count, flat, v1, o.map_block, r);
@@ -731,8 +758,8 @@ std::vector<std::string> noise_level_notes(const NoiseLevel& l) {
                         three_digits(l.spread[2]) + " over its 10th " + three_digits(l.spread[0]) +
                         "; cells whose blocks mostly hold structure read high too)");
     if (l.texture)
-        notes.push_back("the residuals rise with the taps' spacing beyond what noise gives (texture or structure, "
-                        "not noise): sigma is the white part, " + three_digits(l.sigma_white) +
+        notes.push_back("the residuals at the wider taps rise or vary beyond what noise gives (texture or "
+                        "structure, not noise): sigma is the white part, " + three_digits(l.sigma_white) +
                         ", and noise correlated across neighbours may be more");
     if (noise_is_correlated(l)) {
         std::string widths;

@@ -68,7 +68,11 @@
 //
 // Texture. The gain is at most 1, so noise gives V(2m) <= sigma^2. Where sigma is read at
 // s = 2 and V at 4 along the same axes passes 2.25 sigma^2, the rise is texture or structure:
-// the correlation is refused (w = 0, sigma = sigma_white, texture = true).
+// the correlation is refused (w = 0, sigma = sigma_white, texture = true). So it is where the
+// flat blocks' log(V_b(m)) / 3 at sigma's strides spread (the shorth's length / 1.349) over 3
+// times what noise gives at their median count: noise keeps that near 1, while blurred edges
+// of high contrast, which the model can read as wide correlated noise, vary from block to
+// block by orders of magnitude.
 #pragma once
 #include <array>
 #include <cstddef>
@@ -137,8 +141,9 @@ struct NoiseLevel {
                                       std::numeric_limits<double>::quiet_NaN(),
                                       std::numeric_limits<double>::quiet_NaN()};
     NoiseStride sigma_strides{1, 1, 1};  ///< the strides sigma was read at
-    /// Whether the residuals rise with the taps' spacing beyond what noise gives (texture or
-    /// structure, not noise): the correlation is then refused and sigma is sigma_white.
+    /// Whether the residuals at the wider taps rise or vary from block to block beyond what
+    /// noise gives (texture or structure, not noise): the correlation is then refused and
+    /// sigma is sigma_white.
     bool texture = false;
     double flat_share = 0;              ///< residuals of the flat blocks / all vertices
     std::size_t blocks = 0, usable_blocks = 0, flat_blocks = 0;

@@ -972,8 +972,9 @@ class NoiseLevel(_Record):
     sigma_strides : tuple of int
         The taps spacing along x, y, z sigma was read at.
     texture : bool
-        Whether the residuals rise with the taps' spacing beyond what noise gives (texture or
-        structure): the correlation is then refused and sigma is sigma_white.
+        Whether the residuals at the wider taps rise or vary from block to block beyond what
+        noise gives (texture or structure): the correlation is then refused and sigma is
+        sigma_white.
     spread : tuple of float
         The map's 10th, 50th and 90th percentiles.
     variation : float
