@@ -404,21 +404,27 @@ double root_spread(std::uint32_t n) { return std::sqrt(2 * residual_correlation 
 
 namespace {
 
+// y_b = log(V_b) / 3 at one stride (`sums`, `counts`) of the blocks of `flat` (indices) with
+// residuals there that are not all 0, sorted.
+std::vector<double> sorted_log_variances(const std::vector<double>& sums, const std::vector<std::uint32_t>& counts,
+                                         const std::vector<std::size_t>& flat) {
+    std::vector<double> y;
+    for (std::size_t i : flat)
+        if (counts[i] && sums[i] > 0) y.push_back(std::log(sums[i] / double(counts[i])) / 3);
+    std::sort(y.begin(), y.end());
+    return y;
+}
+
 // A stride's V: the pooled mean of R_s^2 / 216 over the blocks of `flat` (indices) with
 // strided residuals that agree with the rest (the header's window); NaN without any such
 // block, 0 where every one is silent.
 double pooled_strided(const std::vector<double>& sums, const std::vector<std::uint32_t>& counts,
                       const std::vector<std::size_t>& flat, double clip) {
-    std::vector<double> y;
-    double silent = 0;
-    for (std::size_t i : flat) {
-        if (!counts[i]) continue;
-        if (sums[i] > 0) y.push_back(std::log(sums[i] / double(counts[i])) / 3);
-        else silent += double(counts[i]);
+    const std::vector<double> sorted = sorted_log_variances(sums, counts, flat);
+    if (sorted.empty()) {
+        const bool silent = std::any_of(flat.begin(), flat.end(), [&](std::size_t i) { return counts[i] > 0; });
+        return silent ? 0.0 : std::numeric_limits<double>::quiet_NaN();
     }
-    if (y.empty()) return silent > 0 ? 0.0 : std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> sorted = y;
-    std::sort(sorted.begin(), sorted.end());
     const double centre = shorth_centre(sorted);
     const double robust = shorth_length(sorted) / 1.349;
     double sum = 0, count = 0;
@@ -517,10 +523,15 @@ CorrelationFit fit_correlation(const NoiseBlocks& b, const std::vector<double>& 
 // at every stride, which the model reads as a width of about 0.2 to 0.3 voxels.
 constexpr double least_width = 0.35;
 
+// The index of stride m in b.strides; b.strides.size() where the statistics do not hold m.
+std::size_t stride_index(const NoiseBlocks& b, const NoiseStride& m) {
+    return std::size_t(std::find(b.strides.begin(), b.strides.end(), m) - b.strides.begin());
+}
+
 // V at stride m (of b.strides); NaN where the statistics do not hold m.
 double value_at(const NoiseBlocks& b, const std::vector<double>& v, const NoiseStride& m) {
-    const auto at = std::find(b.strides.begin(), b.strides.end(), m);
-    return at == b.strides.end() ? std::numeric_limits<double>::quiet_NaN() : v[std::size_t(at - b.strides.begin())];
+    const std::size_t k = stride_index(b, m);
+    return k < v.size() ? v[k] : std::numeric_limits<double>::quiet_NaN();
 }
 
 // The model's gain at stride m: the product over the axes of f_a(m_a) / 6, the share of the
@@ -627,12 +638,11 @@ constexpr double structure_spread = 3.0;
 
 double spread_over_noise(const std::vector<double>& sums, const std::vector<std::uint32_t>& counts,
                          const std::vector<std::size_t>& flat) {
-    std::vector<double> y;
+    const std::vector<double> y = sorted_log_variances(sums, counts, flat);
+    if (y.size() < 2) return 0;
     std::vector<std::uint32_t> n;
     for (std::size_t i : flat)
-        if (counts[i] && sums[i] > 0) y.push_back(std::log(sums[i] / double(counts[i])) / 3), n.push_back(counts[i]);
-    if (y.size() < 2) return 0;
-    std::sort(y.begin(), y.end());
+        if (counts[i] && sums[i] > 0) n.push_back(counts[i]);
     std::nth_element(n.begin(), n.begin() + std::ptrdiff_t(n.size() / 2), n.end());
     return shorth_length(y) / 1.349 / root_spread(n[n.size() / 2]);
 }
@@ -717,20 +727,17 @@ NoiseLevel noise_level_from_blocks(const NoiseBlocks& b, const NoiseLevelOptions
     }
     // Texture or structure the model reads as correlated noise: the residuals rise beyond what
     // noise gives, or vary from block to block far more: refused, sigma = sigma_white, and said.
-    auto at = std::find(b.strides.begin(), b.strides.end(), r.sigma_strides);
+    const std::size_t k = stride_index(b, r.sigma_strides);
     if (rises_beyond_noise(b, v, r) ||
-        (at != b.strides.end() &&
-         spread_over_noise(b.strided_sums[std::size_t(at - b.strides.begin())],
-                           b.strided_counts[std::size_t(at - b.strides.begin())], flat) > structure_spread)) {
+        (k < v.size() && spread_over_noise(b.strided_sums[k], b.strided_counts[k], flat) > structure_spread)) {
         r = read_as_white(b, v, v1, r.correlation, white_level);
         r.texture = true;
-        at = b.strides.end();
     }
-    const std::size_t mask = std::size_t(at - b.strides.begin());
-    if (at == b.strides.end())
-        noise_map(b, use, b.sum_squares, b.count, flat, v1, o.map_block, r);
+    const std::size_t m = stride_index(b, r.sigma_strides);  // b.strides.size() for (1, 1, 1)
+    if (m < v.size())
+        noise_map(b, use, b.strided_sums[m], b.strided_counts[m], flat, v[m], o.map_block, r);
     else
-        noise_map(b, use, b.strided_sums[mask], b.strided_counts[mask], flat, v[mask], o.map_block, r);
+        noise_map(b, use, b.sum_squares, b.count, flat, v1, o.map_block, r);
     return r;
 }
 
