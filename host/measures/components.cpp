@@ -74,104 +74,6 @@ template <class T> inline std::uint32_t order_key(T f) {
 // Integer value ranges up to this many values are sorted by counting.
 constexpr long counting_sort_values = long(1) << 20;
 
-// Counts of the values of integer data, bins vmin..vmax, on the device (32-bit counts:
-// called below 2^32 vertices only).
-std::vector<std::uint64_t> value_histogram_device(const DeviceVolume& v, long vmin, long vmax) {
-    Context& ctx = v.context();
-    const std::size_t nbins = std::size_t(vmax - vmin + 1), n = v.vertices();
-    // Work-group histograms in local memory where they fit (Tuning::local_hist_bytes, as span counting).
-    const bool local_hist = nbins * 4 <= std::min(ctx.tuning.local_hist_bytes, ctx.local_mem() / 2);
-    const std::size_t wg = std::min<std::size_t>(64, ctx.max_work_group());
-    std::string options = type_options(v.type()) + defines({{"WG", std::to_string(wg)}});
-    if (local_hist) options += " -DLOCAL_HIST";
-    std::vector<std::uint32_t> h32(nbins);
-    with_cl_errors([&] {
-        const std::size_t items = ctx.is_cpu() ? wg * std::max(1u, ctx.compute_units()) : wg * 1024;
-        const std::size_t chunk = std::max<std::size_t>(1, (n + items - 1) / items);
-        Buffer<std::uint32_t> hist(ctx, nbins);
-        hist.fill(ctx.queue(), 0u);
-        // kernels/components.cl value_histogram(values, n, chunk, vmin, nbins, hist[, local_hist]).
-        using Global = KernelCall<cl::Buffer, cl_ulong, cl_ulong, cl_long, cl_uint, cl::Buffer>;
-        using Local = KernelCall<cl::Buffer, cl_ulong, cl_ulong, cl_long, cl_uint, cl::Buffer, cl::LocalSpaceArg>;
-        const cl::NDRange global(items), local(wg);
-        if (local_hist)
-            Local(ctx, "components", "value_histogram", options)(global, local, v.buffer(), cl_ulong(n), cl_ulong(chunk),
-                                                                 cl_long(vmin), cl_uint(nbins), hist.get(),
-                                                                 cl::Local(nbins * 4));
-        else
-            Global(ctx, "components", "value_histogram", options)(global, local, v.buffer(), cl_ulong(n),
-                                                                  cl_ulong(chunk), cl_long(vmin), cl_uint(nbins),
-                                                                  hist.get());
-        hist.read(ctx.queue(), h32.data(), nbins);  // blocking: the kernel is done with the values
-    });
-    return std::vector<std::uint64_t>(h32.begin(), h32.end());
-}
-
-// The vertex indices ordered by (value, index).
-template <class T, class I>
-std::vector<I> sorted_vertices(const Volume& v, const DeviceVolume* dv) {
-    const std::size_t n = v.vertices();
-    const T* f = v.as<T>();
-    std::vector<I> order(n);
-    const ValueRange r = value_range(v);
-    if (std::is_integral<T>::value && r.max - r.min < double(counting_sort_values)) {
-        // Counting sort: histogram (device), exclusive prefix, stable scatter (host).
-        const long vmin = long(r.min), vmax = long(r.max);
-        std::vector<std::uint64_t> hist;
-        // On the device when the volume is there (32-bit counts: below 2^32 vertices).
-        if (dv && n < (std::size_t(1) << 32)) {
-            hist = value_histogram_device(*dv, vmin, vmax);
-        } else {
-            hist.assign(std::size_t(vmax - vmin + 1), 0);
-            for (std::size_t i = 0; i < n; ++i) ++hist[std::size_t(long(f[i]) - vmin)];
-        }
-        std::uint64_t sum = 0;
-        for (auto& c : hist) {
-            const std::uint64_t x = c;
-            c = sum;
-            sum += x;
-        }
-        if (sum != n) throw std::logic_error("value histogram does not add up to the vertex count");
-        // Stable scatter by two threads: the first half forwards from each value's first
-        // slot, the second half backwards from its last, so neither needs the other's counts.
-        std::vector<std::uint64_t> end(hist.size());
-        for (std::size_t b = 0; b < hist.size(); ++b) end[b] = b + 1 < hist.size() ? hist[b + 1] : n;
-        const std::size_t half = n / 2;
-#pragma omp parallel sections num_threads(2)
-        {
-#pragma omp section
-            for (std::size_t i = 0; i < half; ++i) order[hist[std::size_t(long(f[i]) - vmin)]++] = I(i);
-#pragma omp section
-            for (std::size_t i = n; i-- > half;) order[--end[std::size_t(long(f[i]) - vmin)]] = I(i);
-        }
-    } else {
-        bool sorted = false;
-        if constexpr (sizeof(T) <= 4) {
-            if (n < (std::size_t(1) << 32)) {
-                // (key, index) packed in 64 bits: one parallel integer sort.
-                std::vector<std::uint64_t> keys(n);
-#pragma omp parallel for
-                for (long long i = 0; i < (long long)n; ++i)
-                    keys[std::size_t(i)] = (std::uint64_t(order_key(f[i])) << 32) | std::uint64_t(i);
-                // Threads pay off only on large volumes (and spin badly on a loaded machine).
-                if (n >= (std::size_t(1) << 22)) __gnu_parallel::sort(keys.begin(), keys.end());
-                else std::sort(keys.begin(), keys.end());
-#pragma omp parallel for
-                for (long long i = 0; i < (long long)n; ++i)
-                    order[std::size_t(i)] = I(keys[std::size_t(i)] & 0xffffffffu);
-                sorted = true;
-            }
-        }
-        if (!sorted) {
-            std::iota(order.begin(), order.end(), I(0));
-            __gnu_parallel::sort(order.begin(), order.end(), [f](I a, I b) {
-                return f[a] < f[b] || (f[a] == f[b] && a < b);
-            });
-        }
-    }
-    return order;
-}
-
 // The neighbour masks of kernels/components.cl (neighbour_masks), on the host: used when
 // the volume or the masks exceed the device's largest allocation, and for z-slabs. Every row
 // takes each neighbour inside the grid across its inner vertices at once, one vectorised
@@ -266,15 +168,17 @@ std::vector<std::uint32_t> neighbour_masks(const Volume& v, const DeviceVolume* 
 // (in `nbrs`) already swept. `met(k, v)` (v the k-th of the run) gets the number of distinct
 // components among them,
 // then v joins them all: v becomes a leaf of the first one met, whose root also takes the
-// roots of the others; paths are halved on every find. Swept neighbours that are adjacent
-// to each other are already in one component, so only one of each such group is looked up
-// (with 26-connectivity usually one or two finds instead of ~13). `joined(v, child, root)`
-// hears of every union at the sweep of v (first v itself joining a root, then the roots that
-// join v's). A vertex that meets one group, and whose joining is told to nobody (all but a
-// slab's boundary vertices), takes its neighbour's parent instead of a find: the same roots,
-// so the same counts and links, without the chain's reads (640^3 uint16 phantom's curve, two
-// interleaved runs each: 40.2 and 34.7 s with finds, 35.4 and 33.7 s without). The loop is
-// bound by memory latency: parents of vertices a few steps ahead are prefetched.
+// roots of the others; paths are halved on every find. Swept neighbours that are connected
+// through swept neighbours are already in one component, so only one of each such group is
+// looked up (group: with 26-connectivity usually one or two finds instead of ~13; the cube
+// connectivity's join sweep, whose 6 face neighbours never touch each other, groups them by
+// 6-paths through the swept cells of v's whole cube: 0.47 finds a vertex instead of 2.81 on
+// a 256^3 crop of the 640^3 uint16 phantom). `joined(v, child, root)` hears of every union at
+// the sweep of v (first v itself joining a root, then the roots that join v's). A vertex
+// that meets one group, and whose joining is told to nobody (all but a slab's boundary
+// vertices), takes its neighbour's parent instead of a find: the same roots, so the same
+// counts and links, without the chain's reads. The loop is bound by memory latency: parents
+// of vertices a few steps ahead are prefetched.
 template <class I> class Sweeper {
 public:
     Sweeper(const Dims& d, const std::vector<Offset>& nbrs, std::vector<I>& parent)
@@ -290,10 +194,20 @@ public:
         }
     }
     std::uint32_t bits() const { return m_ == 32 ? ~0u : ((std::uint32_t(1) << m_) - 1); }
+    // The swept neighbours (bits of `swept`, q among them) in neighbour q's group: connected to
+    // it through swept neighbours, or, given the swept cells of the cube (`cube`, the cube
+    // connectivity's join sweep: preceding_cube), through those.
+    std::uint32_t group(int q, std::uint32_t swept, std::uint32_t cube) const {
+        if ((swept & (swept - 1)) == 0) return swept;
+        return cube ? face_group(q, cube) : group_of(q, swept);
+    }
+    // The neighbours' index offsets.
+    const std::vector<std::ptrdiff_t>& offsets() const { return lin_; }
 
     // Sweeps `count` vertices: at(k) the k-th, swept(k) its swept-neighbour bits.
-    template <class At, class Swept, class P, class F, class U>
-    void run(std::size_t count, At&& at, Swept&& swept_bits, P&& prefetch_value, F&& met, U&& joined) {
+    template <class At, class Swept, class Cube, class P, class F, class U>
+    void run(std::size_t count, At&& at, Swept&& swept_bits, Cube&& cube_swept, P&& prefetch_value, F&& met,
+             U&& joined) {
         // Three stages ahead: the vertex and its value, its swept neighbours' parents, and
         // then (those parents now in cache) their parents, where the finds go next. The second
         // takes the first and the last swept neighbour only: their parents' lines hold most of
@@ -327,11 +241,12 @@ public:
             const I v = at(k);
             parent[v] = v;
             std::uint32_t swept = swept_bits(k);
+            const std::uint32_t cube = cube_swept(k);
             int found = 0;
             I root = v;  // the root of v's component: v itself, or the first component met
             while (swept) {
                 const int q = __builtin_ctz(swept);
-                swept &= ~group_of(q, swept);
+                swept &= ~group(q, swept, cube);
                 const I u = I(std::ptrdiff_t(v) + lin_[q]);
                 if (found == 0 && !swept && !joined.told(v)) {
                     // One component met, and nobody to tell its root: v takes the parent of
@@ -357,6 +272,26 @@ public:
     }
 
 private:
+    // The face neighbours (neighbourhood(6)'s bits) connected to face neighbour q by 6-paths
+    // through the swept cells of v's cube (`cube`: the cube's layout, bit x + 3 y + 9 z).
+    static std::uint32_t face_group(int q, std::uint32_t cube) {
+        static constexpr int cell[6] = {4, 10, 12, 14, 16, 22};
+        constexpr std::uint32_t face_cells = (1u << 4) | (1u << 10) | (1u << 12) | (1u << 14) | (1u << 16) | (1u << 22);
+        const std::uint32_t faces_swept = cube & face_cells;
+        std::uint32_t g = std::uint32_t(1) << cell[q];
+        // Grown until it stops, or holds every swept face.
+        for (std::uint32_t n = dilate6(g) & cube; n != g && (g & faces_swept) != faces_swept; n = dilate6(g) & cube)
+            g = n;
+        std::uint32_t faces = 0;
+        for (int f = 0; f < 6; ++f) faces |= ((g >> cell[f]) & 1u) << f;
+        return faces;
+    }
+    // The cube's cells within one step of c's along one axis.
+    static std::uint32_t dilate6(std::uint32_t c) {
+        constexpr std::uint32_t x0 = 0111111111u, x2 = x0 << 2, y0 = 0007007007u, y2 = y0 << 6, all = 0x7ffffffu;
+        return (c | ((c << 1) & ~x0) | ((c >> 1) & ~x2) | ((c << 3) & ~y0) | ((c >> 3) & ~y2) | (c << 9) | (c >> 9)) &
+               all;
+    }
     // The swept neighbours (bits of `swept`) connected to neighbour q through swept neighbours.
     std::uint32_t group_of(int q, std::uint32_t swept) const {
         if (m_ == 26) {
@@ -364,7 +299,8 @@ private:
             // is one step along each axis at once: a group grows by whole dilations.
             const std::uint32_t s = cube_bits(swept);
             std::uint32_t g = std::uint32_t(1) << (q < 13 ? q : q + 1);
-            for (std::uint32_t n = dilate(g) & s; n != g; n = dilate(g) & s) g = n;
+            // Grown until it stops, or holds every swept neighbour.
+            for (std::uint32_t n = dilate(g) & s; n != g && g != s; n = dilate(g) & s) g = n;
             return neighbour_bits(g);
         }
         std::uint32_t group = std::uint32_t(1) << q, frontier = group;
@@ -406,17 +342,25 @@ private:
     std::vector<std::uint32_t> adj_;  // adj_[q]: the neighbours adjacent to neighbour q
 };
 
-// One sweep over the whole `order`; the swept neighbours of its k-th vertex are the bits
-// [shift, shift + |nbrs|) of swept[k] (neighbour_masks in the order's order).
-template <bool forward, class I, class P, class F, class U>
-void sweep(const Dims& d, const std::vector<I>& order, const std::vector<std::uint32_t>& swept, int shift,
-           const std::vector<Offset>& nbrs, std::vector<I>& parent, P&& prefetch_value, F&& met, U&& joined) {
-    const std::size_t n = order.size();
-    Sweeper<I> s(d, nbrs, parent);
-    const std::uint32_t bits = s.bits();
-    auto pos = [n](std::size_t k) { return forward ? k : n - 1 - k; };
-    s.run(n, [&](std::size_t k) { return order[pos(k)]; }, [&](std::size_t k) { return (swept[pos(k)] >> shift) & bits; },
-          prefetch_value, [&](std::size_t k, I v, int found) { met(pos(k), v, found); }, joined);
+// The 26 neighbours' bits (neighbourhood(26)'s order) in the cube's layout (bit x + 3 y + 9 z).
+inline std::uint32_t cube_layout(std::uint32_t b) { return (b & 0x1fffu) | ((b >> 13) << 14); }
+
+// The cells of a vertex's cube (its layout, the centre clear) that precede it, from its mask
+// word of the cube connectivity (neighbour_masks: the 6 that precede in bits 0..5, the 26 that
+// follow in bits 6..31): the cells inside the grid that do not follow it; a face neighbour
+// lies outside the grid where it neither precedes nor follows, and so does its side's slice of
+// the cube.
+inline std::uint32_t preceding_cube(std::uint32_t w) {
+    const std::uint32_t after = cube_layout(w >> 6);
+    constexpr std::uint32_t x0 = 0111111111u, y0 = 0007007007u, z0 = 0x1ffu;
+    constexpr std::uint32_t side[6] = {z0, y0, x0, x0 << 2, y0 << 6, z0 << 18};  // neighbourhood(6)'s faces
+    constexpr int cell[6] = {4, 10, 12, 14, 16, 22};
+    std::uint32_t inside = 0x7ffffffu & ~(1u << 13), faces = w & 0x3fu;
+    for (int q = 0; q < 6; ++q) faces |= ((after >> cell[q]) & 1u) << q;
+    if (faces != 0x3fu)  // a vertex on the grid's border
+        for (int q = 0; q < 6; ++q)
+            if (!((faces >> q) & 1u)) inside &= ~side[q];
+    return inside & ~after;
 }
 
 // The swept-neighbour bits of vertex v = (x, y, z): bit q set when nbrs[q] is inside the grid
@@ -694,7 +638,8 @@ void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, 
             order.collect(w, d, bits, buffer.data(), swept.data());
             const std::size_t m = w.count;
             auto at = [&](std::size_t k) { return buffer[forward ? k : m - 1 - k]; };
-            s.run(m, at, [&](std::size_t k) { return swept[forward ? k : m - 1 - k]; }, prefetch_value,
+            s.run(m, at, [&](std::size_t k) { return swept[forward ? k : m - 1 - k]; },
+                  [](std::size_t) { return 0u; }, prefetch_value,
                   [&](std::size_t, I i, int found) { out[bin(i)] += sign * found; }, joined);
         }
     };
@@ -711,76 +656,119 @@ void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, 
                    [&] { pass(false, c_nbrs, +1, split_parent, delta_split, split_links); });
 }
 
-// Both sweeps over the whole (value, index) order and the neighbour masks (bins 0..`bins`).
-// The two sweeps are independent: each runs on its own core with its own union-find forest
-// and its own differences (4 bytes per vertex more than one after the other). Each reads the
-// masks and the bins in sequence, so that the only random reads left are the forest's (the
-// 384^3 uint16 phantom's curve, interleaved runs: 6.68, 8.06, 8.20 s before, 6.74, 7.06,
-// 6.75 s after; the bonsai's 1.06 s against 0.90 s).
+// `list` (vertex indices in increasing order) and `bins` (theirs) into (value, index) order:
+// a stable counting sort by value for 8- and 16-bit integers, one integer sort of (value key,
+// index) for other values of at most 32 bits, else a comparison sort. The values are read in
+// index order only.
+template <class T, class I> void sort_by_value(const T* f, std::vector<I>& list, std::vector<std::uint32_t>& bins) {
+    const std::size_t n = list.size();
+    if constexpr (std::is_integral<T>::value && sizeof(T) <= 2) {
+        constexpr long lowest = long(std::numeric_limits<T>::min());
+        std::vector<std::uint32_t> next(std::size_t(1) << (8 * sizeof(T)), 0);
+        for (const I i : list) ++next[std::size_t(long(f[i]) - lowest)];
+        std::uint32_t sum = 0;
+        for (auto& c : next) {
+            const std::uint32_t x = c;
+            c = sum;
+            sum += x;
+        }
+        std::vector<I> out(n);
+        std::vector<std::uint32_t> out_bins(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            const std::uint32_t slot = next[std::size_t(long(f[list[k]]) - lowest)]++;
+            out[slot] = list[k];
+            out_bins[slot] = bins[k];
+        }
+        list.swap(out);
+        bins.swap(out_bins);
+    } else {
+        // (key, index, bin), the key a value's order-preserving 32 bits where it has at most 32.
+        struct Entry {
+            std::uint64_t key;
+            I index;
+            std::uint32_t bin;
+        };
+        std::vector<Entry> e(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            std::uint64_t key = 0;
+            if constexpr (sizeof(T) <= 4) key = order_key(f[list[k]]);
+            e[k] = {key, list[k], bins[k]};
+        }
+        auto by_key = [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.index < b.index); };
+        auto by_value = [f](const Entry& a, const Entry& b) { return f[a.index] < f[b.index]; };
+        if constexpr (sizeof(T) <= 4) {
+            if (n >= (std::size_t(1) << 22)) __gnu_parallel::sort(e.begin(), e.end(), by_key);
+            else std::sort(e.begin(), e.end(), by_key);
+        } else {
+            std::stable_sort(e.begin(), e.end(), by_value);
+        }
+        for (std::size_t k = 0; k < n; ++k) list[k] = e[k].index, bins[k] = e[k].bin;
+    }
+}
+
+// Both sweeps of the whole volume (in one piece), each over its critical vertices only. A
+// vertex whose swept neighbours form one group (Sweeper::group) meets one component: it
+// changes no count, and, unless a slab's boundary links must hear of it (told), it needs no
+// find. Such regular vertices are linked in index order before the sweep, each to a swept
+// neighbour (to that neighbour's parent where the neighbour came earlier in index order, so
+// that chains stay short), and counted by bin. Every link points to a vertex earlier in the
+// sweep, so a swept vertex's chain leads only through swept vertices, into its component.
+// The sweep then takes the others (no swept neighbour, several groups, or told) in (value,
+// index) order, sorted with their bins (their values read in index order only). The two
+// sweeps run on two threads, each with its own forest (4 bytes a vertex), beside the masks
+// (4 bytes a vertex, index order) and the critical vertices (12 bytes each). Of the bonsai's
+// vertices, 99.4% are regular in each sweep; of the 384^3 uint16 phantom's, 76% in the join
+// sweep and 93% in the split sweep (before a slab's boundary vertices, all critical).
 template <class T, class I, class Bin, class J, class S>
-void whole_order_sweeps(const Volume& v, const DeviceVolume* dv, Connectivity mode, std::size_t bins, Bin&& bin,
-                        std::vector<std::int64_t>& delta, std::vector<std::int64_t>& delta_split, J&& join_links,
-                        S&& split_links) {
+void critical_sweeps(const Volume& v, const DeviceVolume* dv, Connectivity mode, Bin&& bin,
+                     std::vector<std::int64_t>& delta, std::vector<std::int64_t>& delta_split, J&& join_links,
+                     S&& split_links) {
     const int a_adj = mode == Connectivity::cube ? 6 : 14, c_adj = mode == Connectivity::cube ? 26 : 14;
     const std::vector<Offset> a_nbrs = neighbourhood(a_adj), c_nbrs = neighbourhood(c_adj);
-    const std::vector<I> order = sorted_vertices<T, I>(v, dv);
-    const std::size_t n = order.size();
-    // The masks in the order's order, so that the sweeps read them in sequence: gathered once
-    // (every core; the misses overlap) instead of one dependent miss a vertex in each sweep.
-    // Whether the bins never decrease along the order (all but NaN data, which sorts by its
-    // sign bit) is checked on the way.
-    std::vector<std::uint32_t> swept(n);
-    bool monotone = true;
-    {
-        const std::vector<std::uint32_t> mask = neighbour_masks<T>(v, dv, a_adj, c_adj);
-#pragma omp parallel for schedule(static) reduction(&& : monotone)
-        for (long long k = 0; k < (long long)n; ++k) {
-            const I i = order[std::size_t(k)];
-            swept[std::size_t(k)] = mask[i];
-            monotone = monotone && (k == 0 || bin(order[std::size_t(k) - 1]) <= bin(i));
-        }
-    }
-    // The bin of the k-th vertex without its value: as bins do not decrease along the order,
-    // first[b] (the first position of bin b or more, b = 0..bins) is found by bisection.
-    std::vector<std::size_t> first(monotone ? bins + 2 : 0, n);
-    for (std::size_t b = 0; monotone && b <= bins; ++b) {
-        std::size_t lo = b ? first[b - 1] : 0, hi = n;
-        while (lo < hi) {
-            const std::size_t mid = lo + (hi - lo) / 2;
-            if (bin(order[mid]) < b) lo = mid + 1;
-            else hi = mid;
-        }
-        first[b] = lo;
-    }
-    // A cursor a sweep: positions come in order (forward) or in reverse (backward).
-    struct Cursor {
-        const std::vector<std::size_t>& first;
-        std::size_t b;
-        std::size_t at(std::size_t k) {
-            while (k >= first[b + 1]) ++b;
-            while (k < first[b]) --b;
-            return b;
-        }
-    };
-    std::size_t last_bin = 0;
-    while (monotone && last_bin < bins && first[last_bin + 1] < n) ++last_bin;
-    auto prefetch_none = [](I) {};
-    // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign.
-    auto join = [&] {
+    const std::vector<std::uint32_t> mask = neighbour_masks<T>(v, dv, a_adj, c_adj);
+    const T* f = v.as<T>();
+    const std::size_t n = v.vertices();
+    auto pass = [&](bool forward, const std::vector<Offset>& nbrs, int shift, int sign, std::vector<std::int64_t>& out,
+                    auto&& joined) {
         std::vector<I> parent(n);
-        Cursor c{first, 0};
-        sweep<true, I>(v.dims(), order, swept, 0, a_nbrs, parent, prefetch_none,
-                       [&](std::size_t k, I i, int down) { delta[monotone ? c.at(k) : bin(i)] -= down; }, join_links);
+        Sweeper<I> s(v.dims(), nbrs, parent);
+        const std::uint32_t bits = s.bits();
+        const bool cube = forward && mode == Connectivity::cube;  // the join's groups through the cube
+        const std::vector<std::ptrdiff_t>& lin = s.offsets();
+        std::vector<std::int64_t> regular(out.size(), 0);
+        std::vector<I> critical;
+        std::vector<std::uint32_t> critical_bins;
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::uint32_t w = mask[i], swept = (w >> shift) & bits;
+            if (swept && !joined.told(I(i))) {
+                const int q = __builtin_ctz(swept);
+                if ((swept & ~s.group(q, swept, cube ? preceding_cube(w) : 0u)) == 0) {
+                    const std::size_t u = std::size_t(std::ptrdiff_t(i) + lin[q]);
+                    parent[i] = lin[q] < 0 ? parent[u] : I(u);
+                    ++regular[bin(I(i))];
+                    continue;
+                }
+            }
+            parent[i] = I(i);
+            critical.push_back(I(i));
+            critical_bins.push_back(std::uint32_t(bin(I(i))));
+        }
+        sort_by_value(f, critical, critical_bins);
+        const std::size_t m = critical.size();
+        std::vector<std::uint32_t> words(m);
+        for (std::size_t k = 0; k < m; ++k) words[k] = mask[critical[k]];
+        auto pos = [&](std::size_t k) { return forward ? k : m - 1 - k; };
+        s.run(
+            m, [&](std::size_t k) { return critical[pos(k)]; },
+            [&](std::size_t k) { return (words[pos(k)] >> shift) & bits; },
+            [&](std::size_t k) { return cube ? preceding_cube(words[pos(k)]) : 0u; }, [](I) {},
+            [&](std::size_t k, I, int found) { out[critical_bins[pos(k)]] += sign * found; }, joined);
+        for (std::size_t b = 0; b < out.size(); ++b) out[b] += sign * regular[b];
     };
-    // Split sweep: C = {f >= s} grows as s falls; up(v) enters with a plus sign.
-    auto split = [&] {
-        std::vector<I> parent(n);
-        Cursor c{first, last_bin};
-        sweep<false, I>(v.dims(), order, swept, int(a_nbrs.size()), c_nbrs, parent, prefetch_none,
-                        [&](std::size_t k, I i, int up) { delta_split[monotone ? c.at(k) : bin(i)] += up; },
-                        split_links);
-    };
-    on_two_threads(join, split);
+    // Join sweep: A = {f < s} grows with s; down(v) enters with a minus sign. Split sweep:
+    // C = {f >= s} grows as s falls; up(v) enters with a plus sign.
+    on_two_threads([&] { pass(true, a_nbrs, 0, -1, delta, join_links); },
+                   [&] { pass(false, c_nbrs, int(a_nbrs.size()), +1, delta_split, split_links); });
 }
 
 // Whether the windowed sweeps take integer data of range [vmin, vmax]: when forced
@@ -829,7 +817,7 @@ std::vector<std::int64_t> component_counts(const Context& ctx, const Volume& v, 
                               neighbourhood(a_adj), neighbourhood(c_adj), bin, delta, delta_split, hook(join_links),
                               hook(split_links));
     } else {
-        whole_order_sweeps<T, I>(v, dv, mode, K, bin, delta, delta_split, hook(join_links), hook(split_links));
+        critical_sweeps<T, I>(v, dv, mode, bin, delta, delta_split, hook(join_links), hook(split_links));
     }
     if (out && slab.last)
         for (std::size_t i = v.vertices() - v.dims().nx * v.dims().ny; i < v.vertices(); ++i)
