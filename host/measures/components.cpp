@@ -181,8 +181,9 @@ std::vector<std::uint32_t> neighbour_masks(const Volume& v, const DeviceVolume* 
 // of vertices a few steps ahead are prefetched.
 template <class I> class Sweeper {
 public:
-    Sweeper(const Dims& d, const std::vector<Offset>& nbrs, std::vector<I>& parent)
-        : parent_(parent), m_(nbrs.size()), lin_(m_), adj_(m_, 0) {
+    // `parent`: the forest, one entry for each of the grid's `vertices`.
+    Sweeper(const Dims& d, const std::vector<Offset>& nbrs, I* parent, std::size_t vertices)
+        : parent_(parent), vertices_(vertices), m_(nbrs.size()), lin_(m_), adj_(m_, 0) {
         const std::size_t nx = d.nx, ny = d.ny;
         for (std::size_t q = 0; q < m_; ++q) {
             lin_[q] = std::ptrdiff_t(nbrs[q].dx) + std::ptrdiff_t(nx) * (nbrs[q].dy + std::ptrdiff_t(ny) * nbrs[q].dz);
@@ -201,6 +202,14 @@ public:
         if ((swept & (swept - 1)) == 0) return swept;
         return cube ? face_group(q, cube) : group_of(q, swept);
     }
+    // Whether the swept neighbours (bits of `swept`, at least one) form one group (group).
+    bool one_group(std::uint32_t swept, std::uint32_t cube) const {
+        if ((swept & (swept - 1)) == 0) return true;
+        const int q = __builtin_ctz(swept);
+        if (!cube) return (swept & ~group_of(q, swept)) == 0;
+        const std::uint32_t faces = cube & face_cells;
+        return (face_flood(q, cube) & faces) == faces;
+    }
     // The neighbours' index offsets.
     const std::vector<std::ptrdiff_t>& offsets() const { return lin_; }
 
@@ -218,8 +227,8 @@ public:
         // (noisy sphere 256^3 uint8, 64 MiB: 3.2 s against 3.3 s; CT-like phantom 400^3
         // uint16, 256 MiB: 16.4 s against 17.3 s).
         constexpr std::size_t far = 24, near = 8, next = 4;
-        std::vector<I>& parent = parent_;
-        const bool chase = parent.size() * sizeof(I) > (std::size_t(128) << 20);
+        I* const parent = parent_;
+        const bool chase = vertices_ * sizeof(I) > (std::size_t(128) << 20);
         for (std::size_t k = 0; k < count; ++k) {
             if (k + far < count) {
                 const I w = at(k + far);
@@ -275,17 +284,23 @@ private:
     // The face neighbours (neighbourhood(6)'s bits) connected to face neighbour q by 6-paths
     // through the swept cells of v's cube (`cube`: the cube's layout, bit x + 3 y + 9 z).
     static std::uint32_t face_group(int q, std::uint32_t cube) {
-        static constexpr int cell[6] = {4, 10, 12, 14, 16, 22};
-        constexpr std::uint32_t face_cells = (1u << 4) | (1u << 10) | (1u << 12) | (1u << 14) | (1u << 16) | (1u << 22);
-        const std::uint32_t faces_swept = cube & face_cells;
-        std::uint32_t g = std::uint32_t(1) << cell[q];
-        // Grown until it stops, or holds every swept face.
-        for (std::uint32_t n = dilate6(g) & cube; n != g && (g & faces_swept) != faces_swept; n = dilate6(g) & cube)
-            g = n;
+        const std::uint32_t g = face_flood(q, cube);
         std::uint32_t faces = 0;
-        for (int f = 0; f < 6; ++f) faces |= ((g >> cell[f]) & 1u) << f;
+        for (int f = 0; f < 6; ++f) faces |= ((g >> face_cell[f]) & 1u) << f;
         return faces;
     }
+    // The cells of `cube` that 6-paths through it join to face neighbour q's, grown until
+    // they stop or hold every face cell of `cube`.
+    static std::uint32_t face_flood(int q, std::uint32_t cube) {
+        const std::uint32_t faces_swept = cube & face_cells;
+        std::uint32_t g = std::uint32_t(1) << face_cell[q];
+        for (std::uint32_t n = dilate6(g) & cube; n != g && (g & faces_swept) != faces_swept; n = dilate6(g) & cube)
+            g = n;
+        return g;
+    }
+    // neighbourhood(6)'s faces in the cube's layout.
+    static constexpr int face_cell[6] = {4, 10, 12, 14, 16, 22};
+    static constexpr std::uint32_t face_cells = (1u << 4) | (1u << 10) | (1u << 12) | (1u << 14) | (1u << 16) | (1u << 22);
     // The cube's cells within one step of c's along one axis.
     static std::uint32_t dilate6(std::uint32_t c) {
         constexpr std::uint32_t x0 = 0111111111u, x2 = x0 << 2, y0 = 0007007007u, y2 = y0 << 6, all = 0x7ffffffu;
@@ -327,7 +342,7 @@ private:
     }
     // Path halving, without the stores that would not change a parent (a child of a root).
     I find(I x) {
-        std::vector<I>& parent = parent_;
+        I* const parent = parent_;
         for (I p = parent[x]; p != x; p = parent[x]) {
             const I g = parent[p];
             if (g == p) return p;
@@ -336,7 +351,8 @@ private:
         }
         return x;
     }
-    std::vector<I>& parent_;
+    I* parent_;
+    std::size_t vertices_;
     std::size_t m_;
     std::vector<std::ptrdiff_t> lin_;
     std::vector<std::uint32_t> adj_;  // adj_[q]: the neighbours adjacent to neighbour q
@@ -630,7 +646,7 @@ void windowed_sweeps(const Volume& v, long vmin, long vmax, std::size_t window, 
                     std::vector<std::int64_t>& out, auto&& joined) {
         std::vector<I> buffer(order.largest());
         std::vector<std::uint32_t> swept(order.largest());
-        Sweeper<I> s(d, nbrs, parent);
+        Sweeper<I> s(d, nbrs, parent.data(), parent.size());
         const SweptNeighbours bits(d, nbrs, forward);
         const auto& ws = order.windows();
         for (std::size_t j = 0; j < ws.size(); ++j) {
@@ -717,8 +733,8 @@ template <class T, class I> void sort_by_value(const T* f, std::vector<I>& list,
 // index) order, sorted with their bins (their values read in index order only). The two
 // sweeps run on two threads, each with its own forest (4 bytes a vertex), beside the masks
 // (4 bytes a vertex, index order) and the critical vertices (12 bytes each). Of the bonsai's
-// vertices, 99.4% are regular in each sweep; of the 384^3 uint16 phantom's, 76% in the join
-// sweep and 93% in the split sweep (before a slab's boundary vertices, all critical).
+// vertices, 88% are regular in each sweep; of the 384^3 uint16 phantom's, 51% in the join
+// sweep and 63% in the split sweep (its slabs' boundary vertices, 2 slices in 9, all critical).
 template <class T, class I, class Bin, class J, class S>
 void critical_sweeps(const Volume& v, const DeviceVolume* dv, Connectivity mode, Bin&& bin,
                      std::vector<std::int64_t>& delta, std::vector<std::int64_t>& delta_split, J&& join_links,
@@ -730,8 +746,8 @@ void critical_sweeps(const Volume& v, const DeviceVolume* dv, Connectivity mode,
     const std::size_t n = v.vertices();
     auto pass = [&](bool forward, const std::vector<Offset>& nbrs, int shift, int sign, std::vector<std::int64_t>& out,
                     auto&& joined) {
-        std::vector<I> parent(n);
-        Sweeper<I> s(v.dims(), nbrs, parent);
+        const std::unique_ptr<I[]> parent(new I[n]);  // every entry set below, in index order
+        Sweeper<I> s(v.dims(), nbrs, parent.get(), n);
         const std::uint32_t bits = s.bits();
         const bool cube = forward && mode == Connectivity::cube;  // the join's groups through the cube
         const std::vector<std::ptrdiff_t>& lin = s.offsets();
@@ -742,7 +758,7 @@ void critical_sweeps(const Volume& v, const DeviceVolume* dv, Connectivity mode,
             const std::uint32_t w = mask[i], swept = (w >> shift) & bits;
             if (swept && !joined.told(I(i))) {
                 const int q = __builtin_ctz(swept);
-                if ((swept & ~s.group(q, swept, cube ? preceding_cube(w) : 0u)) == 0) {
+                if (s.one_group(swept, cube ? preceding_cube(w) : 0u)) {
                     const std::size_t u = std::size_t(std::ptrdiff_t(i) + lin[q]);
                     parent[i] = lin[q] < 0 ? parent[u] : I(u);
                     ++regular[bin(I(i))];
