@@ -10,6 +10,7 @@
 #include "measures/components_slab.hpp"
 #include "clfractal/error.hpp"
 #include "measures/row_mask.hpp"
+#include "measures/target_clones.hpp"
 #include "volume/below.hpp"
 
 #include <omp.h>
@@ -51,21 +52,11 @@ struct PlaneRuns {
 
 // The number of bits set. x86-64 has had an instruction for it since 2008 but not in its
 // baseline, so on x86-64 the functions that count (link_rows, index_row) are also compiled
-// for it and chosen at load time (LINK_CLONES); elsewhere the compiler's builtin serves.
-// ThreadSanitizer builds go without: the loader runs the choosing function (an ifunc
-// resolver) before the TSan runtime starts, and its instrumented entry then crashes.
+// for it and chosen at load time (LINK_CLONES, target_clones.hpp); elsewhere the compiler's
+// builtin serves.
 inline unsigned ones(std::uint64_t x) { return unsigned(__builtin_popcountll(x)); }
-#if defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define CLFRACTAL_TSAN 1
-#endif
-#endif
-#if defined(__SANITIZE_THREAD__)
-#define CLFRACTAL_TSAN 1
-#endif
-#if defined(__x86_64__) && !defined(__POPCNT__) && (defined(__GNUC__) || defined(__clang__)) && \
-    !defined(CLFRACTAL_TSAN)
-#define LINK_CLONES __attribute__((target_clones("popcnt", "default")))
+#if !defined(__POPCNT__)
+#define LINK_CLONES CLFRACTAL_CLONES("popcnt")
 #else
 #define LINK_CLONES
 #endif
