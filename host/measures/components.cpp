@@ -807,13 +807,14 @@ void critical_sweeps(const Volume& v, const DeviceVolume* dv, Connectivity mode,
 }
 
 // Whether the windowed sweeps take integer data of range [vmin, vmax]: when forced
-// (Tuning::component_window), or when the whole order, the masks and two forests (16 bytes a
-// vertex, and the device copy) would pass 4 volumes + 128 MiB beside the caller's volume.
+// (Tuning::component_window), or when the critical-vertex sweeps at their largest (the masks
+// and two forests, and every vertex sorted by both sweeps: 36 bytes a vertex) would pass 4
+// volumes + 128 MiB beside the caller's volume.
 template <class T> std::size_t sweep_window(const Context& ctx, const Volume& v, const ValueRange& r) {
     if (!std::is_integral<T>::value || !(r.max - r.min < double(counting_sort_values))) return 0;
     if (ctx.tuning.component_window) return ctx.tuning.component_window;
     const double n = double(v.vertices()), vb = double(v.size_bytes());
-    if (16 * n + vb <= 3 * vb + double(128 << 20)) return 0;
+    if ((4 + 2 * double(sizeof(std::uint32_t)) + 2 * 12) * n + vb <= 3 * vb + double(128 << 20)) return 0;
     // Windows of an eighth of the volume (a scan of the volume each), 1 Mi to 16 Mi vertices.
     return std::clamp<std::size_t>(v.vertices() / 8, std::size_t(1) << 20, std::size_t(1) << 24);
 }

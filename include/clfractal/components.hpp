@@ -38,19 +38,22 @@ const char* connectivity_name(Connectivity c);
 struct ComponentCurve {
     IsovalueSet isovalues;
     std::vector<std::int64_t> components;  ///< one per isovalue
-    double seconds = 0;                    ///< wall time of sorting, sweeps and prefix sum (no compilation)
+    double seconds = 0;                    ///< wall time of masks, sorting, sweeps and prefix sum (no compilation)
 };
 
 /// components(s) for every isovalue of `iso` (integers or a list in the data's own type,
-/// compared exactly as the span counts). The ordering is a counting sort for integer data
-/// whose range holds at most 2^20 values (histogram on the device), else a parallel sort
-/// (32-bit keys for 32-bit types, comparisons for float64); the two sweeps run
-/// on the host (they are sequential). Memory: 8 bytes per vertex (16 above 2^32 vertices)
-/// beyond the volume. A volume of more than 2^21 vertices is cut into z-slabs of about 2^20
+/// compared exactly as the span counts). Two union-find sweeps on the host, one a core (they
+/// are sequential): a vertex whose swept neighbours form one group is linked in index order,
+/// without a sort or a find, and only the others are sorted by (value, index) (counting sort
+/// for 8- and 16-bit data, 32-bit keys for other 32-bit types, comparisons for float64) and
+/// swept. Memory beyond the volume: 4 bytes a vertex for the neighbour masks (computed on
+/// the device when the volume is there), 4 for each sweep's forest (8 above 2^32 vertices)
+/// and 12 for each vertex a sweep sorts; integer data whose sweeps would pass 4 volumes + 128
+/// MiB is ordered a window at a time instead (Tuning::component_window). A volume of more than 2^21 vertices is cut into z-slabs of about 2^20
 /// vertices sharing a slice (Tuning::component_slab_slices), each ordered and swept on the
 /// host on every core at once and all joined exactly by their boundary links
-/// (docs/definitions.md §28): the same curve, memory the volume + 12 bytes a slab vertex a
-/// thread + O(slice).
+/// (docs/definitions.md §28): the same curve, memory the volume + about 20 bytes a slab
+/// vertex a thread + O(slice).
 ComponentCurve count_components(Context& ctx, const Volume& v, const IsovalueSet& iso,
                                 Connectivity mode = Connectivity::cube);
 /// The same for a volume already on the device: the device steps read it there, the
