@@ -79,8 +79,9 @@ constexpr long counting_sort_values = long(1) << 20;
 // of `inside` (bit q), one vectorised comparison a vertex. On x86-64 also compiled for AVX2
 // and chosen at load time (MASK_CLONES, target_clones.hpp): the baseline's SSE2 widens 8- and
 // 16-bit comparisons to the masks' 32 bits a few lanes at a time (the bonsai's components,
-// interleaved: 1.03-1.07 s to 0.92-1.03 s, the same curve).
-#if !defined(__AVX2__)
+// interleaved: 1.03-1.07 s to 0.92-1.03 s, the same curve). GCC only: Clang does not
+// multiversion function templates.
+#if !defined(__AVX2__) && !defined(__clang__)
 #define MASK_CLONES CLFRACTAL_CLONES("avx2")
 #else
 #define MASK_CLONES
