@@ -199,6 +199,9 @@ std::vector<std::uint32_t> neighbour_masks(const Volume& v, const DeviceVolume* 
 // vertices), takes its neighbour's parent instead of a find: the same roots, so the same
 // counts and links, without the chain's reads. The loop is bound by memory latency: parents
 // of vertices a few steps ahead are prefetched.
+// neighbourhood(6)'s faces in the 3x3x3 cube's layout (bit x + 3 y + 9 z).
+constexpr int face_cell[6] = {4, 10, 12, 14, 16, 22};
+
 template <class I> class Sweeper {
 public:
     // `parent`: the forest, one entry for each of the grid's `vertices`.
@@ -318,8 +321,6 @@ private:
             g = n;
         return g;
     }
-    // neighbourhood(6)'s faces in the cube's layout.
-    static constexpr int face_cell[6] = {4, 10, 12, 14, 16, 22};
     static constexpr std::uint32_t face_cells = (1u << 4) | (1u << 10) | (1u << 12) | (1u << 14) | (1u << 16) | (1u << 22);
     // The cube's cells within one step of c's along one axis.
     static std::uint32_t dilate6(std::uint32_t c) {
@@ -390,9 +391,8 @@ inline std::uint32_t preceding_cube(std::uint32_t w) {
     const std::uint32_t after = cube_layout(w >> 6);
     constexpr std::uint32_t x0 = 0111111111u, y0 = 0007007007u, z0 = 0x1ffu;
     constexpr std::uint32_t side[6] = {z0, y0, x0, x0 << 2, y0 << 6, z0 << 18};  // neighbourhood(6)'s faces
-    constexpr int cell[6] = {4, 10, 12, 14, 16, 22};
     std::uint32_t inside = 0x7ffffffu & ~(1u << 13), faces = w & 0x3fu;
-    for (int q = 0; q < 6; ++q) faces |= ((after >> cell[q]) & 1u) << q;
+    for (int q = 0; q < 6; ++q) faces |= ((after >> face_cell[q]) & 1u) << q;
     if (faces != 0x3fu)  // a vertex on the grid's border
         for (int q = 0; q < 6; ++q)
             if (!((faces >> q) & 1u)) inside &= ~side[q];
@@ -764,6 +764,8 @@ void critical_sweeps(const Volume& v, const DeviceVolume* dv, Connectivity mode,
     const std::vector<std::uint32_t> mask = neighbour_masks<T>(v, dv, a_adj, c_adj);
     const T* f = v.as<T>();
     const std::size_t n = v.vertices();
+    if (delta.size() > std::numeric_limits<std::uint32_t>::max())  // the sorted vertices' bins are 32-bit
+        throw InputError("components: at most 2^32 - 2 isovalues");
     auto pass = [&](bool forward, const std::vector<Offset>& nbrs, int shift, int sign, std::vector<std::int64_t>& out,
                     auto&& joined) {
         const std::unique_ptr<I[]> parent(new I[n]);  // every entry set below, in index order
